@@ -1,0 +1,206 @@
+"""The MuJoCo flight loop: prescribed wing kinematics on a free body, aerodynamic loads each step.
+
+Method (DESIGN.md, "MuJoCo: what is already known here"). The integrator is RK4. Inside ``mjcb_control``,
+called by MuJoCo at every RK4 stage, the six wing-joint torques are solved by computed torque so that the wing
+joint accelerations equal the prescribed ones (plus a stiff PD term that only removes round-off drift):
+with zero wing torque, ``mj_fwdActuation`` + ``mj_fwdAcceleration`` give the free acceleration a0 of the wing
+dofs; a torque tau changes it by [M^-1]_ww tau, so tau = ([M^-1]_ww)^-1 (a_des - a0). The torques are
+internal, so the body responds to the wings' inertia exactly and the system's momentum is conserved (tested).
+Wing qpos/qvel are never overwritten.
+
+Aerodynamic loads come from an :class:`hawksim.backend.AeroBackend` once per step (zero-order hold over the
+step) and enter through ``data.xfrc_applied`` of the wing bodies (world-frame force and torque at the wing
+body's centre of mass ``xipos``), overwritten every step.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from numba import njit
+
+from hawksim.backend import AeroBackend, FlightState, WingLoads
+from hawksim.kinematics import Kinematics
+from hawksim.model import JOINT_KINDS, WING_SIDES
+from hawksim.rotations import cross
+
+FEEDBACK_BANDWIDTH = 5.0
+"""PD correction bandwidth in units of the flapping angular frequency 2 pi f (critically damped)."""
+
+
+@njit(cache=True)
+def _solve6(A, b):
+    """Solve the small SPD system A x = b (Cholesky); A is [M^-1]_ww, symmetric positive definite."""
+    return np.linalg.solve(A, b)
+
+
+@dataclass(frozen=True)
+class StepRecord:
+    """What one step produced (world frame, SI)."""
+
+    state: FlightState
+    loads: WingLoads
+    joint_power: float
+    """Mechanical power delivered by the six wing joints, sum of tau_j qdot_j at the step start [W]."""
+
+
+@contextlib.contextmanager
+def _control_callback(fn):
+    previous = mujoco.get_mjcb_control()
+    mujoco.set_mjcb_control(fn)
+    try:
+        yield
+    finally:
+        mujoco.set_mjcb_control(previous)
+
+
+class Simulator:
+    """A hawkmoth flight in MuJoCo with prescribed wing kinematics.
+
+    Args:
+        model: the MjModel (see :func:`hawksim.model.load_model`); its options are overwritten: RK4 and a time
+            step of one ``steps_per_cycle``-th of the wingbeat period.
+        kin: wing kinematics (Eq. 1) for both wings (symmetric flapping).
+        backend: aerodynamic model.
+        steps_per_cycle: integration steps per wingbeat.
+        gravity: whether gravity acts.
+    """
+
+    def __init__(self, model: mujoco.MjModel, kin: Kinematics, backend: AeroBackend, *,
+                 steps_per_cycle: int = 200, gravity: bool = True):
+        if steps_per_cycle < 20:
+            raise ValueError(f"steps_per_cycle must be >= 20, got {steps_per_cycle}")
+        self.m = model
+        self.kin = kin
+        self.backend = backend
+        self.dt = kin.period / steps_per_cycle
+        self.steps_per_cycle = steps_per_cycle
+        model.opt.timestep = self.dt
+        model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+        model.opt.gravity[:] = (0.0, 0.0, -9.81) if gravity else (0.0, 0.0, 0.0)
+        self.d = mujoco.MjData(model)
+        name2id = mujoco.mj_name2id
+        self.body_id = name2id(model, mujoco.mjtObj.mjOBJ_BODY, "body")
+        self.wing_ids = np.array([name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"wing_{s}") for s in WING_SIDES])
+        jids = [name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"{k}_{s}") for s in WING_SIDES for k in JOINT_KINDS]
+        self.wing_qpos = np.array([model.jnt_qposadr[j] for j in jids])
+        self.wing_dof = np.array([model.jnt_dofadr[j] for j in jids])
+        self._unit = np.zeros((6, model.nv))
+        self._unit[np.arange(6), self.wing_dof] = 1.0
+        self._minv = np.zeros((6, model.nv))
+        wc = FEEDBACK_BANDWIDTH * 2 * np.pi * kin.f
+        self._kp, self._kd = wc * wc, 2 * wc
+        self._capture = False
+        self._tau = np.zeros(6)
+        self._v6 = np.zeros(6)
+
+    # ---- prescribed motion -------------------------------------------------------------------------
+    def desired(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Prescribed (q, qdot, qddot) of the six wing joints at time t, order left (sweep, elev, rot), right.
+
+        Scalar fast path of :meth:`Kinematics.angles`/``rates``/``accelerations`` (tested equal), since this
+        runs at every RK4 stage.
+        """
+        k = self.kin
+        w = 2 * math.pi * k.f
+        c, s = math.cos(w * t), math.sin(w * t)
+        q = (k.phi0 - k.phi_a * c, k.theta0, math.pi / 2 + k.alpha0 - k.alpha_a * s)
+        qd = (k.phi_a * w * s, 0.0, -k.alpha_a * w * c)
+        qdd = (k.phi_a * w * w * c, 0.0, k.alpha_a * w * w * s)
+        return np.array(q + q), np.array(qd + qd), np.array(qdd + qdd)
+
+    def _control(self, m, d):
+        q, qd, qdd = self.desired(d.time)
+        a_des = qdd + self._kp * (q - d.qpos[self.wing_qpos]) + self._kd * (qd - d.qvel[self.wing_dof])
+        d.qfrc_applied[self.wing_dof] = 0.0
+        mujoco.mj_fwdActuation(m, d)
+        mujoco.mj_fwdAcceleration(m, d)
+        a0 = d.qacc_smooth[self.wing_dof]
+        mujoco.mj_solveM(m, d, self._minv, self._unit)
+        tau = _solve6(self._minv[:, self.wing_dof], a_des - a0)
+        d.qfrc_applied[self.wing_dof] = tau
+        if self._capture:
+            self._tau[:] = tau
+            self._capture = False
+
+    # ---- state ---------------------------------------------------------------------------------------
+    def reset(self, *, velocity: np.ndarray = (0.0, 0.0, 0.0), quat: np.ndarray | None = None,
+              omega_body: np.ndarray = (0.0, 0.0, 0.0), position: np.ndarray = (0.0, 0.0, 0.0)) -> None:
+        """Start at t = 0 with the wings on their prescribed motion.
+
+        The body's initial velocity is chosen so that the whole insect's linear and angular momentum equal
+        those of a rigid motion at ``velocity`` (world, m/s) and ``omega_body`` (body frame, rad/s): the
+        wings' own momentum at t = 0 is cancelled by the body (an insect "at rest" has zero total momentum).
+        ``quat`` (w, x, y, z) is the body attitude; default: pitched nose-up by the body angle chi.
+        """
+        m, d = self.m, self.d
+        mujoco.mj_resetData(m, d)
+        if quat is None:
+            quat = np.array([np.cos(-self.kin.chi / 2), 0.0, np.sin(-self.kin.chi / 2), 0.0])
+        d.qpos[:3] = position
+        d.qpos[3:7] = quat / np.linalg.norm(quat)
+        q, qd, _ = self.desired(0.0)
+        d.qpos[self.wing_qpos] = q
+        d.qvel[:] = 0.0
+        d.qvel[:3] = velocity
+        d.qvel[3:6] = omega_body
+        d.qvel[self.wing_dof] = qd
+        mujoco.mj_forward(m, d)
+        M = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, M)
+        b = np.arange(6)
+        # generalized momentum of the free dofs must equal that of the rigid motion with still wings
+        p_target = M[np.ix_(b, b)] @ d.qvel[b]
+        d.qvel[b] = np.linalg.solve(M[np.ix_(b, b)], p_target - M[np.ix_(b, self.wing_dof)] @ qd)
+        mujoco.mj_forward(m, d)
+        self.backend.reset(self.state())
+
+    def state(self) -> FlightState:
+        """The current state (kinematics must be up to date: call after reset/step)."""
+        d = self.d
+        wing_v, wing_w = np.zeros((2, 3)), np.zeros((2, 3))
+        for i, wid in enumerate(self.wing_ids):
+            mujoco.mj_objectVelocity(self.m, d, mujoco.mjtObj.mjOBJ_XBODY, wid, self._v6, 0)
+            wing_w[i], wing_v[i] = self._v6[:3], self._v6[3:]
+        R_body = d.xmat[self.body_id].reshape(3, 3).copy()
+        return FlightState(
+            t=float(d.time), dt=self.dt,
+            body_pos=d.xipos[self.body_id].copy(), body_R=R_body,
+            body_v=d.qvel[:3].copy(), body_omega=R_body @ d.qvel[3:6],
+            wing_R=d.xmat[self.wing_ids].reshape(2, 3, 3).copy(),
+            wing_origin=d.xpos[self.wing_ids].copy(), wing_v=wing_v, wing_omega=wing_w,
+        )
+
+    def step(self) -> StepRecord:
+        """Advance one time step: loads from the backend at the current state, then one RK4 step."""
+        m, d = self.m, self.d
+        st = self.state()
+        loads = self.backend.loads(st)
+        com = d.xipos[self.wing_ids]
+        d.xfrc_applied[self.wing_ids, :3] = loads.force
+        d.xfrc_applied[self.wing_ids, 3:] = loads.moment + cross(st.wing_origin - com, loads.force)
+        qd = d.qvel[self.wing_dof].copy()
+        self._capture = True
+        with _control_callback(self._control):
+            mujoco.mj_step(m, d)
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        mujoco.mj_comVel(m, d)
+        return StepRecord(st, loads, float(self._tau @ qd))
+
+    # ---- diagnostics -------------------------------------------------------------------------------
+    def wing_angles(self) -> np.ndarray:
+        """Current (6,) wing joint angles [rad]."""
+        return self.d.qpos[self.wing_qpos].copy()
+
+    def momentum(self) -> tuple[np.ndarray, np.ndarray]:
+        """Total linear momentum [kg m/s] and angular momentum about the system's centre of mass [kg m^2/s],
+        world frame."""
+        m, d = self.m, self.d
+        mujoco.mj_subtreeVel(m, d)
+        mass = m.body_subtreemass[self.body_id]
+        return mass * d.subtree_linvel[self.body_id].copy(), d.subtree_angmom[self.body_id].copy()
