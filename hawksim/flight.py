@@ -1,6 +1,6 @@
 """`hawksim fly`: a free flight from the trim kinematics at an ascent speed, and its summary.
 
-The insect starts at the origin, pitched nose-up by the body angle chi, moving straight up at the target
+The insect starts at the origin, pitched nose-up so that its cycle-mean body angle is chi, moving straight up at the target
 speed (world z), wings on their prescribed motion; perturbations (stability axes, DESIGN.md: x forward
 horizontal, y right, z down) are added to that start. Results are world-frame time series (SI).
 """
@@ -145,6 +145,23 @@ class FlightResult:
         }
 
 
+def inertial_pitch_offset(model_path, kin: Kinematics, steps_per_cycle: int) -> float:
+    """Mean minus initial body pitch [rad] over one wingbeat in vacuum, from a start at pitch chi.
+
+    The wings' inertia makes the body pitch oscillate within each beat (several degrees for a hawkmoth);
+    the paper's body angle chi is the cycle mean, so the flight starts at chi minus this offset.
+    """
+    from hawksim.backend import NoAero
+
+    sim = Simulator(load_model(model_path), kin, NoAero(), steps_per_cycle=steps_per_cycle, gravity=False)
+    sim.reset()
+    pitch = []
+    for _ in range(steps_per_cycle):
+        st = sim.step().state
+        pitch.append(np.arcsin(np.clip(st.body_R[2, 0], -1, 1)))
+    return float(np.mean(pitch) - kin.chi)
+
+
 def parse_perturbations(perturb: dict[str, float]) -> dict[str, float]:
     """Validate perturbation names (ValueError naming the bad one)."""
     for k, v in perturb.items():
@@ -184,7 +201,8 @@ def fly(speed: float, cycles: int, aero: str = "quasi-steady", *, perturb: dict[
     S = np.diag([1.0, -1.0, -1.0])
     v0 = np.array([0.0, 0.0, speed]) + S @ [perturb.get("u", 0.0), perturb.get("v", 0.0), perturb.get("w", 0.0)]
     omega_world = S @ (np.array([perturb.get("p", 0.0), perturb.get("q", 0.0), perturb.get("r", 0.0)]) * deg)
-    R0 = rot_x(-perturb.get("phi", 0.0) * deg) @ rot_y(-(kin.chi + perturb.get("theta", 0.0) * deg))
+    pitch0 = kin.chi - inertial_pitch_offset(model_path, kin, steps_per_cycle) + perturb.get("theta", 0.0) * deg
+    R0 = rot_x(-perturb.get("phi", 0.0) * deg) @ rot_y(-pitch0)
     sim.reset(velocity=v0, quat=quat_from_matrix(R0), omega_body=R0.T @ omega_world)
 
     n = int(cycles) * steps_per_cycle

@@ -1,0 +1,82 @@
+"""The MJCF hawkmoth equals the morphology; structure, symmetry and file errors."""
+
+import mujoco
+import numpy as np
+import pytest
+
+from hawksim.kinematics import MIRROR, table3_kinematics, wing_rotation_body
+from hawksim.model import REPO_MODEL_PATH, load_model, mjcf
+from hawksim.morphology import HAWKMOTH
+from hawksim.rotations import quat_to_matrix
+
+TOL = 1e-8  # relative: the XML stores 9 significant digits
+
+
+def test_committed_xml_is_the_generated_one():
+    assert REPO_MODEL_PATH.read_text() == mjcf(), "regenerate with: python -m hawksim.model"
+    m = mujoco.MjModel.from_xml_path(str(REPO_MODEL_PATH))  # plain MuJoCo loads it
+    assert m.nbody == 4
+
+
+def test_one_free_joint_and_six_hinges():
+    m = load_model()
+    assert m.njnt == 7 and m.nq == 13 and m.nv == 12
+    assert m.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
+    assert all(m.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE for j in range(1, 7))
+    for site in ("com", "hinge_left", "hinge_right", "wing_com_left", "wing_com_right"):
+        assert mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, site) >= 0
+
+
+def _full_inertia(m, b):
+    R = quat_to_matrix(m.body_iquat[b])
+    return R @ np.diag(m.body_inertia[b]) @ R.T
+
+
+def test_mass_and_inertia_equal_the_morphology():
+    m = load_model()
+    body, wl, wr = (mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, n) for n in ("body", "wing_left", "wing_right"))
+    assert m.body_mass[body] == pytest.approx(HAWKMOTH.body_mass, rel=TOL)
+    assert m.body_mass[wl] == m.body_mass[wr] == pytest.approx(HAWKMOTH.wing_mass, rel=TOL)
+    assert m.body_subtreemass[body] == pytest.approx(HAWKMOTH.total_mass, rel=TOL)
+    np.testing.assert_allclose(m.body_ipos[body], 0, atol=1e-12)
+    np.testing.assert_allclose(_full_inertia(m, body), HAWKMOTH.body_inertia, rtol=TOL, atol=TOL * 2e-7)
+    np.testing.assert_allclose(m.body_ipos[wl], HAWKMOTH.wing_com, rtol=TOL, atol=1e-12)
+    np.testing.assert_allclose(m.body_ipos[wr], MIRROR @ HAWKMOTH.wing_com, rtol=TOL, atol=1e-12)
+    Iw = HAWKMOTH.wing_inertia
+    np.testing.assert_allclose(_full_inertia(m, wl), Iw, rtol=TOL, atol=TOL * 1e-8)
+    np.testing.assert_allclose(_full_inertia(m, wr), MIRROR @ Iw @ MIRROR, rtol=TOL, atol=TOL * 1e-8)
+    np.testing.assert_allclose(m.body_pos[wl], HAWKMOTH.hinge_left, rtol=TOL)
+    np.testing.assert_allclose(m.body_pos[wr], MIRROR @ HAWKMOTH.hinge_left, rtol=TOL)
+
+
+def test_joint_axes_reproduce_the_kinematics_frames():
+    """MuJoCo's wing frames (xmat) equal hawksim.kinematics' for both wings: joint angles = (phi, theta, alpha)."""
+    m = load_model()
+    d = mujoco.MjData(m)
+    kin = table3_kinematics(1.0)
+    for t in np.linspace(0, kin.period, 7):
+        q = kin.angles(t)
+        d.qpos[:] = 0
+        d.qpos[3] = 1
+        d.qpos[7:10] = q
+        d.qpos[10:13] = q
+        mujoco.mj_kinematics(m, d)
+        for side, b in (("left", 2), ("right", 3)):
+            np.testing.assert_allclose(d.xmat[b].reshape(3, 3), wing_rotation_body(kin, t, side), atol=1e-12)
+        # mirror symmetry of the posed wings
+        np.testing.assert_allclose(d.xpos[3], MIRROR @ d.xpos[2], atol=1e-15)
+        np.testing.assert_allclose(d.xipos[3], MIRROR @ d.xipos[2], atol=1e-15)
+
+
+def test_bad_model_files(tmp_path):
+    with pytest.raises(ValueError, match="does not exist"):
+        load_model(tmp_path / "missing.xml")
+    bad = tmp_path / "corrupt.xml"
+    bad.write_text("<mujoco><worldbody><body")
+    with pytest.raises(ValueError, match="could not be loaded") as e:
+        load_model(bad)
+    assert "\n" not in str(e.value)
+    other = tmp_path / "other.xml"
+    other.write_text('<mujoco><worldbody><body name="body"><freejoint/><geom size="0.01"/></body></worldbody></mujoco>')
+    with pytest.raises(ValueError, match="wing_left"):
+        load_model(other)

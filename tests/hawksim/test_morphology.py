@@ -1,0 +1,47 @@
+"""Table 1 of Nguyen et al. (2020) and the beta-distributed planform (Ellington 1984)."""
+
+import numpy as np
+import pytest
+
+from hawksim.morphology import HAWKMOTH, beta_planform
+
+
+def test_table1_planform_matches():
+    pl = HAWKMOTH.planform
+    r = np.linspace(0, pl.R, 200001)
+    c = pl.chord(r)
+    area = np.trapezoid(c, r)
+    # Table 1: R = 48.50 mm, cbar = 16.81 mm, S = 815.33 mm^2 (= R cbar to 0.006 %), r2/R = 0.53
+    assert pl.R == pytest.approx(48.50e-3)
+    assert area == pytest.approx(815.33e-6, rel=2e-4)
+    assert area / pl.R == pytest.approx(16.81e-3, rel=2e-4)
+    r2 = np.sqrt(np.trapezoid(c * r**2, r) / area) / pl.R
+    assert r2 == pytest.approx(0.53, abs=1e-4)
+    assert pl.r2_hat == pytest.approx(0.53, abs=1e-12)
+    # Ellington (1984): r2 = 0.929 r1^0.732
+    r1 = np.trapezoid(c * r, r) / area / pl.R
+    assert r2 == pytest.approx(0.929 * r1**0.732, rel=1e-3)
+
+
+def test_leading_and_trailing_edges_span_the_chord():
+    pl = HAWKMOTH.planform
+    r = np.linspace(0, pl.R, 11)
+    np.testing.assert_allclose(pl.leading_edge(r) - pl.trailing_edge(r), pl.chord(r), atol=1e-15)
+
+
+def test_masses():
+    m = HAWKMOTH
+    assert m.total_mass == pytest.approx(1578.70e-6)
+    assert m.body_mass + 2 * m.wing_mass == pytest.approx(1578.70e-6)
+    assert m.wing_mass == pytest.approx(47e-6)  # Berman & Wang (2007)
+    I = m.body_inertia
+    assert np.all(np.linalg.eigvalsh(I) > 0) and np.allclose(I, I.T)
+    Iw = m.wing_inertia
+    ev = np.linalg.eigvalsh(Iw)
+    assert np.all(ev > 0) and ev[0] + ev[1] >= ev[2] * (1 - 1e-9)
+    assert 0 < m.wing_com[1] < m.R and m.wing_com[0] < 0  # centroid behind the quarter-chord axis
+
+
+def test_bad_r2_rejected():
+    with pytest.raises(ValueError, match="r2_hat"):
+        beta_planform(0.05, 0.017, 0.9)

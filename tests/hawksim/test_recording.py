@@ -1,0 +1,204 @@
+"""`hawksim.recording.write_rrd`: the .rrd file is complete, readable and holds the flight's data."""
+
+from __future__ import annotations
+
+import dataclasses
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from rerun.chunk import RrdReader
+
+from hawksim import recording
+from hawksim.flight import fly
+from hawksim.morphology import HAWKMOTH
+from hawksim.recording import write_rrd
+
+
+@pytest.fixture(scope="module")
+def result():
+    return fly(1.0, 2)
+
+
+def read_chunks(path: Path) -> dict[str, list]:
+    """Entity path -> list of (is_static, record batch) of the file's recording store."""
+    out: dict[str, list] = {}
+    for ch in RrdReader(path).stream().to_chunks():
+        out.setdefault(ch.entity_path, []).append((ch.is_static, ch.to_record_batch()))
+    return out
+
+
+def temporal_column(chunks: dict, entity: str, column: str) -> tuple[np.ndarray, list]:
+    """(step indices, values) of a component column over the temporal chunks of an entity, sorted by step."""
+    steps, values = [], []
+    for static, rb in chunks[entity]:
+        if not static and column in rb.schema.names:
+            steps += rb.column("step").to_pylist()
+            values += rb.column(column).to_pylist()
+    order = np.argsort(steps)
+    return np.asarray(steps)[order], [values[i] for i in order]
+
+
+def rerun_cli() -> list[str] | None:
+    exe = Path(sys.executable).with_name("rerun")
+    if exe.exists():
+        return [str(exe)]
+    found = shutil.which("rerun")
+    return [found] if found else None
+
+
+def test_recording_contents(result, tmp_path):
+    path = write_rrd(tmp_path / "flight.rrd", result)
+    assert path == tmp_path / "flight.rrd" and path.stat().st_size > 0
+    assert [p.name for p in tmp_path.iterdir()] == ["flight.rrd"]  # no temporary file left behind
+
+    reader = RrdReader(path)
+    assert len(reader.recordings()) == 1 and len(reader.blueprints()) == 1
+    chunks = read_chunks(path)
+    expected = ["/world/moth", "/world/moth/body", "/world/trajectory"]
+    expected += [f"/world/{kind}/{side}" for kind in ("wings", "forces") for side in ("left", "right")]
+    expected += [f"/world/wings/{side}/mesh" for side in ("left", "right")]
+    expected += [f"/plots/{name}" for name in (
+        "forces/lift", "forces/drag", "forces_nd/L_plus", "forces_nd/D_plus", "moment/pitching",
+        "moment_nd/M_plus", "power/aero", "power/joint", "velocity/vx", "velocity/vy", "velocity/vz",
+        "attitude/pitch", "attitude/roll")]
+    missing = [e for e in expected if e not in chunks]
+    assert not missing, missing
+    assert not any(e.startswith("/world/uvlm") for e in chunks)
+
+    n = len(result.t)
+    steps, quats = temporal_column(chunks, "/world/moth", "Transform3D:quaternion")
+    np.testing.assert_array_equal(steps, np.arange(n))
+    q = np.array([v[0] for v in quats])  # xyzw, stored as float32
+    np.testing.assert_allclose(q, result.body_quat[:, [1, 2, 3, 0]], atol=1e-6)
+    for i, side in enumerate(("left", "right")):
+        _, wq = temporal_column(chunks, f"/world/wings/{side}", "Transform3D:quaternion")
+        assert len(wq) == n
+        x, y, z, w = np.array([v[0] for v in wq], dtype=float).T  # wing frame -> world, xyzw
+        R = np.stack([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]).transpose(2, 0, 1)
+        np.testing.assert_allclose(R, result.wing_R[:, i], atol=1e-5)
+        assert len(temporal_column(chunks, f"/world/forces/{side}", "Arrows3D:vectors")[0]) == n
+
+    lift = result.lift_drag()[0]
+    steps, values = temporal_column(chunks, "/plots/forces/lift", "Scalars:scalars")
+    np.testing.assert_array_equal(steps, np.arange(n))
+    for k in (0, n // 3, n - 1):
+        assert values[k][0] == pytest.approx(lift[k], rel=1e-9, abs=1e-15)
+    _, lp = temporal_column(chunks, "/plots/forces_nd/L_plus", "Scalars:scalars")
+    assert lp[n // 3][0] == pytest.approx(lift[n // 3] / HAWKMOTH.weight, rel=1e-9)
+    _, pitch = temporal_column(chunks, "/plots/attitude/pitch", "Scalars:scalars")
+    assert pitch[0][0] == pytest.approx(np.rad2deg(result.pitch()[0]), rel=1e-9)
+
+    # time timeline: duration in nanoseconds
+    rb = next(rb for static, rb in chunks["/world/moth"] if not static)
+    t = np.asarray(rb.column("time").cast("int64").to_pylist()) * 1e-9
+    np.testing.assert_allclose(np.sort(t), result.t, atol=1e-9)
+
+
+def test_cli_verify(result, tmp_path):
+    cli = rerun_cli()
+    if cli is None:
+        pytest.skip("rerun CLI not found")
+    path = write_rrd(tmp_path / "flight.rrd", result)
+    out = subprocess.run([*cli, "rrd", "verify", str(path)], capture_output=True, text=True, timeout=60,
+                         check=False)
+    assert out.returncode == 0, out.stderr
+
+
+def test_wing_mesh_mirrors():
+    vl, tl = recording.wing_mesh(HAWKMOTH, "left")
+    vr, tr = recording.wing_mesh(HAWKMOTH, "right")
+    assert vl.shape == (recording.N_SPAN * (recording.N_CHORD + 1), 3) and tl.max() < len(vl)
+    np.testing.assert_allclose(vr, vl * [1, -1, 1])
+    assert vl[:, 1].min() == 0 and vl[:, 1].max() == pytest.approx(HAWKMOTH.R)
+    area = 0.5 * np.abs(np.cross(vl[tl[:, 1]] - vl[tl[:, 0]], vl[tl[:, 2]] - vl[tl[:, 0]])[:, 2]).sum()
+    assert area == pytest.approx(HAWKMOTH.wing_area, rel=0.03)
+    # normals along +z on both wings (winding reversed with the mirror)
+    for v, t in ((vl, tl), (vr, tr)):
+        nz = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])[:, 2]
+        assert np.all(nz >= -1e-15)
+
+
+@pytest.mark.parametrize("make", ["missing_dir", "is_dir", "under_file"])
+def test_unwritable_path(result, tmp_path, make):
+    if make == "missing_dir":
+        path = tmp_path / "nope" / "flight.rrd"
+    elif make == "is_dir":
+        path = tmp_path / "adir"
+        path.mkdir()
+    else:
+        (tmp_path / "afile").write_text("x")
+        path = tmp_path / "afile" / "flight.rrd"
+    with pytest.raises(ValueError) as info:
+        write_rrd(path, result)
+    msg = str(info.value)
+    assert str(path) in msg and "\n" not in msg
+
+
+def test_failure_leaves_nothing(result, tmp_path, monkeypatch):
+    def boom(*args, **kwargs):
+        raise RuntimeError("boom")
+
+    monkeypatch.setattr(recording, "_log_flight", boom)
+    with pytest.raises(RuntimeError):
+        write_rrd(tmp_path / "flight.rrd", result)
+    assert list(tmp_path.iterdir()) == []
+
+
+def synthetic_extras(result, step: int, nc=3, ns=5, rows=4):
+    """UVLM-like extras at one step: flat panel lattices in each wing plane and a wake behind."""
+    rng = np.random.default_rng(0)
+    panels = np.empty((2, nc + 1, ns + 1, 3))
+    wake = []
+    x = np.linspace(0.25, -0.75, nc + 1) * HAWKMOTH.cbar
+    y = np.linspace(0, HAWKMOTH.R, ns + 1)
+    for w, sign in enumerate((1.0, -1.0)):
+        local = np.stack(np.broadcast_arrays(x[:, None], sign * y[None, :], 0.0 * x[:, None]), -1)
+        panels[w] = result.wing_origin[step, w] + local @ result.wing_R[step, w].T
+        xw = x[-1] - HAWKMOTH.cbar * np.arange(rows + 1)
+        lw = np.stack(np.broadcast_arrays(xw[:, None], sign * y[None, :], 0.0 * xw[:, None]), -1)
+        wake.append((result.wing_origin[step, w] + lw @ result.wing_R[step, w].T, rng.normal(size=(rows, ns))))
+    pressure = rng.normal(scale=5.0, size=(2, nc, ns))
+    return {"panels": panels, "pressure": pressure, "wake": wake}
+
+
+def unpack_rgb(packed: int) -> tuple[int, int, int]:
+    return (packed >> 24) & 255, (packed >> 16) & 255, (packed >> 8) & 255
+
+
+def test_uvlm_extras(result, tmp_path):
+    nc, ns, rows = 3, 5, 4
+    steps = (10, 60)
+    extras = [(k, synthetic_extras(result, k, nc, ns, rows)) for k in steps]
+    res = dataclasses.replace(result, extras=extras)
+    chunks = read_chunks(write_rrd(tmp_path / "uvlm.rrd", res))
+    for side in ("left", "right"):
+        assert f"/world/uvlm/panels/{side}" in chunks and f"/world/uvlm/wake/{side}" in chunks
+    assert "/world/uvlm/legend" in chunks
+
+    got_steps, verts = temporal_column(chunks, "/world/uvlm/panels/left", "Mesh3D:vertex_positions")
+    np.testing.assert_array_equal(got_steps, steps)
+    assert len(verts[0]) == 4 * nc * ns
+    # the panel with the largest |pressure| over the recording is at the end of the scale
+    _, colors = temporal_column(chunks, "/world/uvlm/panels/left", "Mesh3D:vertex_colors")
+    p = extras[0][1]["pressure"]
+    p_lim = max(np.abs(e["pressure"]).max() for _, e in extras)
+    rgb = np.array([unpack_rgb(c) for c in colors[0][::4]])
+    np.testing.assert_array_equal(rgb, recording.diverging_colors(p[0].reshape(-1), p_lim))
+    k = np.argmax(np.abs(p[0]))
+    if np.abs(p[0]).max() == p_lim:
+        assert tuple(rgb[k]) == ((180, 4, 38) if p[0].flat[k] > 0 else (59, 76, 192))
+
+    got_steps, strips = temporal_column(chunks, "/world/uvlm/wake/right", "LineStrips3D:strips")
+    np.testing.assert_array_equal(got_steps, steps)
+    assert len(strips[0]) == rows * ns + ns + 1  # ring segments + streamwise lines
+
+
+def test_diverging_colors():
+    c = recording.diverging_colors(np.array([-2.0, -1.0, 0.0, 1.0, 5.0]), 1.0)
+    assert [tuple(x) for x in c] == [(59, 76, 192), (59, 76, 192), (221, 221, 221), (180, 4, 38), (180, 4, 38)]
