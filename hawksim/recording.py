@@ -99,21 +99,19 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, appli
             pass
     except OSError as exc:
         raise ValueError(f"cannot write recording {path}: {exc.strerror or exc}") from None
+    rec = rr.RecordingStream(application_id)
     try:
-        rec = rr.RecordingStream(application_id, send_properties=False)
         rec.save(tmp, default_blueprint=default_blueprint())
         _log_flight(rec, result, morph)
         _log_extras(rec, result)
         rec.flush()
-        rec.disconnect()
-        del rec
+        rec.disconnect()  # closes the file sink (writes the footer)
         os.replace(tmp, path)
     except OSError as exc:
-        tmp.unlink(missing_ok=True)
         raise ValueError(f"cannot write recording {path}: {exc.strerror or exc}") from None
-    except BaseException:
+    finally:
+        rec.disconnect()
         tmp.unlink(missing_ok=True)
-        raise
     return path
 
 
