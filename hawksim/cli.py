@@ -26,7 +26,7 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(f"{self.prog}: {message}")
 
 
-def _speed(text: str) -> float:
+def speed_arg(text: str) -> float:
     try:
         v = float(text)
     except ValueError:
@@ -38,7 +38,7 @@ def _speed(text: str) -> float:
     return v
 
 
-def _cycles(text: str) -> int:
+def cycles_arg(text: str) -> int:
     try:
         v = int(text)
     except ValueError:
@@ -90,7 +90,7 @@ def _perturbation(text: str) -> tuple[str, float]:
     return key, v
 
 
-def _writable_file(text: str) -> Path:
+def writable_file(text: str) -> Path:
     p = Path(text)
     parent = p.parent if str(p.parent) else Path(".")
     if p.is_dir():
@@ -102,7 +102,7 @@ def _writable_file(text: str) -> Path:
     return p
 
 
-def _progress(desc: str, total: int):
+def progress_bar(desc: str, total: int):
     from tqdm import tqdm
 
     bar = tqdm(total=total, desc=desc, unit="step", file=sys.stderr, disable=None, mininterval=0.5)
@@ -118,7 +118,7 @@ def _progress(desc: str, total: int):
 def cmd_fly(args) -> dict:
     from hawksim.flight import fly
 
-    progress = None if args.no_progress else _progress("fly", args.cycles * args.steps_per_cycle)
+    progress = None if args.no_progress else progress_bar("fly", args.cycles * args.steps_per_cycle)
     result = fly(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
                  kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
                  keep_extras_every=args.steps_per_cycle // 10 if args.rrd else 0, progress=progress)
@@ -147,11 +147,11 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     f = sub.add_parser("fly", help="fly the insect from its trim at an ascent speed (MuJoCo, 6-DOF)")
-    f.add_argument("--speed", type=_speed, required=True, help="ascent speed V [m/s], 0 (hover) to 2")
-    f.add_argument("--cycles", type=_cycles, required=True, help="number of wingbeats N")
+    f.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 (hover) to 2")
+    f.add_argument("--cycles", type=cycles_arg, required=True, help="number of wingbeats N")
     f.add_argument("--aero", choices=("uvlm", "surrogate", "quasi-steady"), default="quasi-steady",
                    help="aerodynamic model (default quasi-steady)")
-    f.add_argument("--rrd", type=_writable_file, help="write a Rerun recording to FILE")
+    f.add_argument("--rrd", type=writable_file, help="write a Rerun recording to FILE")
     f.add_argument("--perturb", type=_perturbation, action="append", metavar="NAME=VALUE",
                    help="initial disturbance: u, v, w [m/s]; p, q, r [deg/s]; theta, phi [deg] (stability axes)")
     f.add_argument("--kinematics", type=parse_kinematics,
@@ -163,7 +163,27 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--no-progress", action="store_true", help="no progress bar")
     f.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     f.set_defaults(func=cmd_fly)
+    for register in _plugins():
+        register(sub)
     return p
+
+
+def _plugins():
+    """Subcommands defined in their own modules: each ``hawksim.cli_<name>`` exposes ``register(subparsers)``
+    that adds its parser and sets ``func`` (args -> dict for the JSON output)."""
+    import importlib
+
+    for name in PLUGIN_MODULES:
+        try:
+            mod = importlib.import_module(f"hawksim.cli_{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"hawksim.cli_{name}":
+                raise
+            continue
+        yield mod.register
+
+
+PLUGIN_MODULES = ("aero", "dataset", "predict", "train", "trim", "stability", "reproduce")
 
 
 def main(argv: list[str] | None = None) -> int:

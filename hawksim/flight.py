@@ -39,8 +39,11 @@ def trim_kinematics(speed: float) -> Kinematics:
     return table3_kinematics(speed)
 
 
-def make_backend(name: str) -> AeroBackend:
-    """Backend by CLI name. Raises ValueError for an unknown or unavailable one."""
+def make_backend(name: str, *, symmetric: bool = True, keep_panels: bool = False) -> AeroBackend:
+    """Backend by CLI name, at `hawksim fly`'s resolution. Raises ValueError for an unknown or unavailable one.
+
+    symmetric: the flight stays left/right symmetric (no lateral perturbation), so the UVLM may mirror.
+    """
     if name == "quasi-steady":
         from hawksim.qs_backend import QuasiSteadyBackend
 
@@ -50,11 +53,11 @@ def make_backend(name: str) -> AeroBackend:
 
         return NoAero()
     if name == "uvlm":
-        try:
-            from hawksim.uvlm_backend import UVLMBackend
-        except ImportError as exc:  # pragma: no cover - until the UVLM lands
-            raise ValueError(f"--aero uvlm is not available: {exc}") from None
-        return UVLMBackend()
+        from hawksim.evaluate import FLY_UVLM
+        from hawksim.uvlm_backend import UVLMBackend
+
+        return UVLMBackend(n_chord=FLY_UVLM.n_chord, n_span=FLY_UVLM.n_span, symmetric=symmetric,
+                           keep_panels=keep_panels)
     if name == "surrogate":
         raise ValueError("--aero surrogate is not available yet: no trained surrogate ships with this version")
     raise ValueError(f"unknown --aero {name!r}; choose uvlm, surrogate or quasi-steady")
@@ -190,9 +193,17 @@ def fly(speed: float, cycles: int, aero: str = "quasi-steady", *, perturb: dict[
         raise ValueError(f"--cycles must be a positive integer, got {cycles}")
     perturb = parse_perturbations(perturb or {})
     kin = kinematics if kinematics is not None else trim_kinematics(speed)
-    backend = make_backend(aero)
+    lateral = any(perturb.get(k, 0.0) != 0.0 for k in ("v", "p", "r", "phi"))
+    backend = make_backend(aero, symmetric=not lateral, keep_panels=keep_extras_every > 0)
     model = load_model(model_path)
-    sim = Simulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity)
+    aero_every = 1
+    if aero == "uvlm":
+        from hawksim.evaluate import FLY_UVLM
+
+        aero_every = max(1, steps_per_cycle // FLY_UVLM.steps_per_cycle)
+        while steps_per_cycle % aero_every:
+            aero_every -= 1
+    sim = Simulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity, aero_every=aero_every)
 
     from hawksim.rotations import quat_from_matrices, quat_from_matrix, rot_x, rot_y
 

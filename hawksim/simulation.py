@@ -48,6 +48,23 @@ class StepRecord:
     """Mechanical power delivered by the six wing joints, sum of tau_j qdot_j at the step start [W]."""
 
 
+def read_state(m: mujoco.MjModel, d: mujoco.MjData, body_id: int, wing_ids, dt: float) -> FlightState:
+    """FlightState from MuJoCo data whose kinematics (mj_kinematics, mj_comPos, mj_comVel) are current."""
+    v6 = np.zeros(6)
+    wing_v, wing_w = np.zeros((2, 3)), np.zeros((2, 3))
+    for i, wid in enumerate(wing_ids):
+        mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_XBODY, wid, v6, 0)
+        wing_w[i], wing_v[i] = v6[:3], v6[3:]
+    R_body = d.xmat[body_id].reshape(3, 3).copy()
+    return FlightState(
+        t=float(d.time), dt=dt,
+        body_pos=d.xipos[body_id].copy(), body_R=R_body,
+        body_v=d.qvel[:3].copy(), body_omega=R_body @ d.qvel[3:6],
+        wing_R=d.xmat[wing_ids].reshape(2, 3, 3).copy(),
+        wing_origin=d.xpos[wing_ids].copy(), wing_v=wing_v, wing_omega=wing_w,
+    )
+
+
 @contextlib.contextmanager
 def _control_callback(fn):
     previous = mujoco.get_mjcb_control()
@@ -68,10 +85,13 @@ class Simulator:
         backend: aerodynamic model.
         steps_per_cycle: integration steps per wingbeat.
         gravity: whether gravity acts.
+        aero_every: call the backend every this many steps (its dt is then aero_every steps); in between the
+            loads are held fixed in each wing's frame (they turn with the wing), so a costly backend (the UVLM)
+            can run at a coarser rate than the integrator.
     """
 
     def __init__(self, model: mujoco.MjModel, kin: Kinematics, backend: AeroBackend, *,
-                 steps_per_cycle: int = 200, gravity: bool = True):
+                 steps_per_cycle: int = 200, gravity: bool = True, aero_every: int = 1):
         if steps_per_cycle < 20:
             raise ValueError(f"steps_per_cycle must be >= 20, got {steps_per_cycle}")
         self.m = model
@@ -79,6 +99,11 @@ class Simulator:
         self.backend = backend
         self.dt = kin.period / steps_per_cycle
         self.steps_per_cycle = steps_per_cycle
+        if aero_every < 1 or steps_per_cycle % aero_every:
+            raise ValueError(f"aero_every={aero_every} must be >= 1 and divide steps_per_cycle={steps_per_cycle}")
+        self.aero_every = aero_every
+        self._i = 0
+        self._held: tuple | None = None
         model.opt.timestep = self.dt
         model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
         model.opt.gravity[:] = (0.0, 0.0, -9.81) if gravity else (0.0, 0.0, 0.0)
@@ -96,7 +121,6 @@ class Simulator:
         self._kp, self._kd = wc * wc, 2 * wc
         self._capture = False
         self._tau = np.zeros(6)
-        self._v6 = np.zeros(6)
 
     # ---- prescribed motion -------------------------------------------------------------------------
     def desired(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -157,29 +181,28 @@ class Simulator:
         p_target = M[np.ix_(b, b)] @ d.qvel[b]
         d.qvel[b] = np.linalg.solve(M[np.ix_(b, b)], p_target - M[np.ix_(b, self.wing_dof)] @ qd)
         mujoco.mj_forward(m, d)
+        self._i = 0
         self.backend.reset(self.state())
 
     def state(self) -> FlightState:
-        """The current state (kinematics must be up to date: call after reset/step)."""
-        d = self.d
-        wing_v, wing_w = np.zeros((2, 3)), np.zeros((2, 3))
-        for i, wid in enumerate(self.wing_ids):
-            mujoco.mj_objectVelocity(self.m, d, mujoco.mjtObj.mjOBJ_XBODY, wid, self._v6, 0)
-            wing_w[i], wing_v[i] = self._v6[:3], self._v6[3:]
-        R_body = d.xmat[self.body_id].reshape(3, 3).copy()
-        return FlightState(
-            t=float(d.time), dt=self.dt,
-            body_pos=d.xipos[self.body_id].copy(), body_R=R_body,
-            body_v=d.qvel[:3].copy(), body_omega=R_body @ d.qvel[3:6],
-            wing_R=d.xmat[self.wing_ids].reshape(2, 3, 3).copy(),
-            wing_origin=d.xpos[self.wing_ids].copy(), wing_v=wing_v, wing_omega=wing_w,
-        )
+        """The current state (kinematics must be up to date: call after reset/step); its dt is the interval
+        the backend's loads are held over."""
+        return read_state(self.m, self.d, self.body_id, self.wing_ids, self.dt * self.aero_every)
 
     def step(self) -> StepRecord:
-        """Advance one time step: loads from the backend at the current state, then one RK4 step."""
+        """Advance one time step: loads from the backend (or held), then one RK4 step."""
         m, d = self.m, self.d
         st = self.state()
-        loads = self.backend.loads(st)
+        if self._i % self.aero_every == 0:
+            loads = self.backend.loads(st)
+            # hold in the wing frames: local force and moment about the hinge
+            self._held = (loads, np.einsum("wji,wj->wi", st.wing_R, loads.force),
+                          np.einsum("wji,wj->wi", st.wing_R, loads.moment))
+        else:
+            base, F_loc, M_loc = self._held
+            loads = WingLoads(np.einsum("wij,wj->wi", st.wing_R, F_loc), np.einsum("wij,wj->wi", st.wing_R, M_loc),
+                              base.power, base.extras)
+        self._i += 1
         com = d.xipos[self.wing_ids]
         d.xfrc_applied[self.wing_ids, :3] = loads.force
         d.xfrc_applied[self.wing_ids, 3:] = loads.moment + cross(st.wing_origin - com, loads.force)

@@ -1,0 +1,132 @@
+"""Cycle-averaged loads and power with the body held on its equilibrium path (the paper's setting).
+
+The body translates straight up at the ascent speed V with the constant attitude chi (nose up) and no
+rotation; the wings follow Eq. 1. This is how the paper evaluates L+, D+, M+ and P+ for the training data,
+the trim and the stability derivatives. The wing poses and velocities come from the same MuJoCo model and
+the same :func:`hawksim.simulation.read_state` as the free flights, so a backend sees identical inputs.
+
+Power (DESIGN.md): P(t) = P_aero(t) + P_inertial(t), the mechanical power of the six wing joints; P_aero is the
+backend's power relative to the body, P_inertial = tau_in . qdot with tau_in the joint torques that drive the
+wings' inertia (MuJoCo inverse dynamics, gravity off: the wings' weight is left out, as in the paper);
+required power = cycle mean of max(0, P) (no elastic storage, negative power dissipated).
+
+Nondimensional outputs (paper Eq. 2): L+ = L/W, D+ = D/W, M+ = M/(W cbar), P+ = P/P0, with lift along world z,
+drag along minus the body's horizontal heading (world -x), and M the nose-up pitching moment about the body's
+centre of mass.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from hawksim.backend import AeroBackend
+from hawksim.kinematics import Kinematics
+from hawksim.model import JOINT_KINDS, WING_SIDES, load_model
+from hawksim.morphology import HAWKMOTH, P0_W, Morphology
+from hawksim.rotations import quat_from_matrix, rot_y
+from hawksim.simulation import read_state
+
+
+@dataclass(frozen=True)
+class CycleAverages:
+    """Nondimensional cycle averages (paper Eq. 2) and the required power [W]."""
+
+    L_plus: float
+    D_plus: float
+    M_plus: float
+    P_plus: float
+    power_W: float
+
+
+@dataclass(frozen=True)
+class HeldResult:
+    """Time series (n steps) and the cycle averages of the last ``average_cycles`` wingbeats.
+
+    t (n,) [s]; lift, drag (n,) [N]; moment (n,) nose-up pitching moment about the centre of mass [N m];
+    power_aero, power_inertial (n,) [W]; per_cycle: averages of every wingbeat (periodic convergence).
+    """
+
+    kinematics: Kinematics
+    speed: float
+    steps_per_cycle: int
+    t: np.ndarray
+    lift: np.ndarray
+    drag: np.ndarray
+    moment: np.ndarray
+    power_aero: np.ndarray
+    power_inertial: np.ndarray
+    averages: CycleAverages
+    per_cycle: tuple[CycleAverages, ...]
+    wall_time_s: float
+
+
+def cycle_averages(lift, drag, moment, power, morph: Morphology = HAWKMOTH) -> CycleAverages:
+    """Averages of one or more whole cycles of the time series (each (n,), SI)."""
+    W = morph.weight
+    p_req = float(np.maximum(power, 0.0).mean())
+    return CycleAverages(L_plus=float(np.mean(lift) / W), D_plus=float(np.mean(drag) / W),
+                         M_plus=float(np.mean(moment) / (W * morph.cbar)), P_plus=p_req / P0_W, power_W=p_req)
+
+
+def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: int = 3,
+                average_cycles: int = 1, steps_per_cycle: int = 40, model: mujoco.MjModel | None = None,
+                morph: Morphology = HAWKMOTH, progress=None) -> HeldResult:
+    """Run ``backend`` for ``cycles`` wingbeats with the body held at ascent ``speed`` [m/s].
+
+    The averages are over the last ``average_cycles`` wingbeats (the earlier ones carry the start-up transient).
+    """
+    if not (np.isfinite(speed) and speed >= 0):
+        raise ValueError(f"speed must be a finite ascent speed >= 0 m/s, got {speed}")
+    if not 1 <= average_cycles <= cycles:
+        raise ValueError(f"average_cycles must be in [1, cycles={cycles}], got {average_cycles}")
+    m = model if model is not None else load_model()
+    m.opt.gravity[:] = 0.0
+    d = mujoco.MjData(m)
+    body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "body")
+    wings = np.array([mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"wing_{s}") for s in WING_SIDES])
+    jids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{k}_{s}") for s in WING_SIDES for k in JOINT_KINDS]
+    qadr = np.array([m.jnt_qposadr[j] for j in jids])
+    vadr = np.array([m.jnt_dofadr[j] for j in jids])
+    R_body = rot_y(-kin.chi)
+    quat = quat_from_matrix(R_body)
+    dt = kin.period / steps_per_cycle
+    n = cycles * steps_per_cycle
+    out = np.zeros((5, n))
+    times = np.arange(n) * dt
+    t0 = time.perf_counter()
+    for i, t in enumerate(times):
+        d.time = t
+        d.qpos[:3] = (0.0, 0.0, speed * t)
+        d.qpos[3:7] = quat
+        d.qpos[qadr] = np.tile(kin.angles(t), 2)
+        d.qvel[:] = 0.0
+        d.qvel[2] = speed
+        d.qvel[vadr] = np.tile(kin.rates(t), 2)
+        d.qacc[:] = 0.0
+        d.qacc[vadr] = np.tile(kin.accelerations(t), 2)
+        mujoco.mj_inverse(m, d)  # also brings kinematics and com velocities up to date
+        st = read_state(m, d, body, wings, dt)
+        if i == 0:
+            backend.reset(st)
+        loads = backend.loads(st)
+        F = loads.force.sum(0)
+        M = loads.moment_about(st, st.body_pos)
+        out[:, i] = (F[2], -F[0], -(M @ R_body[:, 1]), loads.power, d.qfrc_inverse[vadr] @ d.qvel[vadr])
+        if progress is not None:
+            progress(i + 1, n)
+    wall = time.perf_counter() - t0
+    per_cycle = tuple(
+        cycle_averages(*out[:3, c * steps_per_cycle:(c + 1) * steps_per_cycle],
+                       out[3, c * steps_per_cycle:(c + 1) * steps_per_cycle]
+                       + out[4, c * steps_per_cycle:(c + 1) * steps_per_cycle], morph)
+        for c in range(cycles)
+    )
+    last = slice(n - average_cycles * steps_per_cycle, n)
+    avg = cycle_averages(*out[:3, last], out[3, last] + out[4, last], morph)
+    return HeldResult(kinematics=kin, speed=float(speed), steps_per_cycle=steps_per_cycle, t=times,
+                      lift=out[0], drag=out[1], moment=out[2], power_aero=out[3], power_inertial=out[4],
+                      averages=avg, per_cycle=per_cycle, wall_time_s=wall)
