@@ -1,7 +1,9 @@
 """Cycle-averaged loads and power with the body held on its equilibrium path (the paper's setting).
 
 The body translates straight up at the ascent speed V with the constant attitude chi (nose up) and no
-rotation; the wings follow Eq. 1. This is how the paper evaluates L+, D+, M+ and P+ for the training data,
+rotation; the wings follow Eq. 1. The computation runs in the body-carried frame (an inertial frame, since
+the body's velocity is constant): the body stays at the origin and the air streams down at V
+(``FlightState.air_v`` = (0, 0, -V)), so wakes and disturbance fields stay near the insect. This is how the paper evaluates L+, D+, M+ and P+ for the training data,
 the trim and the stability derivatives. The wing poses and velocities come from the same MuJoCo model and
 the same :func:`hawksim.simulation.read_state` as the free flights, so a backend sees identical inputs.
 
@@ -18,7 +20,7 @@ centre of mass.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
@@ -47,7 +49,8 @@ class HeldResult:
     """Time series (n steps) and the cycle averages of the last ``average_cycles`` wingbeats.
 
     t (n,) [s]; lift, drag (n,) [N]; moment (n,) nose-up pitching moment about the centre of mass [N m];
-    power_aero, power_inertial (n,) [W]; per_cycle: averages of every wingbeat (periodic convergence).
+    power_aero, power_inertial (n,) [W]; per_cycle: averages of every wingbeat (periodic convergence);
+    force_world, moment_world (n, 3): total aerodynamic force [N] and moment about the centre of mass [N m].
     """
 
     kinematics: Kinematics
@@ -62,6 +65,13 @@ class HeldResult:
     averages: CycleAverages
     per_cycle: tuple[CycleAverages, ...]
     wall_time_s: float
+    force_world: np.ndarray
+    moment_world: np.ndarray
+
+    def mean_loads(self, average_cycles: int = 1) -> tuple[np.ndarray, np.ndarray]:
+        """Mean force (3,) [N] and moment (3,) [N m] (world) over the last ``average_cycles`` wingbeats."""
+        last = slice(len(self.t) - average_cycles * self.steps_per_cycle, len(self.t))
+        return self.force_world[last].mean(0), self.moment_world[last].mean(0)
 
 
 def cycle_averages(lift, drag, moment, power, morph: Morphology = HAWKMOTH) -> CycleAverages:
@@ -94,28 +104,30 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
     R_body = rot_y(-kin.chi)
     quat = quat_from_matrix(R_body)
     dt = kin.period / steps_per_cycle
+    air = np.array([0.0, 0.0, -speed])
     n = cycles * steps_per_cycle
     out = np.zeros((5, n))
+    FM = np.zeros((n, 6))
     times = np.arange(n) * dt
     t0 = time.perf_counter()
     for i, t in enumerate(times):
         d.time = t
-        d.qpos[:3] = (0.0, 0.0, speed * t)
+        d.qpos[:3] = 0.0
         d.qpos[3:7] = quat
         d.qpos[qadr] = np.tile(kin.angles(t), 2)
         d.qvel[:] = 0.0
-        d.qvel[2] = speed
         d.qvel[vadr] = np.tile(kin.rates(t), 2)
         d.qacc[:] = 0.0
         d.qacc[vadr] = np.tile(kin.accelerations(t), 2)
         mujoco.mj_inverse(m, d)  # also brings kinematics and com velocities up to date
-        st = read_state(m, d, body, wings, dt)
+        st = replace(read_state(m, d, body, wings, dt), air_v=air)
         if i == 0:
             backend.reset(st)
         loads = backend.loads(st)
         F = loads.force.sum(0)
         M = loads.moment_about(st, st.body_pos)
         out[:, i] = (F[2], -F[0], -(M @ R_body[:, 1]), loads.power, d.qfrc_inverse[vadr] @ d.qvel[vadr])
+        FM[i, :3], FM[i, 3:] = F, M
         if progress is not None:
             progress(i + 1, n)
     wall = time.perf_counter() - t0
@@ -129,4 +141,5 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
     avg = cycle_averages(*out[:3, last], out[3, last] + out[4, last], morph)
     return HeldResult(kinematics=kin, speed=float(speed), steps_per_cycle=steps_per_cycle, t=times,
                       lift=out[0], drag=out[1], moment=out[2], power_aero=out[3], power_inertial=out[4],
-                      averages=avg, per_cycle=per_cycle, wall_time_s=wall)
+                      averages=avg, per_cycle=per_cycle, wall_time_s=wall, force_world=FM[:, :3],
+                      moment_world=FM[:, 3:])

@@ -117,8 +117,8 @@ class Kinematics:
         return cls(**{k: _to_si(k, values[k]) for k in PARAM_NAMES})
 
     def to_edge(self) -> dict[str, float]:
-        """Dict in edge units (Hz, degrees), in PARAM_NAMES order."""
-        return {k: _to_edge(k, v) for k, v in asdict(self).items()}
+        """Dict in edge units (Hz, degrees), in PARAM_NAMES order, rounded to 12 significant digits."""
+        return {k: float(f"{_to_edge(k, v):.12g}") for k, v in asdict(self).items()}
 
     def as_array(self) -> np.ndarray:
         """(7,) SI values in PARAM_NAMES order."""

@@ -8,7 +8,8 @@ solved and the right one is its mirror image across the body's sagittal plane (e
 motion, half the cost).
 
 Disturbances (paper Eq. 15) enter as a rigid air-velocity field (``aero.uvlm.FreeStream``) given at
-construction: the air moves with v0 + omega x (x - ref) in the world frame.
+construction: the air moves with v0 + omega x (x - ref) in the world frame, plus the flight state's uniform
+``air_v`` (the ascent stream of a held-body run).
 """
 
 from __future__ import annotations
@@ -68,8 +69,11 @@ class UVLMBackend:
             self.reset(state)
         k = 1 if self.symmetric else 2
         plane = (state.body_pos, state.body_R[:, 1]) if self.symmetric else None
+        fs = self.freestream
+        if np.any(state.air_v):
+            fs = FreeStream(v0=np.asarray(fs.v0) + state.air_v, omega=fs.omega, ref=fs.ref)
         res = self.solver.step(state.dt, state.wing_R[:k], state.wing_origin[:k], state.wing_v[:k],
-                               state.wing_omega[:k], freestream=self.freestream, mirror_plane=plane)
+                               state.wing_omega[:k], freestream=fs, mirror_plane=plane)
         pf = res.panel_force.reshape(k, -1, 3)
         pp = res.panel_point.reshape(k, -1, 3)
         force = pf.sum(1)

@@ -1,0 +1,58 @@
+"""`hawksim aero`: one UVLM run with the body held at ascent speed V (cycle-averaged L+, D+, M+, P+)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import replace
+
+from hawksim.cli import cycles_arg, parse_kinematics, progress_bar, speed_arg
+
+
+def cmd_aero(args) -> dict:
+    from hawksim.evaluate import DEFAULT, run
+
+    res = DEFAULT
+    if args.cycles is not None:
+        res = replace(res, cycles=args.cycles)
+    res = replace(res, aero=args.aero, **{k: v for k, v in (("n_chord", args.n_chord), ("n_span", args.n_span),
+                                                            ("steps_per_cycle", args.steps_per_cycle)) if v})
+    progress = None if args.no_progress else progress_bar("aero", res.cycles * res.steps_per_cycle)
+    r = run(args.kinematics, args.speed, res, progress=progress)
+    a = r.averages
+    return {
+        "L_plus": a.L_plus, "D_plus": a.D_plus, "M_plus": a.M_plus, "P_plus": a.P_plus, "power_W": a.power_W,
+        "wall_time_s": r.wall_time_s,
+        "speed": args.speed, "kinematics": args.kinematics.to_edge(), "chi_deg": math.degrees(args.kinematics.chi),
+        "resolution": res.to_dict(),
+        "per_cycle": [{"L_plus": c.L_plus, "D_plus": c.D_plus, "M_plus": c.M_plus, "P_plus": c.P_plus}
+                      for c in r.per_cycle],
+    }
+
+
+def _positive_int(name):
+    def parse(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"--{name} {text!r} is not an integer") from None
+        if v < 1:
+            raise argparse.ArgumentTypeError(f"--{name} {text} must be >= 1")
+        return v
+
+    return parse
+
+
+def register(sub) -> None:
+    p = sub.add_parser("aero", help="one UVLM run with the body held at ascent speed V: cycle-averaged loads")
+    p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
+    p.add_argument("--kinematics", type=parse_kinematics, required=True,
+                   help="f=..,beta=..,phi0=..,theta0=..,alpha0=..,phi_a=..,alpha_a=.. (Hz, deg; Table 2 bounds)")
+    p.add_argument("--cycles", type=cycles_arg, help="wingbeats (default 3; the last one is averaged)")
+    p.add_argument("--aero", choices=("uvlm", "quasi-steady"), default="uvlm")
+    p.add_argument("--n-chord", type=_positive_int("n-chord"), help="chordwise vortex rings per wing (8)")
+    p.add_argument("--n-span", type=_positive_int("n-span"), help="spanwise vortex rings per wing (16)")
+    p.add_argument("--steps-per-cycle", type=_positive_int("steps-per-cycle"), help="time steps per wingbeat (60)")
+    p.add_argument("--no-progress", action="store_true")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_aero)

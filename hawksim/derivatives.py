@@ -1,0 +1,121 @@
+"""Stability derivatives from UVLM runs with disturbance velocities (paper Eq. 15), and mass properties.
+
+A disturbance is a body motion relative to the air at the trim: translational (u, v, w) [m/s] and rotational
+(p, q, r) [rad/s], in stability axes (x forward horizontal, y right, z down). In the body-carried frame of a
+held-body run it is an air-velocity field v_air(x) = -(v_d + omega_d x (x - x_cg)) (world frame), which enters
+the no-penetration condition and convects the wake (``aero.uvlm.FreeStream``).
+
+Central differences of the cycle-averaged forces and moments about the centre of mass (last
+``average_cycles`` wingbeats). Symmetric disturbances (u, w, q) keep the flapping left/right symmetric, so
+the UVLM solves one wing and mirrors it; for antisymmetric ones (v, p, r) the run at -delta is the mirror
+image of the run at +delta, so one full two-wing run gives the exact central difference:
+dY/dv = (Y(+dv) - Y(-dv)) / (2 dv) = Y(+dv) / dv, and likewise for L and N.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from hawksim.evaluate import Resolution, make_backend
+from hawksim.held import held_flight
+from hawksim.kinematics import Kinematics
+from hawksim.model import JOINT_KINDS, WING_SIDES, load_model
+from hawksim.rotations import quat_from_matrix, rot_y
+from hawksim.stability import MassProperties
+
+S_WORLD = np.diag([1.0, -1.0, -1.0])
+"""Stability axes -> world (heading +x): a rotation by 180 deg about x, so it maps vectors and pseudovectors."""
+
+DERIVATIVE_RESOLUTION = Resolution(n_chord=6, n_span=12, steps_per_cycle=40, cycles=3, average_cycles=1)
+"""Lattice and time step of the derivative runs (see docs/stability.md for the step-size and resolution study)."""
+
+DELTA_VELOCITY = 0.05
+"""Translational disturbance as a fraction of the reference speed U = 2 phi_a f r2 (step-size study)."""
+
+DELTA_RATE = 0.05
+"""Rotational disturbance in units of 1/T (q T = 0.05)."""
+
+
+def mass_properties(kin: Kinematics, model: mujoco.MjModel | None = None) -> MassProperties:
+    """Total mass and inertia about the centre of mass with the wings at their mean position (phi0, theta0,
+    90 deg + alpha0) and the body at the trim attitude chi, in stability axes."""
+    m = model if model is not None else load_model()
+    d = mujoco.MjData(m)
+    d.qpos[3:7] = quat_from_matrix(rot_y(-kin.chi))
+    mean = np.array([kin.phi0, kin.theta0, np.pi / 2 + kin.alpha0])
+    for side in WING_SIDES:
+        for k, v in zip(JOINT_KINDS, mean):
+            d.qpos[m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{k}_{side}")]] = v
+    mujoco.mj_kinematics(m, d)
+    mujoco.mj_comPos(m, d)
+    bodies = range(1, m.nbody)
+    mass = sum(m.body_mass[b] for b in bodies)
+    com = sum(m.body_mass[b] * d.xipos[b] for b in bodies) / mass
+    I = np.zeros((3, 3))
+    for b in bodies:
+        R = d.ximat[b].reshape(3, 3)
+        r = d.xipos[b] - com
+        I += R @ np.diag(m.body_inertia[b]) @ R.T + m.body_mass[b] * (r @ r * np.eye(3) - np.outer(r, r))
+    Is = S_WORLD @ I @ S_WORLD
+    return MassProperties(m=float(mass), Ix=float(Is[0, 0]), Iy=float(Is[1, 1]), Iz=float(Is[2, 2]),
+                          Ixz=float(-Is[0, 2]))
+
+
+@dataclass(frozen=True)
+class DerivativeRuns:
+    """Dimensional derivatives (stability axes, SI) and what produced them."""
+
+    derivatives: dict[str, float]
+    deltas: dict[str, float]
+    resolution: Resolution
+    wall_time_s: float
+
+
+def _loads_stability(kin, speed, res, v_d_s, w_d_s, symmetric) -> np.ndarray:
+    """Cycle-mean (X, Y, Z, L, M, N) in stability axes for a disturbance (v_d_s, w_d_s) (stability axes)."""
+    from aero.uvlm import FreeStream
+
+    fs = FreeStream(v0=-(S_WORLD @ v_d_s), omega=-(S_WORLD @ w_d_s), ref=np.zeros(3))
+    r = held_flight(kin, speed, make_backend(res, symmetric=symmetric, freestream=fs), cycles=res.cycles,
+                    average_cycles=res.average_cycles, steps_per_cycle=res.steps_per_cycle)
+    F, M = r.mean_loads(res.average_cycles)
+    return np.concatenate([S_WORLD @ F, S_WORLD @ M])
+
+
+def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DERIVATIVE_RESOLUTION, *,
+                            delta_velocity: float = DELTA_VELOCITY, delta_rate: float = DELTA_RATE,
+                            map_fn=map) -> DerivativeRuns:
+    """All 18 derivatives of the paper at a trim. ``map_fn`` may be a parallel map (e.g. a Dask client's)."""
+    import time
+
+    from hawksim.stability import Scales
+
+    sc = Scales.of(kin)
+    dv, dw = delta_velocity * sc.U, delta_rate / sc.T
+    unit = np.eye(3)
+    cases = []  # (name, sign, v_d, w_d, symmetric)
+    for i, name in ((0, "u"), (2, "w")):
+        cases += [(name, s, s * dv * unit[i], np.zeros(3), True) for s in (1, -1)]
+    cases += [("q", s, np.zeros(3), s * dw * unit[1], True) for s in (1, -1)]
+    cases += [("v", 1, dv * unit[1], np.zeros(3), False), ("p", 1, np.zeros(3), dw * unit[0], False),
+              ("r", 1, np.zeros(3), dw * unit[2], False)]
+    t0 = time.perf_counter()
+    loads = list(map_fn(lambda c: _loads_stability(kin, speed, res, c[2], c[3], c[4]), cases))
+    got = {(c[0], c[1]): y for c, y in zip(cases, loads)}
+    step = {"u": dv, "w": dv, "q": dw, "v": dv, "p": dw, "r": dw}
+    out = {}
+    comp = dict(X=0, Y=1, Z=2, L=3, M=4, N=5)
+    for var in ("u", "w", "q"):
+        diff = (got[(var, 1)] - got[(var, -1)]) / (2 * step[var])
+        for f in "XZM":
+            out[f + var] = float(diff[comp[f]])
+    for var in ("v", "p", "r"):
+        diff = got[(var, 1)] / step[var]  # antisymmetry: the -delta run is the mirror image
+        for f in "YLN":
+            out[f + var] = float(diff[comp[f]])
+    return DerivativeRuns(derivatives=out, deltas={"velocity_m_s": dv, "rate_rad_s": dw},
+                          resolution=res, wall_time_s=time.perf_counter() - t0)
+

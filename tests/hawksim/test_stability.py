@@ -1,0 +1,61 @@
+"""A matrices (paper Eqs. 11-12, Etkin's lateral form), nondimensionalisation (Eq. 8), mode classification."""
+
+import numpy as np
+import pytest
+
+from hawksim.derivatives import mass_properties
+from hawksim.kinematics import table3_kinematics
+from hawksim.morphology import HAWKMOTH
+from hawksim.stability import Scales, a_lat, a_long, classify, modes, nondimensional_system
+
+D = {"Xu": -1.0, "Xw": 0.1, "Xq": 0.2, "Zu": 0.05, "Zw": -2.0, "Zq": 0.3, "Mu": 0.4, "Mw": -0.02, "Mq": -0.5,
+     "Yv": -1.1, "Yp": 0.15, "Yr": 0.05, "Lv": -0.3, "Lp": -0.6, "Lr": 0.02, "Nv": 0.04, "Np": 0.03, "Nr": -0.7}
+
+
+def test_a_long_by_hand():
+    A = a_long(D, m=10.0, Iy=4.0, g=0.5, w_e=-0.3)
+    expected = [[-0.1, 0.01, 0.02 + 0.3, -0.5], [0.005, -0.2, 0.03, 0], [0.1, -0.005, -0.125, 0], [0, 0, 1, 0]]
+    np.testing.assert_allclose(A, expected, rtol=1e-15)
+
+
+def test_a_lat_by_hand_and_ixz_coupling():
+    A = a_lat(D, m=10.0, Ix=2.0, Iz=4.0, Ixz=0.0, g=0.5, w_e=-0.3)
+    expected = [[-0.11, 0.015 - 0.3, 0.005, 0.5], [-0.15, -0.3, 0.01, 0], [0.01, 0.0075, -0.175, 0], [0, 1, 0, 0]]
+    np.testing.assert_allclose(A, expected, rtol=1e-15)
+    # with Ixz: rows 2-3 solve Ix p' - Ixz r' = L, Iz r' - Ixz p' = N (Etkin 1972)
+    Ix, Iz, Ixz = 2.0, 4.0, -0.5
+    A = a_lat(D, m=10.0, Ix=Ix, Iz=Iz, Ixz=Ixz, g=0.5, w_e=-0.3)
+    x = np.array([0.3, -0.2, 0.1, 0.0])
+    pdot, rdot = (A @ x)[1:3]
+    L = D["Lv"] * x[0] + D["Lp"] * x[1] + D["Lr"] * x[2]
+    N = D["Nv"] * x[0] + D["Np"] * x[1] + D["Nr"] * x[2]
+    assert Ix * pdot - Ixz * rdot == pytest.approx(L, rel=1e-13)
+    assert Iz * rdot - Ixz * pdot == pytest.approx(N, rel=1e-13)
+
+
+def test_classification():
+    assert classify(0.1 + 0.5j) == ("oscillatory", False)
+    assert classify(-0.1 - 0.5j) == ("oscillatory", True)
+    assert classify(-0.3) == ("subsidence", True)
+    assert classify(0.2) == ("divergence", False)
+    A = np.diag([-1.0, 2.0, 0.0, 0.0])
+    A[2:, 2:] = [[0.1, 1.0], [-1.0, 0.1]]
+    kinds = [(m.kind, m.stable) for m in modes(A)]
+    assert kinds == [("subsidence", True), ("oscillatory", False), ("oscillatory", False), ("divergence", False)]
+
+
+def test_eq8_scales_and_mass_properties():
+    kin = table3_kinematics(0.0)
+    sc = Scales.of(kin)
+    assert sc.U == pytest.approx(2 * np.radians(60) * 26.5 * 0.53 * 48.5e-3)
+    assert sc.S_t == pytest.approx(2 * HAWKMOTH.wing_area)
+    mp = mass_properties(kin)
+    assert mp.m == pytest.approx(1578.7e-6, rel=1e-9)
+    assert mp.Iy > 0 and mp.Ix > 0 and mp.Iz > 0
+    assert mp.Ixz < 0  # the nose-up body's long axis runs forward-up: -int xz dm < 0 in stability axes
+    d, Al, At, sca = nondimensional_system(kin, 1.0, {k: 1e-4 for k in D}, mp)
+    assert sca["w_e_plus"] == pytest.approx(-1.0 / sc.U)
+    assert sca["g_plus"] == pytest.approx(9.81 * sc.T / sc.U)
+    assert d["Xu"] == pytest.approx(1e-4 / (0.5 * 1.225 * sc.U * sc.S_t))
+    assert d["Mq"] == pytest.approx(1e-4 / (0.5 * 1.225 * sc.U**2 * sc.S_t * sc.cbar * sc.T))
+    assert Al.shape == At.shape == (4, 4)
