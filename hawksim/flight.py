@@ -1,24 +1,25 @@
 """`hawksim fly`: a free flight from the trim kinematics at an ascent speed, and its summary.
 
-The insect starts at the origin, pitched nose-up so that its cycle-mean body angle is chi, moving straight up at the target
-speed (world z), wings on their prescribed motion; perturbations (stability axes, DESIGN.md: x forward
+The insect starts at the origin, pitched nose-up so that its cycle-mean body angle is chi, moving straight up
+at the target speed (world z), wings on their prescribed motion; perturbations (stability axes, DESIGN.md: x forward
 horizontal, y right, z down) are added to that start. Results are world-frame time series (SI).
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
 from hawksim.backend import AeroBackend
-from hawksim.kinematics import Kinematics, table3_kinematics
+from hawksim.kinematics import Kinematics
 from hawksim.model import load_model
 from hawksim.morphology import HAWKMOTH, P0_W
 from hawksim.rotations import quat_to_matrix
 from hawksim.simulation import Simulator
+from hawksim.trim_table import trim_kinematics
 
 PERTURBATIONS = {
     "u": "forward velocity disturbance [m/s] (stability axes)",
@@ -31,12 +32,6 @@ PERTURBATIONS = {
     "phi": "initial roll offset [deg] (right wing down positive)",
 }
 """Names accepted by ``--perturb NAME=VALUE``."""
-
-
-def trim_kinematics(speed: float) -> Kinematics:
-    """The kinematics `hawksim fly` uses at ascent speed [m/s]: the paper's Table 3, interpolated
-    (until the project's own trim table exists)."""
-    return table3_kinematics(speed)
 
 
 def make_backend(name: str, *, symmetric: bool = True, keep_panels: bool = False) -> AeroBackend:

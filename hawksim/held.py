@@ -3,7 +3,8 @@
 The body translates straight up at the ascent speed V with the constant attitude chi (nose up) and no
 rotation; the wings follow Eq. 1. The computation runs in the body-carried frame (an inertial frame, since
 the body's velocity is constant): the body stays at the origin and the air streams down at V
-(``FlightState.air_v`` = (0, 0, -V)), so wakes and disturbance fields stay near the insect. This is how the paper evaluates L+, D+, M+ and P+ for the training data,
+(``FlightState.air_v`` = (0, 0, -V)), so wakes and disturbance fields stay near the insect.
+This is how the paper evaluates L+, D+, M+ and P+ for the training data,
 the trim and the stability derivatives. The wing poses and velocities come from the same MuJoCo model and
 the same :func:`hawksim.simulation.read_state` as the free flights, so a backend sees identical inputs.
 

@@ -81,7 +81,8 @@ def mjcf(morph: Morphology = HAWKMOTH) -> str:
     for name, c in morph.segment_centres().items():
         seg = next(s for s in morph.segments if s.name == name)
         lines.append(
-            f'      <geom name="{name}" type="ellipsoid" pos="{_f(c)}" size="{_f(seg.semi_axes)}" rgba="0.45 0.35 0.25 1"/>'
+            f'      <geom name="{name}" type="ellipsoid" pos="{_f(c)}" size="{_f(seg.semi_axes)}"'
+            ' rgba="0.45 0.35 0.25 1"/>'
         )
     for side in WING_SIDES:
         M = np.eye(3) if side == "left" else MIRROR

@@ -5,7 +5,11 @@ import numpy as np
 import pytest
 
 from aero.quasi_steady import (
-    BladeElements, QuasiSteadyConfig, drag_coefficient, lift_coefficient, wing_loads,
+    BladeElements,
+    QuasiSteadyConfig,
+    drag_coefficient,
+    lift_coefficient,
+    wing_loads,
 )
 
 RHO = 1.225

@@ -4,8 +4,15 @@ import numpy as np
 import pytest
 
 from hawksim.kinematics import (
-    MIRROR, PARAM_NAMES, R_BODY_STROKE, TABLE2_BOUNDS_DEG, Kinematics, bounds_si, table3_kinematics,
-    wing_rotation_body, wing_rotation_stroke,
+    MIRROR,
+    PARAM_NAMES,
+    R_BODY_STROKE,
+    TABLE2_BOUNDS_DEG,
+    Kinematics,
+    bounds_si,
+    table3_kinematics,
+    wing_rotation_body,
+    wing_rotation_stroke,
 )
 
 KIN = Kinematics.from_edge(dict(f=26.5, beta=1.5, phi0=-5.5, theta0=15.8, alpha0=0.7, phi_a=60, alpha_a=66.9))

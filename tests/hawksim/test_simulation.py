@@ -7,7 +7,6 @@ import pytest
 from hawksim.backend import FlightState, NoAero, WingLoads
 from hawksim.kinematics import MIRROR, table3_kinematics
 from hawksim.model import load_model
-from hawksim.rotations import cross
 from hawksim.simulation import Simulator
 
 KIN = table3_kinematics(1.0)
@@ -88,7 +87,7 @@ def test_xfrc_applied_gives_expected_momentum_rates():
     F, M = np.array([1e-3, -2e-3, 5e-3]), np.array([2e-6, 1e-6, -3e-6])
     sim = Simulator(load_model(), KIN, ConstantLoad(F, M), gravity=False, steps_per_cycle=400)
     sim.reset()
-    m, d = sim.m, sim.d
+    d = sim.d
 
     def L_origin():
         P, L = sim.momentum()
