@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hawksim.kinematics import Kinematics
-from hawksim.morphology import G, HAWKMOTH, RHO_AIR, Morphology
+from hawksim.morphology import HAWKMOTH, RHO_AIR, G, Morphology
 
 LONG_DERIVATIVES = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
 LAT_DERIVATIVES = ("Yv", "Yp", "Yr", "Lv", "Lp", "Lr", "Nv", "Np", "Nr")

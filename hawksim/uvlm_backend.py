@@ -15,9 +15,9 @@ construction: the air moves with v0 + omega x (x - ref) in the world frame, plus
 from __future__ import annotations
 
 import numpy as np
-
 from aero.mesh import mirror_mesh, wing_mesh
 from aero.uvlm import UVLM, FreeStream, UVLMConfig
+
 from hawksim.backend import FlightState, WingLoads
 from hawksim.morphology import HAWKMOTH, RHO_AIR, Morphology
 from hawksim.rotations import cross
