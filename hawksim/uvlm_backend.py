@@ -1,7 +1,7 @@
 """Extended-UVLM backend (:mod:`aero.uvlm`) for the hawkmoth's two wings.
 
 The wing lattices are the morphology's beta-distributed planform (:mod:`hawksim.morphology`) with
-``n_chord`` x ``n_span`` vortex rings per wing, spanwise stations cosine-spaced (finer at root and tip).
+``n_chord`` x ``n_span`` vortex rings per wing, uniform spanwise stations (see :func:`hawkmoth_meshes`).
 Every call places the lattices at the wing poses of the flight state (world frame), solves, returns the loads
 and sheds/convects the wake, which lives in world coordinates. With ``symmetric=True`` only the left wing is
 solved and the right one is its mirror image across the body's sagittal plane (exact for left/right symmetric
@@ -15,19 +15,30 @@ construction: the air moves with v0 + omega x (x - ref) in the world frame, plus
 from __future__ import annotations
 
 import numpy as np
-from aero.mesh import mirror_mesh, wing_mesh
+from aero.mesh import mirror_mesh, planform_area, wing_mesh
 from aero.uvlm import UVLM, FreeStream, UVLMConfig
 
 from hawksim.backend import FlightState, WingLoads
 from hawksim.morphology import HAWKMOTH, RHO_AIR, Morphology
-from hawksim.rotations import cross
 
 
 def hawkmoth_meshes(morph: Morphology = HAWKMOTH, n_chord: int = 8, n_span: int = 16):
-    """(left, right) vortex-lattice meshes in their wing frames [m]."""
+    """(left, right) vortex-lattice meshes in their wing frames [m].
+
+    Uniform spanwise stations; the beta distribution's zero chord at the root and tip is replaced by the
+    chord a quarter panel inboard of the tip / outboard of the root (zero-chord end rings make sliver
+    triangles whose near-field blows up the free wake), and all chords are then scaled so that the mesh
+    area equals the wing area S exactly.
+    """
     pl = morph.planform
-    span = morph.R * (1 - np.cos(np.linspace(0.0, np.pi, n_span + 1))) / 2
-    left = wing_mesh(span, pl.leading_edge(span), pl.trailing_edge(span), n_chord)
+    span = np.linspace(0.0, morph.R, n_span + 1)
+    dr = span[1]
+    r_eval = span.copy()
+    r_eval[0], r_eval[-1] = 0.25 * dr, morph.R - 0.25 * dr
+    le, te = pl.leading_edge(r_eval), pl.trailing_edge(r_eval)
+    mesh = wing_mesh(span, le, te, n_chord)
+    scale = morph.wing_area / planform_area(mesh)
+    left = wing_mesh(span, le * scale, te * scale, n_chord)
     return left, mirror_mesh(left)
 
 
@@ -56,7 +67,7 @@ class UVLMBackend:
         self.meshes = hawkmoth_meshes(morph, n_chord, n_span)
         self.symmetric = symmetric
         self.freestream = freestream if freestream is not None else FreeStream()
-        self.config = config if config is not None else UVLMConfig(rho=RHO_AIR, mirror=symmetric)
+        self.config = config if config is not None else UVLMConfig(rho=RHO_AIR)
         self.keep_panels = keep_panels
         self.solver: UVLM | None = None
 
@@ -74,10 +85,8 @@ class UVLMBackend:
             fs = FreeStream(v0=np.asarray(fs.v0) + state.air_v, omega=fs.omega, ref=fs.ref)
         res = self.solver.step(state.dt, state.wing_R[:k], state.wing_origin[:k], state.wing_v[:k],
                                state.wing_omega[:k], freestream=fs, mirror_plane=plane)
-        pf = res.panel_force.reshape(k, -1, 3)
-        pp = res.panel_point.reshape(k, -1, 3)
-        force = pf.sum(1)
-        moment = cross(pp - state.wing_origin[:k, None, :], pf).sum(1)
+        force = res.force
+        moment = res.moment_per_wing(state.wing_origin[:k])
         power = res.power(state.body_v, state.body_omega, state.body_pos)
         if self.symmetric:
             n = state.body_R[:, 1]

@@ -1,0 +1,397 @@
+"""Extended unsteady vortex-lattice method (UVLM): a time stepper driven by wing poses and velocities.
+
+Method (Katz & Plotkin 2001, ch. 13; the extensions of Nguyen et al. 2016 used by the paper):
+
+* vortex rings on each wing's flat mean surface (:mod:`aero.mesh`); no-penetration at the ring centres:
+  (v_bound + v_wake + v_air - v_wing) . n = 0, where v_air is a rigid air-velocity field (:class:`FreeStream`:
+  the ascent stream and the disturbance velocities of the paper's Eq. 15) and v_wing the wing's kinematic
+  velocity from its pose rates; the influence matrix is built once per step and LU-solved;
+* Kutta condition: every step the trailing-edge rings shed a wake row with their circulation; the wake is
+  free (its corners move with the local velocity: air + induced by all vortices), in world coordinates;
+* vortex cores that grow with age (Ramasamy & Leishman 2007; :mod:`aero.wake`);
+* loads: Kutta-Joukowski on every bound segment, F = rho Gamma (V x l) with V the local flow velocity relative
+  to the segment (air - wing + induced), plus the unsteady term -rho dGamma/dt A n per ring (the time
+  derivative of the potential jump, phi_upper - phi_lower = -Gamma; backward difference). This vortex-force
+  form is equivalent to the unsteady Bernoulli pressure integration of Katz & Plotkin Sec. 13.8 and gives the
+  in-plane leading-edge suction explicitly;
+* Polhamus leading-edge-suction analogy: the suction (the in-plane, forward component of the force on each
+  leading-edge segment) is turned normal to the surface, on the side of the normal force (vortex lift).
+
+Mirror symmetry: with ``mirror_plane`` the solved wings' mirror images across the plane are included by
+evaluating every velocity at the target and at its mirror point, v(x) + S v(S x) (exact for symmetric motion).
+
+Units SI; all positions, velocities and forces in the WORLD frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+import scipy.linalg
+
+from aero.mesh import WingMesh
+from aero.biot_savart import induced_velocity, pack, ring_influence
+from aero.wake import Segments, Wake, lattice_segments
+
+MAX_SHED_RATIO = 4.0
+"""Largest allowed ratio of the wake row shed in one step (trailing-edge speed x dt) to the mean chordwise panel
+length; a coarser step under-resolves the near wake."""
+
+
+@dataclass(frozen=True)
+class UVLMConfig:
+    """Solver constants and switches (set them False for a plain UVLM).
+
+    rho [kg/m^3], nu [m^2/s] (air); core_fraction: core radius r0 of the bound vortices and initial core of
+    the wake vortices, as a fraction of the mean chordwise panel length: small, so that the influence at a
+    collocation point half a panel away changes by < 0.2 % and a freshly shed wake segment cancels the bound
+    trailing-edge segment it leaves exactly; the wake cores then grow with age (core_growth);
+    convection_core_fraction: the core of the bound vortices when they convect the wake (a wake vortex
+    passing a lattice must not be flung by the lattice's near field, which the panels do not resolve); a_prime:
+    Ramasamy-Leishman's turbulent-viscosity coefficient a' (6.5e-5 in the paper's extended UVLM).
+    """
+
+    rho: float = 1.225
+    nu: float = 1.5e-5
+    core_growth: bool = True
+    le_suction: bool = True
+    free_wake: bool = True
+    core_fraction: float = 0.02
+    wake_core_fraction: float = 0.25
+    convection_core_fraction: float = 0.25
+    a_prime: float = 6.5e-5
+
+
+@dataclass(frozen=True)
+class FreeStream:
+    """Rigid air-velocity field, world frame: v_air(x) = v0 + omega x (x - ref) [m/s]."""
+
+    v0: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    omega: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    ref: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def __post_init__(self):
+        for name in ("v0", "omega", "ref"):
+            a = np.asarray(getattr(self, name), dtype=float)
+            if a.shape != (3,) or not np.all(np.isfinite(a)):
+                raise ValueError(f"FreeStream.{name} must be a finite 3-vector, got {getattr(self, name)!r}")
+            object.__setattr__(self, name, a)
+
+    def at(self, x: np.ndarray) -> np.ndarray:
+        """Air velocity (..., 3) at points x (..., 3)."""
+        return np.asarray(self.v0, float) + np.cross(np.asarray(self.omega, float), x - np.asarray(self.ref, float))
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """Loads of one step on the solved wings (nw), world frame.
+
+    force (nw, 3) [N]; panel_force (nw, nc, ns, 3) [N] at panel_point (ring centres) [m];
+    panel_velocity (nw, nc, ns, 3) kinematic velocity of those points [m/s]; pressure (nw, nc, ns) [Pa] (the
+    normal force per panel area, positive on the lower surface); gamma (nw, nc, ns) [m^2/s].
+    The exact resultants use the element forces (segments at their midpoints, unsteady terms at ring centres).
+    """
+
+    force: np.ndarray
+    panel_force: np.ndarray
+    panel_point: np.ndarray
+    panel_velocity: np.ndarray
+    pressure: np.ndarray
+    gamma: np.ndarray
+    element_force: np.ndarray
+    element_point: np.ndarray
+    element_velocity: np.ndarray
+    element_wing: np.ndarray
+
+    def moment(self, ref: np.ndarray) -> np.ndarray:
+        """Moment (nw, 3) of each wing's load about the point ref (3,) [N m]."""
+        m = np.cross(self.element_point - ref, self.element_force)
+        out = np.zeros((self.force.shape[0], 3))
+        np.add.at(out, self.element_wing, m)
+        return out
+
+    def moment_per_wing(self, refs: np.ndarray) -> np.ndarray:
+        """Moment (nw, 3) of each wing's load about its own point refs[w] (nw, 3) [N m]."""
+        m = np.cross(self.element_point - refs[self.element_wing], self.element_force)
+        out = np.zeros((self.force.shape[0], 3))
+        np.add.at(out, self.element_wing, m)
+        return out
+
+    def power(self, v_ref=(0.0, 0.0, 0.0), omega_ref=(0.0, 0.0, 0.0), ref=(0.0, 0.0, 0.0)) -> float:
+        """Power the solved wings spend on the air relative to a carrier rigid motion [W]:
+        P = -sum_i F_i . (v_i - (v_ref + omega_ref x (p_i - ref)))."""
+        v_c = np.asarray(v_ref, float) + np.cross(np.asarray(omega_ref, float), self.element_point - np.asarray(ref))
+        return float(-(self.element_force * (self.element_velocity - v_c)).sum())
+
+
+def _reflect_points(x, point, normal):
+    return x - 2.0 * ((x - point) @ normal)[..., None] * normal
+
+
+def _reflect_vectors(v, normal):
+    return v - 2.0 * (v @ normal)[..., None] * normal
+
+
+class UVLM:
+    """The stepper. ``meshes``: one WingMesh per solved wing (wing frames)."""
+
+    def __init__(self, meshes: Sequence[WingMesh], config: UVLMConfig = UVLMConfig()):
+        if not meshes:
+            raise ValueError("UVLM needs at least one wing mesh")
+        self.meshes = list(meshes)
+        self.config = config
+        self.wakes = [Wake(m.shape[1]) for m in self.meshes]
+        self.step_count = 0
+        self._gamma_prev: list[np.ndarray] | None = None
+        self.mean_len = float(np.mean([m.mean_chordwise_length for m in self.meshes]))
+        self.r0 = config.core_fraction * self.mean_len
+        self.rb = self.r0
+
+    # ---- velocities --------------------------------------------------------------------------------
+    def _induced(self, targets: np.ndarray, seg: Segments, mirror) -> np.ndarray:
+        """Velocity (n, 3) induced at targets by the segments (and their mirror images)."""
+        n = targets.shape[0]
+        if seg.gamma.size == 0 or n == 0:
+            return np.zeros((n, 3))
+        pts = targets if mirror is None else np.concatenate([targets, _reflect_points(targets, *mirror)])
+        out = np.empty((pts.shape[0], 3))
+        induced_velocity(np.ascontiguousarray(pts), *pack(seg.a, seg.b, seg.gamma, seg.rc2), out)
+        if mirror is None:
+            return out
+        return out[:n] + _reflect_vectors(out[n:], mirror[1])
+
+    def _wake_segments(self, r_attached: float | None = None) -> Segments:
+        """Wake edges; r_attached: core of the edges on the trailing edge (default: the bound core)."""
+        c = self.config
+        rw = c.wake_core_fraction * self.mean_len
+        ra = self.rb if r_attached is None else r_attached
+        return Segments.concat([w.segments(rw, c.nu, c.a_prime, c.core_growth, r_attached=ra)
+                                for w in self.wakes])
+
+    # ---- the step ----------------------------------------------------------------------------------
+    def step(self, dt: float, R: np.ndarray, origin: np.ndarray, v_origin: np.ndarray, omega: np.ndarray,
+             freestream: FreeStream = FreeStream(), mirror_plane=None) -> StepResult:
+        """Solve at the given poses (time t), return the loads, then shed and convect the wake to t + dt.
+
+        Args (nw = number of meshes): dt [s]; R (nw, 3, 3) wing frame -> world; origin (nw, 3) [m];
+        v_origin (nw, 3) [m/s]; omega (nw, 3) [rad/s]; freestream: air velocity field;
+        mirror_plane: (point (3,), unit normal (3,)) to include the wings' mirror images, or None.
+        """
+        nw = len(self.meshes)
+        R, origin, v_origin, omega = (np.asarray(a, dtype=float) for a in (R, origin, v_origin, omega))
+        for name, a, shape in (("R", R, (nw, 3, 3)), ("origin", origin, (nw, 3)), ("v_origin", v_origin, (nw, 3)),
+                               ("omega", omega, (nw, 3))):
+            if a.shape != shape:
+                raise ValueError(f"UVLM step: {name} must have shape {shape}, got {a.shape}")
+            if not np.all(np.isfinite(a)):
+                raise ValueError(f"UVLM step {self.step_count}: {name} contains non-finite values")
+        if not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f"UVLM step: dt must be a positive finite time, got {dt}")
+        mirror = None
+        if mirror_plane is not None:
+            p0, m = (np.asarray(a, dtype=float) for a in mirror_plane)
+            mirror = (p0, m / np.linalg.norm(m))
+        c = self.config
+        k = self.step_count
+
+        # 1. geometry in world
+        rings = [o + msh.rings @ Rw.T for msh, Rw, o in zip(self.meshes, R, origin)]
+        colloc = [o + msh.collocation @ Rw.T for msh, Rw, o in zip(self.meshes, R, origin)]
+        normals = [msh.normals @ Rw.T for msh, Rw in zip(self.meshes, R)]
+
+        def v_kin(w, x):
+            return v_origin[w] + np.cross(omega[w], x - origin[w])
+
+        # trailing-edge check: shed length vs panel length
+        for w in range(nw):
+            te = rings[w][-1]
+            shed = np.linalg.norm(freestream.at(te) - v_kin(w, te), axis=-1).max() * dt
+            if shed > MAX_SHED_RATIO * self.mean_len:
+                raise ValueError(
+                    f"UVLM step {k}: time step {dt:.3g} s too coarse: the wake row shed at the trailing edge is "
+                    f"{shed / self.mean_len:.1f} chordwise panels long (limit {MAX_SHED_RATIO:g}); "
+                    "use more steps per cycle or fewer chordwise panels")
+            self.wakes[w].attach(te)
+
+        # 2. right-hand side: -(v_air - v_wing + v_wake) . n
+        X = np.concatenate([x.reshape(-1, 3) for x in colloc])
+        N = np.concatenate([n.reshape(-1, 3) for n in normals])
+        V_rel = np.concatenate([(freestream.at(x) - v_kin(w, x)).reshape(-1, 3) for w, x in enumerate(colloc)])
+        wake_seg = self._wake_segments()
+        v_wake = self._induced(X, wake_seg, mirror)
+        rhs = -((V_rel + v_wake) * N).sum(1)
+
+        # 3. influence matrix of the bound rings (+ images), LU solve
+        corners = np.concatenate([
+            np.stack([G[:-1, :-1], G[:-1, 1:], G[1:, 1:], G[1:, :-1]], axis=2).reshape(-1, 4, 3) for G in rings])
+        A = np.empty((X.shape[0], corners.shape[0]))
+        ring_influence(np.ascontiguousarray(X), np.ascontiguousarray(N), np.ascontiguousarray(corners),
+                       self.rb * self.rb, A)
+        if mirror is not None:
+            A_img = np.empty_like(A)
+            ring_influence(np.ascontiguousarray(_reflect_points(X, *mirror)),
+                           np.ascontiguousarray(_reflect_vectors(N, mirror[1])), np.ascontiguousarray(corners),
+                           self.rb * self.rb, A_img)
+            A += A_img
+        gamma_all = scipy.linalg.lu_solve(scipy.linalg.lu_factor(A, check_finite=False), rhs, check_finite=False)
+        if not np.all(np.isfinite(gamma_all)):
+            raise FloatingPointError(f"UVLM blow-up at step {k}: non-finite circulation (singular influence "
+                                     "matrix or non-finite wake)")
+        shapes = [msh.shape for msh in self.meshes]
+        splits = np.cumsum([a * b for a, b in shapes])[:-1]
+        gammas = [g.reshape(s) for g, s in zip(np.split(gamma_all, splits), shapes)]
+
+        # 4. loads
+        result = self._loads(dt, rings, colloc, normals, gammas, wake_seg, freestream, v_kin, mirror)
+        if not (np.all(np.isfinite(result.element_force))):
+            raise FloatingPointError(f"UVLM blow-up at step {k}: non-finite loads")
+        self._gamma_prev = [g.copy() for g in gammas]
+
+        # 5. shed and convect
+        for w in range(nw):
+            self.wakes[w].shed(rings[w][-1], gammas[w][-1])
+        self._convect(dt, rings, gammas, freestream, mirror)
+        self.step_count += 1
+        return result
+
+    def _bound_segments(self, rings, gammas) -> Segments:
+        r2 = self.rb * self.rb
+        return Segments.concat([lattice_segments(G, g, r2, r2) for G, g in zip(rings, gammas)])
+
+    def _loads(self, dt, rings, colloc, normals, gammas, wake_seg, freestream, v_kin, mirror) -> StepResult:
+        c = self.config
+        r2 = self.rb * self.rb
+        all_seg = Segments.concat([self._bound_segments(rings, gammas), wake_seg])
+        # force-carrying segments: every bound edge but the trailing-edge row
+        parts = [lattice_segments(G, g, r2, r2, skip_last_row=True) for G, g in zip(rings, gammas)]
+        mids = np.concatenate([0.5 * (p.a + p.b) for p in parts])
+        v_ind = self._induced(mids, all_seg, mirror)
+        F_list, P_list, V_list, W_list = [], [], [], []
+        panel_force, pressure = [], []
+        off = 0
+        for w, (p, G, g) in enumerate(zip(parts, rings, gammas)):
+            nc, ns = g.shape
+            mid = 0.5 * (p.a + p.b)
+            vk = v_kin(w, mid)
+            V = freestream.at(mid) - vk + v_ind[off:off + mid.shape[0]]
+            off += mid.shape[0]
+            lvec = p.b - p.a
+            F = c.rho * p.gamma[:, None] * np.cross(V, lvec)
+            n_span = nc * ns  # spanwise (leading) edges of rows 0..nc-1, row-major
+            n_ring = normals[w]
+            if c.le_suction:
+                # leading-edge row: spanwise edges 0..ns-1; suction = forward in-plane component
+                le = slice(0, ns)
+                e_f = np.cross(lvec[le], n_ring[0])
+                e_f /= np.linalg.norm(e_f, axis=1, keepdims=True)
+                s = (F[le] * e_f).sum(1)
+                s_pos = np.maximum(s, 0.0)
+                side = np.sign((F[le] * n_ring[0]).sum(1))
+                F[le] += (-s_pos)[:, None] * e_f + (s_pos * side)[:, None] * n_ring[0]
+            # unsteady term per ring
+            g_prev = self._gamma_prev[w] if self._gamma_prev is not None else g
+            area = self.meshes[w].panel_areas
+            F_u = (-c.rho * (g - g_prev) / dt * area)[..., None] * n_ring
+            # panel assignment: leading spanwise edge -> its ring; chordwise edges split between neighbours
+            pf = F_u.copy()
+            pf += F[:n_span].reshape(nc, ns, 3)
+            Fc = F[n_span:].reshape(nc, ns + 1, 3)
+            pf[:, :-1] += 0.5 * Fc[:, 1:-1]
+            pf[:, 1:] += 0.5 * Fc[:, 1:-1]
+            pf[:, 0] += Fc[:, 0]
+            pf[:, -1] += Fc[:, -1]
+            panel_force.append(pf)
+            pressure.append((pf * n_ring).sum(-1) / area)
+            F_list += [F, F_u.reshape(-1, 3)]
+            P_list += [mid, colloc[w].reshape(-1, 3)]
+            V_list += [vk, v_kin(w, colloc[w].reshape(-1, 3))]
+            W_list += [np.full(F.shape[0] + nc * ns, w)]
+        ef = np.concatenate(F_list)
+        ew = np.concatenate(W_list)
+        force = np.zeros((len(gammas), 3))
+        np.add.at(force, ew, ef)
+        return StepResult(
+            force=force, panel_force=np.stack(panel_force), panel_point=np.stack(colloc),
+            panel_velocity=np.stack([v_kin(w, colloc[w]) for w in range(len(gammas))]),
+            pressure=np.stack(pressure), gamma=np.stack(gammas), element_force=ef,
+            element_point=np.concatenate(P_list), element_velocity=np.concatenate(V_list), element_wing=ew)
+
+    def _convect(self, dt, rings, gammas, freestream, mirror) -> None:
+        c = self.config
+        movable = [w.vertices[1:].reshape(-1, 3) for w in self.wakes]
+        pts = np.concatenate(movable)
+        if pts.shape[0] == 0:
+            return
+        v = freestream.at(pts)
+        if c.free_wake:
+            bound = self._bound_segments(rings, gammas)
+            rcv = c.convection_core_fraction * self.mean_len
+            bound = Segments(bound.a, bound.b, bound.gamma, np.full_like(bound.gamma, rcv * rcv))
+            seg = Segments.concat([bound, self._wake_segments(r_attached=rcv)])
+            v = v + self._induced(pts, seg, mirror)
+        if not np.all(np.isfinite(v)):
+            raise FloatingPointError(f"UVLM blow-up at step {self.step_count}: non-finite wake velocity")
+        off = 0
+        for w in self.wakes:
+            n = w.vertices[1:].reshape(-1, 3).shape[0]
+            w.vertices[1:] += (v[off:off + n] * dt).reshape(w.vertices[1:].shape)
+            w.age += dt
+            w.age[0] = 0.0
+            off += n
+
+    @property
+    def wake(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Per solved wing: (corner grid (rows+1, ns+1, 3) [m], ring circulations (rows, ns) [m^2/s])."""
+        return [(w.vertices.copy(), w.gamma.copy()) for w in self.wakes]
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """A prescribed-motion run: times (nt,) [s]; force (nt, nw, 3) [N]; moment (nt, nw, 3) about each wing's
+    origin [N m]; power (nt,) [W] of the solved wings relative to still (world-fixed) axes; gamma
+    (nt, nw, nc, ns) [m^2/s]; all world frame."""
+
+    times: np.ndarray
+    force: np.ndarray
+    moment: np.ndarray
+    power: np.ndarray
+    gamma: np.ndarray
+
+
+def run_prescribed(meshes, config, times, R, origin, v_origin, omega, freestream: FreeStream = FreeStream(),
+                   mirror_plane=None, progress=None) -> RunResult:
+    """Run the UVLM over a prescribed motion sampled at ``times`` (nt,) (R (nt, nw, 3, 3), origin, v_origin,
+    omega (nt, nw, 3), world). The step k uses dt = times[k+1] - times[k] (the last step repeats the previous
+    dt). Inputs are checked before the first step: non-finite values and a time step too coarse for the
+    wake spacing raise ValueError."""
+    times = np.asarray(times, dtype=float)
+    R, origin, v_origin, omega = (np.asarray(a, dtype=float) for a in (R, origin, v_origin, omega))
+    nt = times.size
+    for name, a in (("times", times), ("R", R), ("origin", origin), ("v_origin", v_origin), ("omega", omega)):
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"run_prescribed: {name} contains non-finite values")
+    if nt < 2 or np.any(np.diff(times) <= 0):
+        raise ValueError("run_prescribed: times must be increasing with at least two samples")
+    dts = np.append(np.diff(times), times[-1] - times[-2])
+    solver = UVLM(meshes, config)
+    # wake-spacing check for every step before running
+    for w, msh in enumerate(solver.meshes):
+        te_local = msh.rings[-1]
+        te = origin[:, w, None, :] + np.einsum("tij,sj->tsi", R[:, w], te_local)
+        v_te = v_origin[:, w, None, :] + np.cross(omega[:, w, None, :], te - origin[:, w, None, :])
+        shed = np.linalg.norm(freestream.at(te) - v_te, axis=-1).max(axis=1) * dts
+        worst = int(np.argmax(shed))
+        if shed[worst] > MAX_SHED_RATIO * solver.mean_len:
+            raise ValueError(f"time step too coarse at step {worst}: the wake row shed is "
+                             f"{shed[worst] / solver.mean_len:.1f} chordwise panels long (limit {MAX_SHED_RATIO:g})")
+    nw = len(solver.meshes)
+    force, moment, power, gamma = np.zeros((nt, nw, 3)), np.zeros((nt, nw, 3)), np.zeros(nt), []
+    for k in range(nt):
+        r = solver.step(dts[k], R[k], origin[k], v_origin[k], omega[k], freestream, mirror_plane)
+        force[k], moment[k], power[k] = r.force, r.moment_per_wing(origin[k]), r.power()
+        gamma.append(r.gamma)
+        if progress is not None:
+            progress(k + 1, nt)
+    return RunResult(times, force, moment, power, np.stack(gamma))

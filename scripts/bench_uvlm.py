@@ -1,0 +1,79 @@
+"""Benchmark of the extended UVLM (aero.uvlm); prints ONE JSON object.
+
+* kernel_geval_s: Biot-Savart segment-point evaluations per second (float64, all cores), 20k segments x 4k points.
+* reference case: two flapping wings (8 x 16 panels each, mirror images), 3 wingbeats at 25 Hz, 220 steps,
+  free wake, no truncation, core growth and leading-edge suction on; wall time excluding compilation.
+* compile_s: first-call time of a tiny run (numba compilation or cache load).
+* ptera_wall_s / speedup: when --ptera-json FILE (output of scripts/bench_pterasoftware.py) is given.
+"""
+
+import argparse
+import json
+import os
+import time
+
+import numpy as np
+
+from aero.biot_savart import induced_velocity, pack
+from aero.mesh import wing_mesh
+from aero.uvlm import UVLMConfig, run_prescribed
+from aero.uvlm_kinematics import two_wing_motion
+
+
+def reference_wing(nc=8, ns=16):
+    y = np.linspace(0, 0.05, ns + 1)
+    c = 0.02 * np.sqrt(np.clip(1 - (y / 0.05) ** 2, 0, 1)) + 0.004
+    return wing_mesh(y, 0.25 * c, -0.75 * c, nc)
+
+
+def run_case(steps, cycles=3.0, freq=25.0):
+    t = np.linspace(0.0, cycles / freq, steps)
+    R, o, v, w = two_wing_motion(t, freq=freq)
+    plane = (np.zeros(3), np.array([0.0, 1.0, 0.0]))
+    return run_prescribed([reference_wing()], UVLMConfig(), t, R[:, :1], o[:, :1], v[:, :1],
+                          w[:, :1], mirror_plane=plane)
+
+
+def kernel_rate(ns=20000, nt=4000, reps=5):
+    rng = np.random.default_rng(0)
+    a = rng.normal(size=(ns, 3))
+    seg = pack(a, a + 0.1 * rng.normal(size=(ns, 3)), rng.normal(size=ns), 1e-4)
+    p = rng.normal(size=(nt, 3))
+    out = np.empty((nt, 3))
+    induced_velocity(p[:8], *seg, out[:8])
+    best = np.inf
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        induced_velocity(p, *seg, out)
+        best = min(best, time.perf_counter() - t0)
+    return ns * nt / best / 1e9
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--ptera-json", help="JSON file written by scripts/bench_pterasoftware.py")
+    ap.add_argument("--steps", type=int, default=220)
+    args = ap.parse_args()
+    t0 = time.perf_counter()
+    run_case(steps=4, cycles=4 / 220 * 3)
+    compile_s = time.perf_counter() - t0
+    rate = kernel_rate()
+    t0 = time.perf_counter()
+    res = run_case(args.steps)
+    wall = time.perf_counter() - t0
+    n = args.steps // 3
+    out = {"kernel_geval_s": round(rate, 3), "reference_case_s": round(wall, 2), "steps": args.steps,
+           "panels_per_wing": "8x16", "compile_s": round(compile_s, 2), "cpus": os.cpu_count(),
+           "mean_lift_last_cycle_N": float(2 * res.force[-n:, 0, 2].mean()),
+           "mean_power_last_cycle_W": float(2 * res.power[-n:].mean())}
+    if args.ptera_json:
+        with open(args.ptera_json) as f:
+            p = json.load(f)
+        out["ptera_wall_s"] = p.get("ptera_wall_s")
+        if out["ptera_wall_s"]:
+            out["speedup_vs_ptera"] = round(out["ptera_wall_s"] / wall, 1)
+    print(json.dumps(out))
+
+
+if __name__ == "__main__":
+    main()
