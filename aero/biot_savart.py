@@ -12,7 +12,9 @@ r_c = 0 it is the classical formula (a point on the segment's line gets zero).
 
 Segments are passed as structure-of-arrays: start (ax, ay, az), direction r0 = b - a (dx, dy, dz), gamma,
 and rr = |r0|^2 r_c^2; targets as (n, 3). The loops are parallel over targets (``prange``) and, with
-``fastmath`` (float64 still; only reassociation of the sums changes, ~1e-15 relative), vectorised over segments.
+``fastmath`` (float64 still; only reassociation of the sums changes, ~1e-15 relative) and IEEE division
+(``error_model="numpy"``: no Python zero-division checks), vectorised over segments. Cost per evaluation: two
+square roots and one division, which bound it at ~0.45 G evaluations/s per core with 256-bit vectors here.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ TINY = 1e-300
 """Guards divisions by zero (a target on a segment's end point gets zero from it)."""
 
 
-@njit(parallel=True, fastmath=True, cache=True)
+@njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
 def induced_velocity(targets, ax, ay, az, dx, dy, dz, gamma, rr, out):
     """out[i] = velocity (3,) at targets[i] induced by all segments [m/s]; out is overwritten."""
     n = targets.shape[0]
@@ -118,3 +120,4 @@ def segment_velocity(targets: np.ndarray, a: np.ndarray, b: np.ndarray, gamma: n
         return out
     induced_velocity(targets, *pack(a, b, gamma, rc2), out)
     return out
+
