@@ -44,13 +44,16 @@ length; a coarser step under-resolves the near wake."""
 class UVLMConfig:
     """Solver constants and switches (set them False for a plain UVLM).
 
-    rho [kg/m^3], nu [m^2/s] (air); core_fraction: core radius r0 of the bound vortices and initial core of
-    the wake vortices, as a fraction of the mean chordwise panel length: small, so that the influence at a
-    collocation point half a panel away changes by < 0.2 % and a freshly shed wake segment cancels the bound
-    trailing-edge segment it leaves exactly; the wake cores then grow with age (core_growth);
-    convection_core_fraction: the core of the bound vortices when they convect the wake (a wake vortex
-    passing a lattice must not be flung by the lattice's near field, which the panels do not resolve); a_prime:
-    Ramasamy-Leishman's turbulent-viscosity coefficient a' (6.5e-5 in the paper's extended UVLM).
+    rho [kg/m^3], nu [m^2/s] (air); core_fraction: core radius of the bound vortices as a fraction of the mean
+    chordwise panel length: small, so that the influence at a collocation point half a panel away changes by
+    < 0.2 %; the wake edges on the trailing edge share it, so a freshly shed wake segment cancels the bound
+    trailing-edge segment it leaves exactly; wake_core_chords: initial core of the wake vortices in mean
+    chords (a physical viscous core, independent of the lattice so that refining converges), which then
+    grows with age (core_growth); convection_core_chords: the core of the bound vortices when they convect
+    the wake, in mean chords (a wake vortex passing a lattice must not be flung by the lattice's near field,
+    which the panels do not resolve); a_prime:
+    Ramasamy-Leishman's turbulent-viscosity coefficient a' (6.5e-5 in the paper's extended UVLM);
+    max_wake_rows: keep only this many of the newest wake rows (None: no truncation).
     """
 
     rho: float = 1.225
@@ -59,9 +62,10 @@ class UVLMConfig:
     le_suction: bool = True
     free_wake: bool = True
     core_fraction: float = 0.02
-    wake_core_fraction: float = 0.25
-    convection_core_fraction: float = 0.25
+    wake_core_chords: float = 0.05
+    convection_core_chords: float = 0.1
     a_prime: float = 6.5e-5
+    max_wake_rows: int | None = None
 
 
 @dataclass(frozen=True)
@@ -146,8 +150,8 @@ class UVLM:
         self.step_count = 0
         self._gamma_prev: list[np.ndarray] | None = None
         self.mean_len = float(np.mean([m.mean_chordwise_length for m in self.meshes]))
-        self.r0 = config.core_fraction * self.mean_len
-        self.rb = self.r0
+        self.rb = config.core_fraction * self.mean_len
+        self.chord = float(np.mean([m.panel_areas.sum() / np.ptp(m.vertices[..., 1]) for m in self.meshes]))
 
     # ---- velocities --------------------------------------------------------------------------------
     def _induced(self, targets: np.ndarray, seg: Segments, mirror) -> np.ndarray:
@@ -165,7 +169,7 @@ class UVLM:
     def _wake_segments(self, r_attached: float | None = None) -> Segments:
         """Wake edges; r_attached: core of the edges on the trailing edge (default: the bound core)."""
         c = self.config
-        rw = c.wake_core_fraction * self.mean_len
+        rw = c.wake_core_chords * self.chord
         ra = self.rb if r_attached is None else r_attached
         return Segments.concat([w.segments(rw, c.nu, c.a_prime, c.core_growth, r_attached=ra)
                                 for w in self.wakes])
@@ -252,6 +256,8 @@ class UVLM:
         # 5. shed and convect
         for w in range(nw):
             self.wakes[w].shed(rings[w][-1], gammas[w][-1])
+            if c.max_wake_rows is not None:
+                self.wakes[w].truncate(c.max_wake_rows)
         self._convect(dt, rings, gammas, freestream, mirror)
         self.step_count += 1
         return result
@@ -327,7 +333,7 @@ class UVLM:
         v = freestream.at(pts)
         if c.free_wake:
             bound = self._bound_segments(rings, gammas)
-            rcv = c.convection_core_fraction * self.mean_len
+            rcv = c.convection_core_chords * self.chord
             bound = Segments(bound.a, bound.b, bound.gamma, np.full_like(bound.gamma, rcv * rcv))
             seg = Segments.concat([bound, self._wake_segments(r_attached=rcv)])
             v = v + self._induced(pts, seg, mirror)

@@ -102,6 +102,13 @@ class Wake:
             self.age = np.concatenate([[0.0], self.age])
         self.gamma = np.concatenate([gamma_te[None], self.gamma])
 
+    def truncate(self, rows: int) -> None:
+        """Keep only the ``rows`` newest ring rows (the oldest are dropped)."""
+        if self.rows > rows:
+            self.vertices = self.vertices[:rows + 1]
+            self.gamma = self.gamma[:rows]
+            self.age = self.age[:rows + 1]
+
     def segments(self, r0: float, nu: float, a_prime: float, core_growth: bool, r_attached: float | None = None
                  ) -> Segments:
         """The wake's unique edges with grown cores. r0: initial core [m]; r_attached: core of the spanwise

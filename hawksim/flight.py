@@ -34,6 +34,11 @@ PERTURBATIONS = {
 """Names accepted by ``--perturb NAME=VALUE``."""
 
 
+FLY_WAKE_CYCLES = 3
+"""`hawksim fly --aero uvlm` keeps the wake of the last 3 wingbeats (older rows are far below the insect and the
+cost of a free wake grows with the square of its length)."""
+
+
 def make_backend(name: str, *, symmetric: bool = True, keep_panels: bool = False) -> AeroBackend:
     """Backend by CLI name, at `hawksim fly`'s resolution. Raises ValueError for an unknown or unavailable one.
 
@@ -52,7 +57,7 @@ def make_backend(name: str, *, symmetric: bool = True, keep_panels: bool = False
         from hawksim.uvlm_backend import UVLMBackend
 
         return UVLMBackend(n_chord=FLY_UVLM.n_chord, n_span=FLY_UVLM.n_span, symmetric=symmetric,
-                           keep_panels=keep_panels)
+                           keep_panels=keep_panels, max_wake_rows=FLY_WAKE_CYCLES * FLY_UVLM.steps_per_cycle)
     if name == "surrogate":
         raise ValueError("--aero surrogate is not available yet: no trained surrogate ships with this version")
     raise ValueError(f"unknown --aero {name!r}; choose uvlm, surrogate or quasi-steady")

@@ -57,17 +57,18 @@ class UVLMBackend:
         freestream: air-velocity field (world) for disturbance runs; default still air.
         config: solver switches (leading-edge suction, core growth, free wake); air density from morphology.
         keep_panels: put panel vertices, pressure and the wake in ``WingLoads.extras`` (for recordings).
+        max_wake_rows: truncate the wake to this many newest rows (long free flights; None: keep all).
     """
 
     name = "uvlm"
 
     def __init__(self, morph: Morphology = HAWKMOTH, n_chord: int = 8, n_span: int = 16, *,
                  symmetric: bool = True, freestream: FreeStream | None = None,
-                 config: UVLMConfig | None = None, keep_panels: bool = False):
+                 config: UVLMConfig | None = None, keep_panels: bool = False, max_wake_rows: int | None = None):
         self.meshes = hawkmoth_meshes(morph, n_chord, n_span)
         self.symmetric = symmetric
         self.freestream = freestream if freestream is not None else FreeStream()
-        self.config = config if config is not None else UVLMConfig(rho=RHO_AIR)
+        self.config = config if config is not None else UVLMConfig(rho=RHO_AIR, max_wake_rows=max_wake_rows)
         self.keep_panels = keep_panels
         self.solver: UVLM | None = None
 
@@ -95,8 +96,17 @@ class UVLMBackend:
             power *= 2.0
         extras = {}
         if self.keep_panels:
-            extras = {"pressure": res.pressure, "panels": self._panel_vertices(state, k),
-                      "wake": self.solver.wake}
+            panels, pressure, wake = self._panel_vertices(state, k), res.pressure, self.solver.wake
+            if self.symmetric:  # the right wing is the left one's mirror image
+                p0, n = state.body_pos, state.body_R[:, 1]
+
+                def refl(x):
+                    return x - 2.0 * ((x - p0) @ n)[..., None] * n
+
+                panels = np.concatenate([panels, refl(panels)])
+                pressure = np.concatenate([pressure, pressure])
+                wake = wake + [(refl(v), g) for v, g in wake]
+            extras = {"pressure": pressure, "panels": panels, "wake": wake}
         return WingLoads(force=force, moment=moment, power=float(power), extras=extras)
 
     def _panel_vertices(self, state: FlightState, k: int) -> np.ndarray:

@@ -1,0 +1,74 @@
+"""The UVLM as a hawksim backend: mirror images vs explicit wings, the paper's Table 4, `hawksim aero`."""
+
+import json
+
+import numpy as np
+import pytest
+
+from hawksim.cli import main
+from hawksim.evaluate import Resolution, run
+from hawksim.held import held_flight
+from hawksim.kinematics import table3_kinematics
+from hawksim.uvlm_backend import UVLMBackend, hawkmoth_meshes
+from hawksim.morphology import HAWKMOTH
+
+COARSE = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=3)
+
+
+def test_meshes_have_the_wing_area_and_mirror():
+    left, right = hawkmoth_meshes(n_chord=6, n_span=12)
+    assert left.panel_areas.sum() == pytest.approx(HAWKMOTH.wing_area, rel=1e-12)
+    np.testing.assert_allclose(right.vertices[:, ::-1] * [1, -1, 1], left.vertices)
+
+
+def test_mirror_images_equal_two_explicit_wings():
+    """Before the wing meets its own wake (0.4 beat), the mirrored solve equals the two-wing solve."""
+    kin = table3_kinematics(1.0)
+    kw = dict(cycles=1, steps_per_cycle=30)
+    n = 12
+    sym = UVLMBackend(n_chord=4, n_span=8, symmetric=True)
+    full = UVLMBackend(n_chord=4, n_span=8, symmetric=False)
+    a = held_flight(kin, 1.0, sym, **kw)
+    b = held_flight(kin, 1.0, full, **kw)
+    np.testing.assert_allclose(a.force_world[:n], b.force_world[:n], rtol=1e-8, atol=1e-10)
+    np.testing.assert_allclose(a.moment_world[:n], b.moment_world[:n], rtol=1e-8, atol=1e-12)
+    # symmetric flapping: no side force, roll or yaw moment (explicit two wings, all steps)
+    scale = np.abs(b.force_world[:, 2]).max()
+    assert np.abs(b.force_world[:n, 1]).max() < 1e-9 * scale
+    assert np.abs(b.moment_world[:n, [0, 2]]).max() < 1e-9 * scale * HAWKMOTH.R
+
+
+@pytest.mark.parametrize("speed, L_paper, P_paper", [(1.0, 0.99, 1.09), (2.0, 0.99, 1.34)])
+def test_table3_kinematics_reproduce_table4_within_15_percent(speed, L_paper, P_paper):
+    """Nguyen et al. (2020) Table 4: the UVLM gives L+ and P+ at Table 3's kinematics. Our UVLM, morphology and
+    hinge differ from theirs (see docs/uvlm.md); at the coarse resolution we stay within 15 %, D+ and M+ near 0."""
+    a = run(table3_kinematics(speed), speed, Resolution(n_chord=6, n_span=12, steps_per_cycle=40, cycles=3)).averages
+    assert a.L_plus == pytest.approx(L_paper, rel=0.15)
+    assert a.P_plus == pytest.approx(P_paper, rel=0.15)
+    assert abs(a.D_plus) < 0.05 and abs(a.M_plus) < 0.05
+
+
+def test_power_rises_with_ascent_speed():
+    P = [run(table3_kinematics(v), v, COARSE).averages.P_plus for v in (0.5, 1.5)]
+    assert P[1] > P[0] * 1.1  # Table 4: 0.96 -> 1.21
+
+
+def test_aero_cli_contract(capsys):
+    kin = "f=29.4,beta=2.8,phi0=-4.7,theta0=15,alpha0=1.2,phi_a=60,alpha_a=65"
+    assert main(["aero", "--speed", "1", "--kinematics", kin, "--n-chord", "4", "--n-span", "8",
+                 "--steps-per-cycle", "30", "--json", "--no-progress"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for k in ("L_plus", "D_plus", "M_plus", "P_plus", "power_W", "wall_time_s"):
+        assert np.isfinite(out[k])
+    assert out["power_W"] == pytest.approx(out["P_plus"] * 84.2e-3)
+    assert main(["aero", "--speed", "1", "--kinematics", kin.replace("f=29.4", "f=inf"), "--json"]) == 2
+    assert "f" in capsys.readouterr().err
+
+
+def test_uvlm_flight_stays_symmetric():
+    from hawksim.flight import fly
+
+    r = fly(1.0, 1, "uvlm", steps_per_cycle=80)
+    s = r.summary()
+    assert s["max_abs_roll_deg"] < 1e-6 and abs(r.body_pos[:, 1]).max() < 1e-9
+    assert 0.5 < s["mean_vertical_speed"] < 1.5
