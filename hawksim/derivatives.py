@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hawksim.evaluate import Resolution, make_backend
+from hawksim.evaluate import DEFAULT, Resolution, make_backend
 from hawksim.held import held_flight
 from hawksim.kinematics import Kinematics
 from hawksim.model import JOINT_KINDS, WING_SIDES, load_model
@@ -29,8 +29,8 @@ from hawksim.stability import MassProperties
 S_WORLD = np.diag([1.0, -1.0, -1.0])
 """Stability axes -> world (heading +x): a rotation by 180 deg about x, so it maps vectors and pseudovectors."""
 
-DERIVATIVE_RESOLUTION = Resolution(n_chord=6, n_span=12, steps_per_cycle=40, cycles=3, average_cycles=1)
-"""Lattice and time step of the derivative runs (see docs/stability.md for the step-size and resolution study)."""
+DERIVATIVE_RESOLUTION = DEFAULT
+"""Lattice and time step of the derivative runs: `hawksim aero`'s default (docs/uvlm.md convergence study)."""
 
 DELTA_VELOCITY = 0.05
 """Translational disturbance as a fraction of the reference speed U = 2 phi_a f r2 (step-size study)."""
