@@ -14,7 +14,7 @@ dY/dv = (Y(+dv) - Y(-dv)) / (2 dv) = Y(+dv) / dv, and likewise for L and N.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
@@ -29,8 +29,9 @@ from hawksim.stability import MassProperties
 S_WORLD = np.diag([1.0, -1.0, -1.0])
 """Stability axes -> world (heading +x): a rotation by 180 deg about x, so it maps vectors and pseudovectors."""
 
-DERIVATIVE_RESOLUTION = DEFAULT
-"""Lattice and time step of the derivative runs: `hawksim aero`'s default (docs/uvlm.md convergence study)."""
+DERIVATIVE_RESOLUTION = replace(DEFAULT, cycles=4, average_cycles=2)
+"""Lattice and time step of the derivative runs: `hawksim aero`'s default (docs/uvlm.md convergence study),
+4 wingbeats with the last 2 averaged (the beat-to-beat scatter of the free wake is differenced otherwise)."""
 
 DELTA_VELOCITY = 0.05
 """Translational disturbance as a fraction of the reference speed U = 2 phi_a f r2 (step-size study)."""

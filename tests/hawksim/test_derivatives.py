@@ -1,0 +1,65 @@
+"""Stability derivatives from UVLM disturbance runs, and the studies built from them."""
+
+import numpy as np
+import pytest
+
+from hawksim.derivatives import S_WORLD, _loads_stability, dimensional_derivatives
+from hawksim.evaluate import Resolution
+from hawksim.kinematics import table3_kinematics
+from hawksim.stability import a_long
+from hawksim.studies import nr_sweep, w_e_sweep
+
+COARSE = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=1)
+
+
+def test_stability_axes_map():
+    # x forward, y right, z down: world (x, y, z) -> (x, -y, -z); a proper rotation (maps pseudovectors too)
+    np.testing.assert_allclose(S_WORLD @ [0, 0, 1.0], [0, 0, -1.0])
+    assert np.linalg.det(S_WORLD) == pytest.approx(1.0)
+
+
+def test_symmetric_flapping_decouples_longitudinal_from_lateral():
+    """A forward (u) disturbance on two explicit wings leaves Y, L, N at round-off; a sideslip (v) leaves
+    X, Z, M at their undisturbed values to second order."""
+    kin = table3_kinematics(1.0)
+    u = _loads_stability(kin, 1.0, COARSE, np.array([0.1, 0, 0]), np.zeros(3), symmetric=False)
+    assert np.abs(u[[1, 3, 5]]).max() < 1e-6 * np.abs(u[[0, 2]]).max()  # round-off, amplified by the wake
+    v_p = _loads_stability(kin, 1.0, COARSE, np.array([0, 0.1, 0]), np.zeros(3), symmetric=False)
+    v_m = _loads_stability(kin, 1.0, COARSE, np.array([0, -0.1, 0]), np.zeros(3), symmetric=False)
+    cross = np.abs(v_p[[0, 2, 4]] - v_m[[0, 2, 4]]) / 0.2  # dX/dv, dZ/dv, dM/dv
+    direct = np.abs(v_p[[1, 3, 5]] - v_m[[1, 3, 5]]) / 0.2  # dY/dv, dL/dv, dN/dv
+    assert cross.max() < 1e-6 * direct.max()
+
+
+@pytest.mark.slow
+def test_hover_signs_physics_fixes():
+    """Damping signs at hover (Etkin 1972; Sun, Wang & Xiong 2007 for the hawkmoth): Xu, Zw, Lp, Nr < 0."""
+    d = dimensional_derivatives(table3_kinematics(0.0), 0.0).derivatives
+    assert d["Xu"] < 0 and d["Zw"] < 0 and d["Lp"] < 0 and d["Nr"] < 0
+
+
+def _report():
+    d = {k: -0.5 for k in ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")}
+    t = {k: -0.3 for k in ("Yv", "Yp", "Yr", "Lv", "Lp", "Lr", "Nv", "Np", "Nr")}
+    s = {"m_plus": 10.0, "Ix_plus": 2.0, "Iy_plus": 3.0, "Iz_plus": 2.5, "Ixz_plus": -0.5, "g_plus": 0.3,
+         "w_e_plus": 0.0, "U": 1.4, "T": 0.035}
+    return {"speed": 0.0, "longitudinal": {"derivatives": d}, "lateral": {"derivatives": t}, "nondimensional": s}
+
+
+def test_w_e_sweep_uses_the_frozen_derivatives():
+    rep = _report()
+    out = w_e_sweep(rep, np.array([0.0, 1.4]))
+    s = rep["nondimensional"]
+    A = a_long(rep["longitudinal"]["derivatives"], s["m_plus"], s["Iy_plus"], s["g_plus"], -1.0)
+    ev = np.linalg.eigvals(A)
+    got = np.array(out["longitudinal"][1])
+    np.testing.assert_allclose(sorted(ev.real), sorted(got[:, 0]), rtol=1e-12)
+
+
+def test_nr_sweep_changes_only_nr():
+    hover, fast = _report(), _report()
+    fast["speed"] = 2.0
+    fast["lateral"]["derivatives"] = dict(fast["lateral"]["derivatives"], Nr=-3.0)
+    out = nr_sweep(hover, [hover, fast])
+    assert out["Nr_plus"] == [-0.3, -3.0]
+    assert out["lateral"][0] != out["lateral"][1]
