@@ -5,16 +5,19 @@ A disturbance is a body motion relative to the air at the trim: translational (u
 held-body run it is an air-velocity field v_air(x) = -(v_d + omega_d x (x - x_cg)) (world frame), which enters
 the no-penetration condition and convects the wake (``aero.uvlm.FreeStream``).
 
-Central differences of the cycle-averaged forces and moments about the centre of mass (last
-``average_cycles`` wingbeats). Symmetric disturbances (u, w, q) keep the flapping left/right symmetric, so
-the UVLM solves one wing and mirrors it; for antisymmetric ones (v, p, r) the run at -delta is the mirror
-image of the run at +delta, so one full two-wing run gives the exact central difference:
-dY/dv = (Y(+dv) - Y(-dv)) / (2 dv) = Y(+dv) / dv, and likewise for L and N.
+Central differences of the cycle-averaged forces and moments about the centre of mass over the last
+``average_cycles`` wingbeats. The disturbance is switched on after a shared undisturbed start (the first
+``cycles - average_cycles`` wingbeats; the solver state is copied), so the + and - runs start from the same
+wake: at low speed the free wake is not periodic and two independent runs would differ by more than the
+disturbance's effect. Symmetric disturbances (u, w, q) keep the flapping left/right symmetric, so the UVLM
+solves one wing and mirrors it; antisymmetric ones (v, p, r) need both wings.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+
+import copy
 
 import mujoco
 import numpy as np
@@ -75,15 +78,36 @@ class DerivativeRuns:
     wall_time_s: float
 
 
-def _loads_stability(kin, speed, res, v_d_s, w_d_s, symmetric) -> np.ndarray:
-    """Cycle-mean (X, Y, Z, L, M, N) in stability axes for a disturbance (v_d_s, w_d_s) (stability axes)."""
+def _air_field(v_d_s, w_d_s):
     from aero.uvlm import FreeStream
 
-    fs = FreeStream(v0=-(S_WORLD @ v_d_s), omega=-(S_WORLD @ w_d_s), ref=np.zeros(3))
-    r = held_flight(kin, speed, make_backend(res, symmetric=symmetric, freestream=fs), cycles=res.cycles,
-                    average_cycles=res.average_cycles, steps_per_cycle=res.steps_per_cycle)
+    return FreeStream(v0=-(S_WORLD @ v_d_s), omega=-(S_WORLD @ w_d_s), ref=np.zeros(3))
+
+
+def _loads_stability(kin, speed, res, v_d_s, w_d_s, symmetric, base=None) -> np.ndarray:
+    """Cycle-mean (X, Y, Z, L, M, N) in stability axes for a disturbance (v_d_s, w_d_s) (stability axes).
+
+    base: (backend, cycles already run) of an undisturbed run to continue from (a copy is disturbed), so that
+    the + and - runs of a central difference share the wake they start from; else a run from rest.
+    """
+    if base is None:
+        backend, start = make_backend(res, symmetric=symmetric, freestream=_air_field(v_d_s, w_d_s)), 0
+        cycles = res.cycles
+    else:
+        backend, start = copy.deepcopy(base[0]), base[1]
+        backend.freestream = _air_field(v_d_s, w_d_s)
+        cycles = res.cycles - start
+    r = held_flight(kin, speed, backend, cycles=cycles, average_cycles=res.average_cycles,
+                    steps_per_cycle=res.steps_per_cycle, start_cycle=start)
     F, M = r.mean_loads(res.average_cycles)
     return np.concatenate([S_WORLD @ F, S_WORLD @ M])
+
+
+def _base_run(kin, speed, res, symmetric, cycles):
+    """An undisturbed run of ``cycles`` wingbeats whose backend state the disturbed runs continue."""
+    backend = make_backend(res, symmetric=symmetric)
+    held_flight(kin, speed, backend, cycles=cycles, average_cycles=1, steps_per_cycle=res.steps_per_cycle)
+    return backend, cycles
 
 
 def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DERIVATIVE_RESOLUTION, *,
@@ -104,18 +128,21 @@ def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DER
     cases += [("v", 1, dv * unit[1], np.zeros(3), False), ("p", 1, np.zeros(3), dw * unit[0], False),
               ("r", 1, np.zeros(3), dw * unit[2], False)]
     t0 = time.perf_counter()
-    loads = list(map_fn(lambda c: _loads_stability(kin, speed, res, c[2], c[3], c[4]), cases))
+    # the disturbed runs continue a shared undisturbed start (the first cycles - average_cycles wingbeats), so
+    # a central difference compares two runs from the same wake rather than two independent free wakes
+    warm = res.cycles - res.average_cycles
+    bases = {True: _base_run(kin, speed, res, True, warm), False: _base_run(kin, speed, res, False, warm)} \
+        if warm > 0 else {True: None, False: None}
+    cases += [("v", -1, -dv * unit[1], np.zeros(3), False), ("p", -1, np.zeros(3), -dw * unit[0], False),
+              ("r", -1, np.zeros(3), -dw * unit[2], False)]
+    loads = list(map_fn(lambda c: _loads_stability(kin, speed, res, c[2], c[3], c[4], bases[c[4]]), cases))
     got = {(c[0], c[1]): y for c, y in zip(cases, loads)}
     step = {"u": dv, "w": dv, "q": dw, "v": dv, "p": dw, "r": dw}
     out = {}
     comp = dict(X=0, Y=1, Z=2, L=3, M=4, N=5)
-    for var in ("u", "w", "q"):
+    for var, forces in (("u", "XZM"), ("w", "XZM"), ("q", "XZM"), ("v", "YLN"), ("p", "YLN"), ("r", "YLN")):
         diff = (got[(var, 1)] - got[(var, -1)]) / (2 * step[var])
-        for f in "XZM":
-            out[f + var] = float(diff[comp[f]])
-    for var in ("v", "p", "r"):
-        diff = got[(var, 1)] / step[var]  # antisymmetry: the -delta run is the mirror image
-        for f in "YLN":
+        for f in forces:
             out[f + var] = float(diff[comp[f]])
     return DerivativeRuns(derivatives=out, deltas={"velocity_m_s": dv, "rate_rad_s": dw},
                           resolution=res, wall_time_s=time.perf_counter() - t0)

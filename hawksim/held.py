@@ -85,10 +85,12 @@ def cycle_averages(lift, drag, moment, power, morph: Morphology = HAWKMOTH) -> C
 
 def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: int = 3,
                 average_cycles: int = 1, steps_per_cycle: int = 40, model: mujoco.MjModel | None = None,
-                morph: Morphology = HAWKMOTH, progress=None) -> HeldResult:
+                morph: Morphology = HAWKMOTH, progress=None, start_cycle: int = 0) -> HeldResult:
     """Run ``backend`` for ``cycles`` wingbeats with the body held at ascent ``speed`` [m/s].
 
     The averages are over the last ``average_cycles`` wingbeats (the earlier ones carry the start-up transient).
+    start_cycle > 0 continues a backend that has already run that many wingbeats (its state, e.g. a wake, is
+    kept: no reset), starting at t = start_cycle T.
     """
     if not (np.isfinite(speed) and speed >= 0):
         raise ValueError(f"speed must be a finite ascent speed >= 0 m/s, got {speed}")
@@ -109,7 +111,7 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
     n = cycles * steps_per_cycle
     out = np.zeros((5, n))
     FM = np.zeros((n, 6))
-    times = np.arange(n) * dt
+    times = (start_cycle * steps_per_cycle + np.arange(n)) * dt
     t0 = time.perf_counter()
     for i, t in enumerate(times):
         d.time = t
@@ -122,7 +124,7 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
         d.qacc[vadr] = np.tile(kin.accelerations(t), 2)
         mujoco.mj_inverse(m, d)  # also brings kinematics and com velocities up to date
         st = replace(read_state(m, d, body, wings, dt), air_v=air)
-        if i == 0:
+        if i == 0 and start_cycle == 0:
             backend.reset(st)
         loads = backend.loads(st)
         F = loads.force.sum(0)
