@@ -1,0 +1,47 @@
+"""Build the default trim table (hawksim/data/trim_table.json) by balancing on the UVLM.
+
+For each ascent speed the starting point is the paper's Table 3 (until the surrogate's GA + Nelder-Mead
+optimum is available, issue 5), and f, beta, phi0 are adjusted until |L+ - 1|, |D+|, |M+| <= 0.01 by the UVLM
+(`hawksim.trim_uvlm`). Deterministic (no random numbers). Prints one JSON object.
+
+    python scripts/uvlm_trim_table.py --out hawksim/data/trim_table.json
+"""
+
+import argparse
+import json
+import math
+import sys
+import time
+
+from hawksim import __version__
+from hawksim.kinematics import TABLE3_SPEEDS, table3_kinematics
+from hawksim.trim_uvlm import FREE, TRIM_RESOLUTION, balance_on_uvlm
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--out", default="hawksim/data/trim_table.json")
+    ap.add_argument("--speeds", type=float, nargs="+", default=list(TABLE3_SPEEDS))
+    a = ap.parse_args()
+    rows = []
+    for v in a.speeds:
+        r = balance_on_uvlm(table3_kinematics(v), v)
+        av, st = r.averages, r.start_averages
+        rows.append({"speed": v, "kinematics": r.kinematics.to_edge(), "chi": math.degrees(r.kinematics.chi),
+                     "uvlm": {k: getattr(av, k) for k in ("L_plus", "D_plus", "M_plus", "P_plus")},
+                     "start": {"source": "Nguyen et al. (2020) Table 3", "kinematics": r.start.to_edge(),
+                               "uvlm": {k: getattr(st, k) for k in ("L_plus", "D_plus", "M_plus", "P_plus")}},
+                     "converged": r.converged, "evaluations": r.evaluations, "wall_time_s": r.wall_time_s})
+        print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
+    out = {"source": "UVLM balance of Table 3 (f, beta, phi0 adjusted)",
+           "command": "python scripts/uvlm_trim_table.py --out hawksim/data/trim_table.json",
+           "seed": None, "hawksim_version": __version__, "free_parameters": list(FREE),
+           "resolution": TRIM_RESOLUTION.to_dict(), "tolerance": 0.01,
+           "created": time.strftime("%Y-%m-%d"), "rows": rows}
+    with open(a.out, "w") as f:
+        json.dump(out, f, indent=1)
+    print(json.dumps(out))
+
+
+if __name__ == "__main__":
+    main()
