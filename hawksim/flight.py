@@ -19,7 +19,7 @@ from hawksim.model import load_model
 from hawksim.morphology import HAWKMOTH, P0_W
 from hawksim.rotations import quat_to_matrix
 from hawksim.simulation import Simulator
-from hawksim.trim_table import trim_kinematics
+from hawksim.trim_table import trim_kinematics, trim_source
 
 PERTURBATIONS = {
     "u": "forward velocity disturbance [m/s] (stability axes)",
@@ -90,6 +90,7 @@ class FlightResult:
     power_aero: np.ndarray
     power_joint: np.ndarray
     wall_time_s: float
+    trim_source: str = "given"
     extras: list = field(default_factory=list, repr=False)
     """Backend extras (e.g. UVLM pressure and wake) for the steps where they were kept, as (step, dict)."""
 
@@ -138,6 +139,7 @@ class FlightResult:
             "horizontal_drift": float(np.hypot(*horiz)),
             "wall_time_s": self.wall_time_s,
             "kinematics": self.kinematics.to_edge(),
+            "trim_source": self.trim_source,
             "steps_per_cycle": n,
             "last_cycle": {
                 "L_plus": float(L[last].mean() / W),
@@ -165,6 +167,33 @@ def inertial_pitch_offset(model_path, kin: Kinematics, steps_per_cycle: int) -> 
     return float(np.mean(pitch) - kin.chi)
 
 
+def _start_on_orbit(sim: Simulator, kin: Kinematics, speed: float, pitch_guess: float):
+    """(pitch0 [rad], velocity (3,) [m/s], nose-up pitch rate q0 [rad/s]) so that the first wingbeat's mean
+    pitch is chi, its mean pitch rate zero and its mean velocity straight up at ``speed``.
+
+    The aerodynamic and inertial loads oscillate within each beat; starting from rest in pitch rate at t = 0
+    leaves the oscillation's integral as a mean rate (the body drifts by ~15 deg in the first beat). One
+    calibration beat from the guess measures the means; the start is corrected by them (removing a mean rate q
+    also lowers the mean pitch by q T / 2).
+    """
+    from hawksim.rotations import quat_from_matrix, rot_y
+
+    up = np.array([0.0, 0.0, speed])
+    sim.reset(velocity=up, quat=quat_from_matrix(rot_y(-pitch_guess)))
+    pitch, q, v = [], [], []
+    for _ in range(sim.steps_per_cycle):
+        st = sim.step().state
+        pitch.append(np.arcsin(np.clip(st.body_R[2, 0], -1, 1)))
+        q.append(-st.body_omega[1])
+        v.append(st.body_v)
+    q_mean = float(np.mean(q))
+    v_mean = np.mean(v, axis=0)
+    pitch0 = pitch_guess - (float(np.mean(pitch)) - kin.chi) + q_mean * kin.period / 2
+    v0 = up - (v_mean - up)
+    v0[1] = 0.0
+    return pitch0, v0, -q_mean
+
+
 def parse_perturbations(perturb: dict[str, float]) -> dict[str, float]:
     """Validate perturbation names (ValueError naming the bad one)."""
     for k, v in perturb.items():
@@ -177,7 +206,7 @@ def parse_perturbations(perturb: dict[str, float]) -> dict[str, float]:
 
 def fly(speed: float, cycles: int, aero: str = "quasi-steady", *, perturb: dict[str, float] | None = None,
         model_path=None, kinematics: Kinematics | None = None, steps_per_cycle: int = 200,
-        gravity: bool = True, keep_extras_every: int = 0,
+        gravity: bool = True, keep_extras_every: int = 0, periodic_start: bool = True,
         progress: Callable[[int, int], None] | None = None) -> FlightResult:
     """Fly for ``cycles`` wingbeats from the trim at ascent ``speed`` [m/s].
 
@@ -185,6 +214,7 @@ def fly(speed: float, cycles: int, aero: str = "quasi-steady", *, perturb: dict[
         perturb: stability-axes disturbances of the initial state (see ``PERTURBATIONS``).
         kinematics: override the trim kinematics.
         keep_extras_every: keep the backend's extras every this many steps (0: never).
+        periodic_start: start on the periodic orbit (one calibration wingbeat, see ``_start_on_orbit``).
         progress: called as progress(step, n_steps).
     """
     if not (np.isfinite(speed) and speed >= 0):
@@ -212,7 +242,12 @@ def fly(speed: float, cycles: int, aero: str = "quasi-steady", *, perturb: dict[
     S = np.diag([1.0, -1.0, -1.0])
     v0 = np.array([0.0, 0.0, speed]) + S @ [perturb.get("u", 0.0), perturb.get("v", 0.0), perturb.get("w", 0.0)]
     omega_world = S @ (np.array([perturb.get("p", 0.0), perturb.get("q", 0.0), perturb.get("r", 0.0)]) * deg)
-    pitch0 = kin.chi - inertial_pitch_offset(model_path, kin, steps_per_cycle) + perturb.get("theta", 0.0) * deg
+    pitch0 = kin.chi - inertial_pitch_offset(model_path, kin, steps_per_cycle)
+    if periodic_start:
+        pitch0, v_start, q_start = _start_on_orbit(sim, kin, speed, pitch0)
+        v0 = v0 + v_start - np.array([0.0, 0.0, speed])
+        omega_world = omega_world + np.array([0.0, -q_start, 0.0])
+    pitch0 += perturb.get("theta", 0.0) * deg
     R0 = rot_x(-perturb.get("phi", 0.0) * deg) @ rot_y(-pitch0)
     sim.reset(velocity=v0, quat=quat_from_matrix(R0), omega_body=R0.T @ omega_world)
 
@@ -247,5 +282,5 @@ def fly(speed: float, cycles: int, aero: str = "quasi-steady", *, perturb: dict[
         speed_target=float(speed), cycles=int(cycles), aero=aero, kinematics=kin, steps_per_cycle=steps_per_cycle,
         t=a["t"], body_pos=a["pos"], body_quat=a["quat"], body_v=a["v"], body_omega=a["w"], wing_R=a["wR"],
         wing_origin=a["wo"], force=a["F"], moment=a["M"], power_aero=a["Pa"], power_joint=a["Pj"],
-        wall_time_s=wall, extras=extras,
+        wall_time_s=wall, extras=extras, trim_source="given" if kinematics is not None else trim_source(),
     )

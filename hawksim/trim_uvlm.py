@@ -2,9 +2,9 @@
 
 Starting from given kinematics (the surrogate's optimum, or the paper's Table 3), three parameters are
 adjusted until the UVLM's cycle averages satisfy the equilibrium of the paper's Sec. 3.2, |L+ - 1|, |D+|,
-|M+| <= tol: the flapping frequency f (sets the lift), the stroke-plane angle beta (tilts the mean force,
-sets D+) and the mean sweep phi0 (moves the centre of pressure along the body, sets M+). The other four
-parameters stay at the starting point, which carries the minimum-power choice. Solver: Newton's method on
+|M+| <= tol: the flapping frequency f (sets the lift), the stroke-plane angle beta and the mean rotation
+alpha0 (tilt the mean force, set D+) and the mean sweep phi0 (moves the centre of pressure along the body,
+sets M+). The other three parameters stay at the starting point, which carries the minimum-power choice. Solver: Newton's method on
 the residuals (L+ - 1, D+, M+) with a forward-difference Jacobian (steps of 2 % of each parameter's Table 2
 range) refreshed by Broyden's update after each step, steps clipped to Table 2's box; parameters are
 scaled to [0, 1] by the bounds. (scipy's least_squares took steps too short to move f by the 2 Hz needed.)
@@ -21,8 +21,10 @@ from hawksim.evaluate import DEFAULT, Resolution, evaluate
 from hawksim.held import CycleAverages
 from hawksim.kinematics import PARAM_NAMES, Kinematics, bounds_si
 
-FREE = ("f", "beta", "phi0")
-"""Parameters the balance adjusts."""
+FREE = ("f", "beta", "phi0", "alpha0")
+"""Parameters the balance adjusts (4 unknowns for 3 equations: the minimum-norm Newton step; alpha0, the
+up/down-stroke asymmetry of the angle of attack, takes over the horizontal force when beta reaches its
+Table 2 bound of 0 deg, as at 0.5 m/s)."""
 
 TRIM_RESOLUTION = replace(DEFAULT, cycles=4, average_cycles=3)
 """UVLM resolution of the balance: `hawksim aero`'s lattice and step, 4 beats with the last 3 averaged (the
@@ -48,7 +50,7 @@ class UVLMTrim:
 
 
 def balance_on_uvlm(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOLUTION, *, tol: float = 0.01,
-                    max_evals: int = 20, free=FREE) -> UVLMTrim:
+                    max_evals: int = 30, free=FREE) -> UVLMTrim:
     """Adjust ``free`` parameters of kin0 until the UVLM balances within tol (see the module docstring)."""
     idx = [PARAM_NAMES.index(k) for k in free]
     lo, hi = bounds_si()
@@ -77,7 +79,7 @@ def balance_on_uvlm(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOL
     J = None
     while np.abs(r).max() > tol and len(cache) < max_evals:
         if J is None:
-            J = np.empty((3, len(idx)))
+            J = np.empty((3, len(idx)))  # forward differences (one evaluation per free parameter)
             for j in range(len(idx)):
                 h = DIFF_STEP if z[j] + DIFF_STEP <= 1.0 else -DIFF_STEP
                 zj = z.copy()

@@ -1,7 +1,7 @@
 """Build the default trim table (hawksim/data/trim_table.json) by balancing on the UVLM.
 
 For each ascent speed the starting point is the paper's Table 3 (until the surrogate's GA + Nelder-Mead
-optimum is available, issue 5), and f, beta, phi0 are adjusted until |L+ - 1|, |D+|, |M+| <= 0.01 by the UVLM
+optimum is available, issue 5), and f, beta, phi0, alpha0 are adjusted until |L+ - 1|, |D+|, |M+| <= 0.01 by the UVLM
 (`hawksim.trim_uvlm`). Deterministic (no random numbers). Prints one JSON object.
 
     python scripts/uvlm_trim_table.py --out hawksim/data/trim_table.json
@@ -33,7 +33,7 @@ def main():
                                "uvlm": {k: getattr(st, k) for k in ("L_plus", "D_plus", "M_plus", "P_plus")}},
                      "converged": r.converged, "evaluations": r.evaluations, "wall_time_s": r.wall_time_s})
         print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
-    out = {"source": "UVLM balance of Table 3 (f, beta, phi0 adjusted)",
+    out = {"source": "UVLM balance of Table 3 (f, beta, phi0, alpha0 adjusted)",
            "command": "python scripts/uvlm_trim_table.py --out hawksim/data/trim_table.json",
            "seed": None, "hawksim_version": __version__, "free_parameters": list(FREE),
            "resolution": TRIM_RESOLUTION.to_dict(), "tolerance": 0.01,
