@@ -90,3 +90,25 @@ def test_uvlm_trim_holds_over_three_wingbeats():
         vz = (z[s][-1] - z[s][0]) / (r.t[s][-1] - r.t[s][0])
         assert vz == pytest.approx(1.0, abs=0.1)
         assert pitch[s].mean() == pytest.approx(np.degrees(r.kinematics.chi), abs=2.0)
+
+
+def test_uvlm_flight_recording_has_pressure_panels_and_wake(tmp_path):
+    """`hawksim fly --aero uvlm --rrd` records panels coloured by pressure and wake lines for both wings."""
+    from rerun.chunk import RrdReader
+
+    from hawksim.flight import fly
+    from hawksim.recording import write_rrd
+
+    r = fly(1.0, 1, "uvlm", steps_per_cycle=80, keep_extras_every=8, periodic_start=False)
+    assert r.extras and r.extras[0][1]["panels"].shape[0] == 2  # left + mirrored right
+    path = write_rrd(tmp_path / "u.rrd", r)
+    entities = {ch.entity_path for ch in RrdReader(path).stream().to_chunks()}
+    for side in ("left", "right"):
+        assert f"/world/uvlm/panels/{side}" in entities and f"/world/uvlm/wake/{side}" in entities
+
+
+def test_uvlm_is_deterministic():
+    kin = table3_kinematics(1.0)
+    a = run(kin, 1.0, COARSE).averages
+    b = run(kin, 1.0, COARSE).averages
+    assert a == b
