@@ -277,7 +277,7 @@ class UVLM:
         F_list, P_list, V_list, W_list = [], [], [], []
         panel_force, pressure = [], []
         off = 0
-        for w, (p, G, g) in enumerate(zip(parts, rings, gammas)):
+        for w, (p, g) in enumerate(zip(parts, gammas)):
             nc, ns = g.shape
             mid = 0.5 * (p.a + p.b)
             vk = v_kin(w, mid)

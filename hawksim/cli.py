@@ -38,14 +38,21 @@ def speed_arg(text: str) -> float:
     return v
 
 
-def cycles_arg(text: str) -> int:
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"--cycles {text!r} is not an integer") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"--cycles {text} must be >= 1")
-    return v
+def positive_int_arg(name: str):
+    """argparse type for a positive integer option --name."""
+    def parse(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"--{name} {text!r} is not an integer") from None
+        if v < 1:
+            raise argparse.ArgumentTypeError(f"--{name} {text} must be >= 1")
+        return v
+
+    return parse
+
+
+cycles_arg = positive_int_arg("cycles")
 
 
 def parse_kinematics(text: str) -> Kinematics:

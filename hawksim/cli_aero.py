@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import argparse
 import math
 from dataclasses import replace
 
-from hawksim.cli import cycles_arg, parse_kinematics, progress_bar, speed_arg
+from hawksim.cli import cycles_arg, parse_kinematics, positive_int_arg, progress_bar, speed_arg
 
 
 def cmd_aero(args) -> dict:
@@ -30,19 +29,6 @@ def cmd_aero(args) -> dict:
     }
 
 
-def _positive_int(name):
-    def parse(text):
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"--{name} {text!r} is not an integer") from None
-        if v < 1:
-            raise argparse.ArgumentTypeError(f"--{name} {text} must be >= 1")
-        return v
-
-    return parse
-
-
 def register(sub) -> None:
     p = sub.add_parser("aero", help="one UVLM run with the body held at ascent speed V: cycle-averaged loads")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
@@ -50,9 +36,9 @@ def register(sub) -> None:
                    help="f=..,beta=..,phi0=..,theta0=..,alpha0=..,phi_a=..,alpha_a=.. (Hz, deg; Table 2 bounds)")
     p.add_argument("--cycles", type=cycles_arg, help="wingbeats (default 3; the last one is averaged)")
     p.add_argument("--aero", choices=("uvlm", "quasi-steady"), default="uvlm")
-    p.add_argument("--n-chord", type=_positive_int("n-chord"), help="chordwise vortex rings per wing (8)")
-    p.add_argument("--n-span", type=_positive_int("n-span"), help="spanwise vortex rings per wing (16)")
-    p.add_argument("--steps-per-cycle", type=_positive_int("steps-per-cycle"), help="time steps per wingbeat (60)")
+    p.add_argument("--n-chord", type=positive_int_arg("n-chord"), help="chordwise vortex rings per wing (8)")
+    p.add_argument("--n-span", type=positive_int_arg("n-span"), help="spanwise vortex rings per wing (16)")
+    p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"), help="time steps per wingbeat (60)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_aero)

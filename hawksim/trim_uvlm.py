@@ -4,10 +4,11 @@ Starting from given kinematics (the surrogate's optimum, or the paper's Table 3)
 adjusted until the UVLM's cycle averages satisfy the equilibrium of the paper's Sec. 3.2, |L+ - 1|, |D+|,
 |M+| <= tol: the flapping frequency f (sets the lift), the stroke-plane angle beta and the mean rotation
 alpha0 (tilt the mean force, set D+) and the mean sweep phi0 (moves the centre of pressure along the body,
-sets M+). The other three parameters stay at the starting point, which carries the minimum-power choice. Solver: Newton's method on
-the residuals (L+ - 1, D+, M+) with a forward-difference Jacobian (steps of 2 % of each parameter's Table 2
-range) refreshed by Broyden's update after each step, steps clipped to Table 2's box; parameters are
-scaled to [0, 1] by the bounds. (scipy's least_squares took steps too short to move f by the 2 Hz needed.)
+sets M+). The other three parameters stay at the starting point, which carries the minimum-power choice.
+Solver: Newton's method on the residuals (L+ - 1, D+, M+) with a forward-difference Jacobian (steps of
+2 % of each parameter's Table 2 range) refreshed by Broyden's update after each step, steps clipped to
+Table 2's box; parameters are scaled to [0, 1] by the bounds. (scipy's least_squares took steps too short
+to move f by the 2 Hz needed.)
 """
 
 from __future__ import annotations
