@@ -222,7 +222,7 @@ def fly(speed: float, cycles: int, aero: str = "quasi-steady", *, perturb: dict[
     if int(cycles) != cycles or cycles < 1:
         raise ValueError(f"--cycles must be a positive integer, got {cycles}")
     perturb = parse_perturbations(perturb or {})
-    kin = kinematics if kinematics is not None else trim_kinematics(speed)
+    kin = kinematics if kinematics is not None else trim_kinematics(speed, aero)
     lateral = any(perturb.get(k, 0.0) != 0.0 for k in ("v", "p", "r", "phi"))
     backend = make_backend(aero, symmetric=not lateral, keep_panels=keep_extras_every > 0)
     model = load_model(model_path)
@@ -282,5 +282,5 @@ def fly(speed: float, cycles: int, aero: str = "quasi-steady", *, perturb: dict[
         speed_target=float(speed), cycles=int(cycles), aero=aero, kinematics=kin, steps_per_cycle=steps_per_cycle,
         t=a["t"], body_pos=a["pos"], body_quat=a["quat"], body_v=a["v"], body_omega=a["w"], wing_R=a["wR"],
         wing_origin=a["wo"], force=a["F"], moment=a["M"], power_aero=a["Pa"], power_joint=a["Pj"],
-        wall_time_s=wall, extras=extras, trim_source="given" if kinematics is not None else trim_source(),
+        wall_time_s=wall, extras=extras, trim_source="given" if kinematics is not None else trim_source(aero),
     )

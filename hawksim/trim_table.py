@@ -1,8 +1,10 @@
 """The trim kinematics used by default at each ascent speed.
 
-Source, in order: the project's shipped trim table ``hawksim/data/trim_table.json`` (produced by
-`hawksim trim` and the UVLM polish, with the command and seed recorded in the file), else the paper's Table 3
-(Nguyen et al. 2020). Between tabulated speeds the parameters are interpolated linearly.
+Each aerodynamic model has its own trim, since each balances the insect differently: ``trim_table.json``
+(balanced on the UVLM; also used by the surrogate and by vacuum runs) and ``trim_table_quasi_steady.json``
+(balanced on the quasi-steady model), both in ``hawksim/data`` and produced by
+``scripts/uvlm_trim_table.py`` (the command is recorded in each file). Without a shipped table: the paper's
+Table 3 (Nguyen et al. 2020). Between tabulated speeds the parameters are interpolated linearly.
 """
 
 from __future__ import annotations
@@ -15,29 +17,31 @@ import numpy as np
 
 from hawksim.kinematics import PARAM_NAMES, TABLE3_DEG, TABLE3_SPEEDS, Kinematics
 
-TABLE_FILE = "trim_table.json"
+TABLE_FILES = {"uvlm": "trim_table.json", "quasi-steady": "trim_table_quasi_steady.json"}
 
 
-@lru_cache(maxsize=1)
-def _table() -> tuple[str, tuple[float, ...], dict[str, tuple[float, ...]]]:
-    path = resources.files("hawksim") / "data" / TABLE_FILE
+@lru_cache(maxsize=4)
+def _table(aero: str = "uvlm") -> tuple[str, tuple[float, ...], dict[str, tuple[float, ...]]]:
+    name = TABLE_FILES.get(aero, TABLE_FILES["uvlm"])
+    path = resources.files("hawksim") / "data" / name
     if path.is_file():
         data = json.loads(path.read_text())
         rows = sorted(data["rows"], key=lambda r: r["speed"])
         speeds = tuple(float(r["speed"]) for r in rows)
-        return "hawksim trim table (" + data.get("source", TABLE_FILE) + ")", speeds, {
+        return "hawksim trim table (" + data.get("source", name) + ")", speeds, {
             k: tuple(float(r["kinematics"][k]) for r in rows) for k in PARAM_NAMES}
     return "Nguyen et al. (2020) Table 3", TABLE3_SPEEDS, TABLE3_DEG
 
 
-def trim_source() -> str:
-    """Where the default trim comes from."""
-    return _table()[0]
+def trim_source(aero: str = "uvlm") -> str:
+    """Where the default trim for the aerodynamic model ``aero`` comes from."""
+    return _table(aero)[0]
 
 
-def trim_kinematics(speed: float) -> Kinematics:
-    """Trim kinematics at ascent speed [m/s] (ValueError outside the table's speed range)."""
-    _, speeds, table = _table()
+def trim_kinematics(speed: float, aero: str = "uvlm") -> Kinematics:
+    """Trim kinematics at ascent speed [m/s] for the aerodynamic model ``aero`` (ValueError outside the
+    table's speed range)."""
+    _, speeds, table = _table(aero)
     if not (speeds[0] <= speed <= speeds[-1]):
         raise ValueError(f"speed {speed:g} m/s is outside the trim table's range [{speeds[0]:g}, {speeds[-1]:g}] m/s")
     return Kinematics.from_edge({k: float(np.interp(speed, speeds, v)) for k, v in table.items()})

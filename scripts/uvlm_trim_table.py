@@ -5,6 +5,7 @@ optimum is available, issue 5), and f, beta, phi0, alpha0 are adjusted until |L+
 (`hawksim.trim_uvlm`). Deterministic (no random numbers). Prints one JSON object.
 
     python scripts/uvlm_trim_table.py --out hawksim/data/trim_table.json
+    python scripts/uvlm_trim_table.py --aero quasi-steady --out hawksim/data/trim_table_quasi_steady.json
 """
 
 import argparse
@@ -15,17 +16,22 @@ import time
 
 from hawksim import __version__
 from hawksim.kinematics import TABLE3_SPEEDS, table3_kinematics
+from hawksim.evaluate import Resolution
 from hawksim.trim_uvlm import FREE, TRIM_RESOLUTION, balance_on_uvlm
+
+QS_RESOLUTION = Resolution(aero="quasi-steady", steps_per_cycle=200, cycles=2)
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", default="hawksim/data/trim_table.json")
     ap.add_argument("--speeds", type=float, nargs="+", default=list(TABLE3_SPEEDS))
+    ap.add_argument("--aero", choices=("uvlm", "quasi-steady"), default="uvlm")
     a = ap.parse_args()
+    res = TRIM_RESOLUTION if a.aero == "uvlm" else QS_RESOLUTION
     rows = []
     for v in a.speeds:
-        r = balance_on_uvlm(table3_kinematics(v), v)
+        r = balance_on_uvlm(table3_kinematics(v), v, res)
         av, st = r.averages, r.start_averages
         rows.append({"speed": v, "kinematics": r.kinematics.to_edge(), "chi": math.degrees(r.kinematics.chi),
                      "uvlm": {k: getattr(av, k) for k in ("L_plus", "D_plus", "M_plus", "P_plus")},
@@ -33,10 +39,10 @@ def main():
                                "uvlm": {k: getattr(st, k) for k in ("L_plus", "D_plus", "M_plus", "P_plus")}},
                      "converged": r.converged, "evaluations": r.evaluations, "wall_time_s": r.wall_time_s})
         print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
-    out = {"source": "UVLM balance of Table 3 (f, beta, phi0, alpha0 adjusted)",
-           "command": "python scripts/uvlm_trim_table.py --out hawksim/data/trim_table.json",
+    out = {"source": f"{a.aero} balance of Table 3 (f, beta, phi0, alpha0 adjusted)",
+           "command": " ".join(["python scripts/uvlm_trim_table.py", *sys.argv[1:]]),
            "seed": None, "hawksim_version": __version__, "free_parameters": list(FREE),
-           "resolution": TRIM_RESOLUTION.to_dict(), "tolerance": 0.01,
+           "resolution": res.to_dict(), "tolerance": 0.01,
            "created": time.strftime("%Y-%m-%d"), "rows": rows}
     with open(a.out, "w") as f:
         json.dump(out, f, indent=1)

@@ -81,7 +81,7 @@ def test_uvlm_trim_holds_over_three_wingbeats():
     from hawksim.flight import fly
     from hawksim.trim_table import trim_source
 
-    assert "UVLM balance" in trim_source()
+    assert "uvlm balance" in trim_source().lower()
     r = fly(1.0, 3, "uvlm")
     n = r.steps_per_cycle
     z, pitch = r.body_pos[:, 2], np.degrees(r.pitch())
