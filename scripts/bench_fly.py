@@ -24,7 +24,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     a = ap.parse_args()
 
-    from hawksim.flight import fly, trim_kinematics
+    from hawksim.flight import fly
 
     fly(a.speed, 1, a.aero)  # warm-up: numba cache, model generation
     loop = []
@@ -32,7 +32,7 @@ def main():
         t0 = time.perf_counter()
         r = fly(a.speed, a.cycles, a.aero)
         loop.append((r.wall_time_s, time.perf_counter() - t0))
-    sim_time = a.cycles * trim_kinematics(a.speed).period
+    sim_time = a.cycles * r.kinematics.period  # the flown trim (the model's own)
     cmd = [sys.executable, "-m", "hawksim.cli", "fly", "--speed", str(a.speed), "--cycles", str(a.cycles),
            "--aero", a.aero, "--json", "--no-progress"]
     wall_cmd = []
