@@ -38,14 +38,6 @@ class Segments:
             return Segments(z, z, np.zeros(0), np.zeros(0))
         return Segments(*(np.concatenate([getattr(p, f) for p in parts]) for f in ("a", "b", "gamma", "rc2")))
 
-    def reflected(self, point: np.ndarray, normal: np.ndarray) -> Segments:
-        """Mirror image across a plane: endpoints reflected; the circulation changes sign (a reflection
-        reverses the sense of rotation), so that the image's velocity field is the mirror of this one's."""
-        def refl(x):
-            return x - 2.0 * ((x - point) @ normal)[:, None] * normal
-
-        return Segments(refl(self.a), refl(self.b), -self.gamma, self.rc2)
-
 
 def lattice_segments(G: np.ndarray, g: np.ndarray, rc2_span: np.ndarray, rc2_chord: np.ndarray,
                      skip_last_row: bool = False) -> Segments:

@@ -5,11 +5,11 @@ disturbance sizes (fraction of U for u, v, w; of 1/T for p, q, r). Prints one JS
 """
 
 import argparse
-import json
 
 from hawksim.derivatives import dimensional_derivatives
 from hawksim.stability import Scales
 from hawksim.trim_table import trim_kinematics
+from hawksim.jsonout import emit
 
 
 def main():
@@ -26,10 +26,7 @@ def main():
         rows.append({"size": d, "derivatives_plus": {k: sc.derivative(k, v) for k, v in r.derivatives.items()},
                      "wall_time_s": r.wall_time_s})
     out = {"speed": a.speed, "rows": rows}
-    if a.out:
-        with open(a.out, "w") as f:
-            json.dump(out, f, indent=1)
-    print(json.dumps(out))
+    emit(out, a.out)
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ import time
 
 from hawksim.evaluate import Resolution, run
 from hawksim.kinematics import table3_kinematics
+from hawksim.jsonout import emit
 
 LADDER = [(4, 8, 30), (6, 12, 40), (8, 16, 60), (12, 24, 80), (16, 32, 120)]
 
@@ -35,10 +36,7 @@ def main():
                      "per_cycle": [[c.L_plus, c.D_plus, c.M_plus, c.P_plus] for c in r.per_cycle]})
         print(json.dumps(rows[-1]), flush=True, file=__import__("sys").stderr)
     out = {"speed": a.speed, "kinematics": kin.to_edge(), "cycles": a.cycles, "rows": rows}
-    if a.out:
-        with open(a.out, "w") as f:
-            json.dump(out, f, indent=1)
-    print(json.dumps(out))
+    emit(out, a.out)
 
 
 if __name__ == "__main__":

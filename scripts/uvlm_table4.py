@@ -5,9 +5,9 @@ Prints one JSON object and writes it to --out (also part of `hawksim reproduce`)
 """
 
 import argparse
-import json
 
 from hawksim.reproduce import table4_comparison
+from hawksim.jsonout import emit
 
 
 def main():
@@ -16,10 +16,7 @@ def main():
     ap.add_argument("--cycles", type=int, default=4)
     a = ap.parse_args()
     out = table4_comparison(a.cycles)
-    if a.out:
-        with open(a.out, "w") as f:
-            json.dump(out, f, indent=1)
-    print(json.dumps(out))
+    emit(out, a.out)
 
 
 if __name__ == "__main__":
