@@ -197,7 +197,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-        if getattr(args, "steps_per_cycle", 200) < 20:
+        if (getattr(args, "steps_per_cycle", None) or 200) < 20:
             raise UsageError(f"--steps-per-cycle {args.steps_per_cycle} must be >= 20")
         out = args.func(args)
     except UsageError as exc:

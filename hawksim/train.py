@@ -1,0 +1,189 @@
+"""Levenberg-Marquardt training of the surrogate (Nguyen et al. 2020, Sec. 2.4: MATLAB's ``trainlm``).
+
+The loss is the sum of squared residuals of the four standardised outputs over the training samples. Each
+iteration forms the Jacobian J of the residuals with respect to all weights with ``torch.func`` (``vmap`` of
+``jacrev`` of the per-sample network), the Gauss-Newton matrix J^T J and gradient J^T r (float64), and solves
+(J^T J + mu I) dw = -J^T r by Cholesky; a step that lowers the loss is taken and mu divided by ``mu_dec``,
+otherwise mu is multiplied by ``mu_inc`` and the step retried (the ``trainlm`` rule, its defaults mu = 1e-3,
+mu_dec = 0.1, mu_inc = 10). Early stopping as ``trainlm``: training stops when the validation error has not
+improved for ``max_fail`` = 6 iterations, and the weights of the best validation error are kept.
+
+Splits. The samples (ordered by speed and index) are shuffled by ``seed``; ``test_fraction`` is held out (never
+seen in training, used for the scores), ``val_fraction`` is the early-stopping set, the rest trains. Weight
+initialisation is seeded too: same data and seed, same network, bit for bit on one machine (torch
+deterministic algorithms, float64).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from hawksim.surrogate import OUTPUTS, InputDefinition, Surrogate
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    """hidden: sigmoid units (paper: 500); max_iter: LM iterations; mu*: the damping rule (trainlm defaults);
+    max_fail: early-stopping patience; fractions of the samples held out for test and validation; time_limit_s:
+    stop (keeping the best weights) after this wall time."""
+
+    hidden: int = 500
+    max_iter: int = 300
+    mu: float = 1e-3
+    mu_dec: float = 0.1
+    mu_inc: float = 10.0
+    mu_max: float = 1e10
+    max_fail: int = 6
+    test_fraction: float = 0.1
+    val_fraction: float = 0.1
+    time_limit_s: float = 3600.0
+
+
+@dataclass(frozen=True)
+class Scores:
+    """Held-out scores per output: RMSE (output units) and coefficient of determination R^2."""
+
+    rmse: dict
+    r2: dict
+
+
+@dataclass(frozen=True)
+class TrainResult:
+    surrogate: Surrogate
+    n_train: int
+    n_val: int
+    n_test: int
+    test_scores: Scores
+    iterations: int
+    history: tuple  # (iteration, train mse, val mse, mu) in standardised units
+    wall_time_s: float
+    test_x: np.ndarray  # (n_test, n_in) SI, for validation plots
+    test_y: np.ndarray  # (n_test, 4) UVLM
+
+
+def scores(y_true: np.ndarray, y_pred: np.ndarray) -> Scores:
+    err = y_pred - y_true
+    rmse = np.sqrt(np.mean(err**2, axis=0))
+    ss_tot = np.sum((y_true - y_true.mean(axis=0)) ** 2, axis=0)
+    r2 = 1.0 - np.sum(err**2, axis=0) / ss_tot
+    return Scores({k: float(v) for k, v in zip(OUTPUTS, rmse)}, {k: float(v) for k, v in zip(OUTPUTS, r2)})
+
+
+def split(n: int, seed: int, cfg: TrainConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Seeded permutation of range(n) into (train, validation, test) index arrays."""
+    perm = np.random.default_rng([int(seed), 7]).permutation(n)
+    n_test = max(1, int(round(cfg.test_fraction * n)))
+    n_val = max(1, int(round(cfg.val_fraction * n)))
+    if n - n_test - n_val < 2:
+        raise ValueError(f"{n} samples are too few to train (need test, validation and >= 2 training samples)")
+    return perm[n_test + n_val:], perm[n_test:n_test + n_val], perm[:n_test]
+
+
+def train(x: np.ndarray, y: np.ndarray, inputs: InputDefinition, *, seed: int = 0,
+          cfg: TrainConfig = TrainConfig(), meta: dict | None = None, progress=None) -> TrainResult:
+    """Train a network on inputs x (n, n_in) SI (kinematics, plus speed for the speed-input network) and UVLM
+    outputs y (n, 4). progress(iteration, max_iter, train_mse, val_mse) is called each iteration."""
+    import torch
+    from torch.func import functional_call, jacrev, vmap  # noqa: F401  (functional_call kept for clarity)
+
+    t0 = time.perf_counter()
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if x.ndim != 2 or x.shape[1] != inputs.n_in or y.shape != (x.shape[0], len(OUTPUTS)):
+        raise ValueError(f"training data shapes {x.shape}, {y.shape} do not fit {inputs.n_in} inputs, 4 outputs")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise ValueError("training data hold non-finite values")
+    tr, va, te = split(x.shape[0], seed, cfg)
+    y_mean, y_std = y[tr].mean(axis=0), y[tr].std(axis=0)
+    y_std = np.where(y_std > 0, y_std, 1.0)
+    z = inputs.normalise(x)
+    yn = (y - y_mean) / y_std
+
+    torch.use_deterministic_algorithms(True)
+    dt = torch.float64
+    Z = {k: torch.from_numpy(z[idx]).to(dt) for k, idx in (("tr", tr), ("va", va))}
+    Y = {k: torch.from_numpy(yn[idx]).to(dt) for k, idx in (("tr", tr), ("va", va))}
+    n_in, H, n_out = inputs.n_in, cfg.hidden, len(OUTPUTS)
+    sizes = [(H, n_in), (H,), (n_out, H), (n_out,)]
+    n_par = sum(int(np.prod(s)) for s in sizes)
+
+    g = torch.Generator().manual_seed(int(seed))
+    w0 = torch.cat([torch.randn(H * n_in, generator=g, dtype=dt) * (2.0 / np.sqrt(n_in)),
+                    torch.randn(H, generator=g, dtype=dt),
+                    torch.randn(n_out * H, generator=g, dtype=dt) * (1.0 / np.sqrt(H)),
+                    torch.zeros(n_out, dtype=dt)])
+
+    def unpack(w):
+        out, s = [], 0
+        for shp in sizes:
+            k = int(np.prod(shp))
+            out.append(w[s:s + k].reshape(shp))
+            s += k
+        return out
+
+    def net(w, zi):  # one sample (n_in,) -> (n_out,)
+        W1, b1, W2, b2 = unpack(w)
+        return W2 @ torch.sigmoid(W1 @ zi + b1) + b2
+
+    def net_batch(w, zz):
+        W1, b1, W2, b2 = unpack(w)
+        return torch.sigmoid(zz @ W1.T + b1) @ W2.T + b2
+
+    jac = vmap(jacrev(net), in_dims=(None, 0))  # (n, n_out, n_par)
+
+    def mse(w, key):
+        return float(torch.mean((net_batch(w, Z[key]) - Y[key]) ** 2))
+
+    w = w0.clone()
+    mu = cfg.mu
+    best_w, best_val, fails = w.clone(), mse(w, "va"), 0
+    history = [(0, mse(w, "tr"), best_val, mu)]
+    eye = torch.eye(n_par, dtype=dt)
+    it = 0
+    chunk = max(1, 4_000_000 // (n_out * n_par))  # Jacobian rows per block (bounded memory)
+    for it in range(1, cfg.max_iter + 1):
+        A = torch.zeros((n_par, n_par), dtype=dt)
+        gvec = torch.zeros(n_par, dtype=dt)
+        for s in range(0, Z["tr"].shape[0], chunk):
+            zz, yy = Z["tr"][s:s + chunk], Y["tr"][s:s + chunk]
+            J = jac(w, zz).reshape(-1, n_par)
+            r = (net_batch(w, zz) - yy).reshape(-1)
+            A.addmm_(J.T, J)
+            gvec.addmv_(J.T, r)
+        loss = mse(w, "tr")
+        while True:
+            L = torch.linalg.cholesky_ex(A + mu * eye)
+            if L.info == 0:
+                dw = torch.cholesky_solve(-gvec[:, None], L.L)[:, 0]
+                w_new = w + dw
+                new_loss = mse(w_new, "tr")
+                if new_loss < loss:
+                    w, mu = w_new, max(mu * cfg.mu_dec, 1e-20)
+                    break
+            mu *= cfg.mu_inc
+            if mu > cfg.mu_max:
+                break
+        val = mse(w, "va")
+        history.append((it, mse(w, "tr"), val, mu))
+        if progress:
+            progress(it, cfg.max_iter, history[-1][1], val)
+        if val < best_val:
+            best_w, best_val, fails = w.clone(), val, 0
+        else:
+            fails += 1
+        if fails >= cfg.max_fail or mu > cfg.mu_max or time.perf_counter() - t0 > cfg.time_limit_s:
+            break
+
+    W1, b1, W2, b2 = (a.numpy().copy() for a in unpack(best_w))
+    sur = Surrogate(inputs, W1, b1, W2, b2, y_mean, y_std, meta=dict(meta or {}))
+    pred = sur.predict(x[te, :7], x[te, 7] if inputs.speed is None else None)
+    sc = scores(y[te], pred)
+    full_meta = dict(meta or {}, seed=int(seed), hidden=H, n_train=len(tr), n_val=len(va), n_test=len(te),
+                     iterations=it, best_val_mse=best_val, test_rmse=sc.rmse, test_r2=sc.r2,
+                     train_config={k: getattr(cfg, k) for k in cfg.__dataclass_fields__})
+    sur = Surrogate(inputs, W1, b1, W2, b2, y_mean, y_std, meta=full_meta)
+    return TrainResult(sur, len(tr), len(va), len(te), sc, it, tuple(history), time.perf_counter() - t0,
+                       x[te], y[te])
