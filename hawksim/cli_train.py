@@ -21,6 +21,19 @@ def _progress(max_iter: int):
     return update, bar
 
 
+def _seconds_arg(text: str) -> float:
+    import argparse
+    import math
+
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--time-limit {text!r} is not a number of seconds") from None
+    if not math.isfinite(v) or v <= 0:
+        raise argparse.ArgumentTypeError(f"--time-limit {text} must be a positive number of seconds")
+    return v
+
+
 def cmd_train(args) -> dict:
     import numpy as np
 
@@ -43,13 +56,15 @@ def cmd_train(args) -> dict:
         raise UsageError(f"--data {args.data} holds speeds {speeds} m/s: pass --speed V or --all-speeds")
     table = read_samples(args.data, speed=speed, seed=args.data_seed)
     x = table.x if speed is not None else np.column_stack([table.x, table.speed])
-    cfg = TrainConfig(hidden=args.hidden, max_iter=args.max_iter)
+    cfg = TrainConfig(hidden=args.hidden, max_iter=args.max_iter, time_limit_s=args.time_limit)
     progress, bar = (None, None) if args.no_progress else _progress(cfg.max_iter)
     command = ["hawksim", "train", "--data", str(args.data), "--out", str(args.out), "--seed", str(args.seed),
-               "--hidden", str(args.hidden), "--max-iter", str(args.max_iter)]
+               "--hidden", str(args.hidden), "--max-iter", str(args.max_iter), "--time-limit", f"{args.time_limit:g}"]
     command += ["--all-speeds"] if speed is None else ["--speed", f"{speed:g}"]
     command += [] if args.data_seed is None else ["--data-seed", str(args.data_seed)]
-    meta = {"command": shlex.join(command), "data": str(args.data), "data_sha256": file_sha256(args.data),
+    meta = {"command": shlex.join(command), "data": str(args.data),
+            "data_sha256": file_sha256(args.data, speed, args.data_seed),
+            "n_samples": int(len(table.y)),
             "speeds": speeds if speed is None else [speed], "n_diverged_left_out": table.n_diverged}
     r = train(x, table.y, InputDefinition.for_speed(speed), seed=args.seed, cfg=cfg, meta=meta, progress=progress)
     if bar is not None:
@@ -61,6 +76,7 @@ def cmd_train(args) -> dict:
         validation_figure(r, args.validation_png)
     return {"n_train": r.n_train, "n_val": r.n_val, "n_test": r.n_test,
             "rmse": r.test_scores.rmse, "r2": r.test_scores.r2, "iterations": r.iterations,
+            "stopped_by": r.surrogate.meta.get("stopped_by"),
             "speed": speed, "out": str(args.out), "wall_time_s": r.wall_time_s}
 
 
@@ -75,6 +91,8 @@ def register(sub) -> None:
     p.add_argument("--data-seed", type=seed_arg, help="use only the samples drawn with this seed")
     p.add_argument("--hidden", type=positive_int_arg("hidden"), default=500, help="hidden sigmoid units (500)")
     p.add_argument("--max-iter", type=positive_int_arg("max-iter"), default=300, help="LM iterations at most (300)")
+    p.add_argument("--time-limit", type=_seconds_arg, default=3600.0,
+                   help="stop after this many seconds, keeping the best weights (3600)")
     p.add_argument("--validation-png", type=writable_file, help="write the held-out scatter plot (PNG)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")

@@ -293,7 +293,7 @@ def _compute(todo, speed, seed, resolution, scheduler, workers):
         cluster = None
     else:
         n_workers = workers or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None,
+        cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                                silence_logs=40, death_timeout=10,
                                env={"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"})
         client = Client(cluster)
@@ -316,16 +316,23 @@ def _compute(todo, speed, seed, resolution, scheduler, workers):
             cluster.close()
 
 
-def file_sha256(path: str | Path) -> str:
-    """SHA-256 of the data-set rows' content (speed, seed, idx, inputs, outputs, status), independent of the
-    SQLite page layout: the identity of the data a network was trained on."""
+def file_sha256(path: str | Path, speed: float | None = None, seed: int | None = None) -> str:
+    """SHA-256 of the data-set rows' content (speed, seed, idx, inputs, outputs, status), optionally of one speed
+    and/or seed, independent of the SQLite page layout: the identity of the data a network was trained on."""
     import hashlib
 
+    where, args = ["1"], []
+    if speed is not None:
+        where.append("CAST(round(speed*1000) AS INTEGER)=?")
+        args.append(speed_key(speed))
+    if seed is not None:
+        where.append("seed=?")
+        args.append(int(seed))
     conn = open_dataset(path)
     h = hashlib.sha256()
     try:
         for row in conn.execute(f"SELECT speed, seed, idx, {', '.join(PARAM_NAMES)}, {', '.join(OUTPUTS)}, status "
-                                "FROM samples ORDER BY speed, seed, idx"):
+                                f"FROM samples WHERE {' AND '.join(where)} ORDER BY speed, seed, idx", args):
             h.update(repr(row).encode())
     finally:
         conn.close()

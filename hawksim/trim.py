@@ -18,7 +18,9 @@ penalised by Eq. 3's zeta term; operators keep u in [-0.1, 1.1]).
   Schaffer 1993), the others by Gaussian mutation of one parent (every gene, sigma = ``mutation_scale`` of the
   range, shrinking linearly to a tenth over ``max_generations``). Stops when the best fitness has improved by
   less than ``tol`` = 1e-6 over ``stall_generations`` generations, or after ``max_generations``.
-* Nelder-Mead (scipy) from the GA's best, in u, to xatol = fatol = 1e-10 (the paper's simplex tolerance).
+* Nelder-Mead (scipy, adaptive) from the GA's best, in u, to xatol = fatol = 1e-10 (the paper's simplex
+  tolerance), restarted from its own result (up to ``nm_restarts`` times) while that still lowers F: Eq. 3's
+  absolute values make F non-smooth at balance, where a simplex can collapse before reaching the minimum.
 
 Everything random comes from ``numpy.random.default_rng(seed)``: same surrogate and seed, same trim.
 """
@@ -65,6 +67,7 @@ class GAConfig:
     max_generations: int = 200
     nm_tol: float = 1e-10
     nm_max_evals: int = 20_000
+    nm_restarts: int = 5
 
     def __post_init__(self):
         if self.population < 10:
@@ -120,6 +123,29 @@ def genetic(objective, dim: int, cfg: GAConfig, rng: np.random.Generator, progre
     return GAResult(pop[i].copy(), float(fit[i]), tuple(best_hist), tuple(mean_hist), gen)
 
 
+def ga_nelder_mead(objective, dim: int, cfg: GAConfig, rng: np.random.Generator, *, objective_one=None,
+                   progress=None) -> tuple[np.ndarray, float, GAResult, int]:
+    """The paper's two-stage search: :func:`genetic` on the batched ``objective`` (m, dim) -> (m,), then scipy's
+    Nelder-Mead (adaptive) from its best point to ``cfg.nm_tol`` on ``objective_one`` (dim,) -> float (default: the
+    batched objective on one point). Returns (u, F(u), the GA result, Nelder-Mead's function evaluations)."""
+    from scipy.optimize import minimize
+
+    if objective_one is None:
+        def objective_one(u):
+            return float(objective(np.asarray(u)[None, :])[0])
+
+    ga = genetic(objective, dim, cfg, rng, progress=progress)
+    u, f, nfev = np.asarray(ga.u, dtype=float), objective_one(ga.u), 0
+    for _ in range(cfg.nm_restarts + 1):  # a fresh simplex re-opens a search collapsed on a kink of |.|
+        nm = minimize(objective_one, u, method="Nelder-Mead",
+                      options={"xatol": cfg.nm_tol, "fatol": cfg.nm_tol, "maxfev": cfg.nm_max_evals, "adaptive": True})
+        nfev += int(nm.nfev)
+        if not nm.fun < f - cfg.nm_tol:
+            break
+        u, f = np.asarray(nm.x), float(nm.fun)
+    return u, f, ga, nfev
+
+
 @dataclass(frozen=True)
 class TrimResult:
     """Minimum-power trim at ``speed`` [m/s] on a surrogate: kinematics, the surrogate's (L+, D+, M+, P+) there,
@@ -142,8 +168,6 @@ class TrimResult:
 def trim_on_surrogate(surrogate, speed: float, *, seed: int = 0, cfg: GAConfig = GAConfig(),
                       progress=None) -> TrimResult:
     """GA + Nelder-Mead minimum of Eq. 3 on ``surrogate`` (a :class:`hawksim.surrogate.Surrogate`) at ``speed``."""
-    from scipy.optimize import minimize
-
     from hawksim.surrogate import OUTPUTS
 
     t0 = time.perf_counter()
@@ -158,14 +182,10 @@ def trim_on_surrogate(surrogate, speed: float, *, seed: int = 0, cfg: GAConfig =
         x = lo + np.asarray(u)[None, :] * (hi - lo)
         return float(fitness(surrogate.predict(x, speed), x)[0])
 
-    rng = np.random.default_rng(seed)
-    ga = genetic(objective_batch, len(lo), cfg, rng, progress=progress)
-    nm = minimize(objective_one, ga.u, method="Nelder-Mead",
-                  options={"xatol": cfg.nm_tol, "fatol": cfg.nm_tol, "maxfev": cfg.nm_max_evals,
-                           "adaptive": True})
-    u = nm.x if nm.fun <= objective_one(ga.u) else ga.u
+    u, _, ga, nfev = ga_nelder_mead(objective_batch, len(lo), cfg, np.random.default_rng(seed),
+                                    objective_one=objective_one, progress=progress)
     x = np.clip(lo + u * (hi - lo), lo, hi)  # an optimum past a bound (penalised, rare) is moved onto it
     kin = Kinematics.from_array(x)
     y = surrogate.predict(x[None, :], speed)[0]
     return TrimResult(float(speed), kin, dict(zip(OUTPUTS, map(float, y))), float(fitness(y[None], x[None])[0]),
-                      ga, int(nm.nfev), int(seed), time.perf_counter() - t0)
+                      ga, nfev, int(seed), time.perf_counter() - t0)

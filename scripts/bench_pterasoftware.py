@@ -131,7 +131,8 @@ CASE = textwrap.dedent("""
         "delta_time_s": DT, "sim_time_s": round((STEPS - 1) * DT, 6), "freq_hz": FREQ,
         "motion": f"flap {PHI_A:g}cos(wt) deg about x + pitch -{THETA_A:g}sin(wt) deg about span axis, "
                   "both through the root quarter chord; wing + mirror image (type 5 symmetry)",
-        "freestream_m_s": U, "freestream_note": "PteraSoftware rejects a zero free stream; bench_uvlm runs in still air",
+        "freestream_m_s": U,
+        "freestream_note": "PteraSoftware rejects a zero free stream; bench_uvlm runs in still air",
         "loads_every_step": True, "setup_s": round(setup_s, 2), "warmup_s": round(warmup_s, 2),
         "numba_threading_layer": numba.threading_layer(), "numba_num_threads": numba.get_num_threads(),
         "cpus": os.cpu_count()}))

@@ -1,0 +1,148 @@
+"""`hawksim dataset`: samples are pure functions of (seed, speed, i); the file is resumable after SIGKILL, never
+holds a sample twice, and a file that is not a hawksim data set is refused with a clear error (exit 2)."""
+
+import json
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hawksim.cli import main
+from hawksim.dataset import (APPLICATION_ID, DatasetError, file_sha256, generate, open_dataset, read_samples,
+                             sample_kinematics, speeds_in)
+from hawksim.evaluate import Resolution
+from hawksim.kinematics import bounds_si
+
+TINY = Resolution(n_chord=2, n_span=3, steps_per_cycle=20, cycles=1)
+"""A coarse UVLM (~10 ms per sample): the pipeline's logic, not its accuracy, is under test here."""
+TINY_ARGS = ["--n-chord", "2", "--n-span", "3", "--steps-per-cycle", "20", "--cycles", "1"]
+
+
+def _hawksim_cmd():
+    exe = Path(sys.executable).with_name("hawksim")
+    return [str(exe)] if exe.exists() else [sys.executable, "-m", "hawksim.cli"]
+
+
+def _rows(path):
+    conn = sqlite3.connect(path)
+    try:
+        return conn.execute("SELECT speed, seed, idx FROM samples ORDER BY idx").fetchall()
+    finally:
+        conn.close()
+
+
+def test_sample_is_a_pure_function_of_seed_speed_index():
+    a = sample_kinematics(0, 1.0, 17).as_array()
+    assert np.array_equal(a, sample_kinematics(0, 1.0, 17).as_array())
+    for other in (sample_kinematics(1, 1.0, 17), sample_kinematics(0, 1.5, 17), sample_kinematics(0, 1.0, 18)):
+        assert not np.allclose(a, other.as_array())
+    lo, hi = bounds_si()
+    x = np.array([sample_kinematics(3, 0.5, i).as_array() for i in range(2000)])
+    assert np.all(x >= lo) and np.all(x <= hi)
+    # uniform in the box: each parameter's mean within 4 standard errors of the box centre
+    u = (x - lo) / (hi - lo)
+    assert np.all(np.abs(u.mean(axis=0) - 0.5) < 4 * np.sqrt(1 / 12 / len(u)))
+    with pytest.raises(ValueError, match="seed"):
+        sample_kinematics(-1, 0.0, 0)
+
+
+def test_generate_is_deterministic_and_continues_without_duplicates(tmp_path):
+    a, b = tmp_path / "a.sqlite", tmp_path / "b.sqlite"
+    ra = generate(a, 1.0, 12, seed=5, resolution=TINY, workers=2)
+    assert (ra.samples, ra.new) == (12, 12)
+    # the same 12 in two installments (6, then the 6 missing), in another order of arrival
+    generate(b, 1.0, 6, seed=5, resolution=TINY, workers=1)
+    rb = generate(b, 1.0, 12, seed=5, resolution=TINY, workers=2)
+    assert (rb.samples, rb.new) == (12, 6)
+    assert file_sha256(a) == file_sha256(b)
+    again = generate(b, 1.0, 12, seed=5, resolution=TINY, workers=1)
+    assert again.new == 0 and again.samples == 12
+    t = read_samples(b)
+    assert t.x.shape == (12 - t.n_diverged, 7) and t.y.shape == (12 - t.n_diverged, 4)
+    assert speeds_in(b) == [1.0]
+    # another resolution for the same (speed, seed) would mix data: refused
+    with pytest.raises(DatasetError, match="resolution"):
+        generate(b, 1.0, 13, seed=5, resolution=Resolution(n_chord=2, n_span=4, steps_per_cycle=20, cycles=1),
+                 workers=1)
+
+
+def test_sigkill_mid_run_then_rerun_gives_exact_count_and_same_data(tmp_path):
+    path = tmp_path / "killed.sqlite"
+    n = 60
+    cmd = [*_hawksim_cmd(), "dataset", "--speed", "0.5", "--samples", str(n), "--out", str(path), "--seed", "2",
+           "--workers", "1", "--no-progress", "--json", *TINY_ARGS]
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    t0 = time.monotonic()
+    got = 0
+    while time.monotonic() - t0 < 120:
+        time.sleep(0.2)
+        if path.exists():
+            try:
+                got = len(_rows(path))
+            except sqlite3.OperationalError:
+                continue
+            if got >= 5:
+                break
+    os.killpg(p.pid, signal.SIGKILL)  # the CLI and its Dask workers, mid-run
+    p.wait(timeout=30)
+    assert 5 <= got < n, f"the run was not caught mid-way ({got} rows)"
+    partial = len(_rows(path))
+    assert partial < n
+    q = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert q.returncode == 0, q.stderr
+    out = json.loads(q.stdout)
+    assert out["samples"] == n and out["new"] == n - partial
+    rows = _rows(path)
+    assert len(rows) == n and len(set(rows)) == n and [r[2] for r in rows] == list(range(n))
+    # the resumed file holds exactly what an uninterrupted run computes
+    ref = tmp_path / "ref.sqlite"
+    generate(ref, 0.5, n, seed=2, resolution=TINY, workers=2)
+    assert file_sha256(ref) == file_sha256(path)
+
+
+def test_foreign_and_corrupt_files_are_refused(tmp_path, capsys):
+    garbage = tmp_path / "garbage.sqlite"
+    garbage.write_bytes(b"this is not a database" * 50)
+    foreign = tmp_path / "foreign.sqlite"
+    conn = sqlite3.connect(foreign)
+    conn.execute("CREATE TABLE t (a)")
+    conn.commit()
+    conn.close()
+    empty = tmp_path / "empty.sqlite"
+    sqlite3.connect(empty).execute("PRAGMA user_version=0").connection.close()
+    truncated = tmp_path / "truncated.sqlite"
+    generate(truncated, 0.0, 3, seed=0, resolution=TINY, workers=1)
+    data = truncated.read_bytes()
+    truncated.write_bytes(data[:100] + b"\xff" * 200 + data[300:])  # header kept, schema page damaged
+
+    for f in (garbage, foreign):
+        with pytest.raises(DatasetError, match=f.name):
+            open_dataset(f)
+        before = f.read_bytes()
+        assert main(["dataset", "--speed", "0", "--samples", "3", "--out", str(f), "--json", "--no-progress",
+                     *TINY_ARGS]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and f.name in err[0]
+        assert f.read_bytes() == before  # nothing written into someone else's file
+    for f in (foreign, empty, truncated, tmp_path / "missing.sqlite"):
+        assert main(["train", "--data", str(f), "--out", str(tmp_path / "m.safetensors"), "--json"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and f.name in err[0]
+        assert not (tmp_path / "m.safetensors").exists()
+
+
+def test_file_carries_the_application_id(tmp_path):
+    path = tmp_path / "d.sqlite"
+    generate(path, 2.0, 2, seed=0, resolution=TINY, workers=1)
+    conn = sqlite3.connect(path)
+    assert conn.execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
+    assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
+    res = json.loads(conn.execute("SELECT resolution FROM samples LIMIT 1").fetchone()[0])
+    conn.close()
+    assert res == TINY.to_dict()

@@ -1,0 +1,131 @@
+"""Surrogate files: exact round trip, clear refusal of wrong shapes / other input definitions / non-safetensors
+files, the two inference paths agree, and `hawksim predict` answers from a given or shipped model."""
+
+import json
+
+import numpy as np
+import pytest
+from safetensors.numpy import save_file
+
+from hawksim.cli import main
+from hawksim.kinematics import bounds_si
+from hawksim.surrogate import (FORMAT, SHIPPED_SPEEDS, InputDefinition, Surrogate, SurrogateFileError, load,
+                               load_for_speed, shipped_path)
+
+FLOAT32_ATOL = 1e-4
+"""predict_torch (float32) vs predict (float64) for outputs of order 1 through 500 hidden units."""
+KIN = "f=26,beta=5,phi0=10,theta0=12,alpha0=5,phi_a=55,alpha_a=40"
+
+
+def make_surrogate(speed=1.0, hidden=500, seed=0) -> Surrogate:
+    rng = np.random.default_rng(seed)
+    inputs = InputDefinition.for_speed(speed)
+    return Surrogate(inputs, rng.normal(0, 1, (hidden, inputs.n_in)), rng.normal(0, 1, hidden),
+                     rng.normal(0, 1 / np.sqrt(hidden), (4, hidden)), rng.normal(0, 0.1, 4),
+                     np.array([1.0, 0.0, 0.0, 2.0]), np.array([0.3, 0.1, 0.1, 0.5]), meta={"command": "test"})
+
+
+def _write_raw(path, tensors, inputs, fmt=FORMAT):
+    save_file(tensors, str(path), metadata={"format": fmt, "inputs": json.dumps(inputs), "outputs":
+                                            json.dumps(["L_plus", "D_plus", "M_plus", "P_plus"]), "meta": "{}"})
+
+
+def test_round_trip_is_exact(tmp_path):
+    s = make_surrogate()
+    p = s.save(tmp_path / "m.safetensors")
+    r = load(p)
+    assert r.inputs == s.inputs and r.meta == {"command": "test"}
+    assert not (tmp_path / "m.safetensors.part").exists()
+    for name in ("W1", "b1", "W2", "b2", "y_mean", "y_std"):
+        assert np.array_equal(getattr(r, name), getattr(s, name))
+
+
+def test_float32_batched_path_matches_float64():
+    s = make_surrogate()
+    lo, hi = bounds_si()
+    x = lo + np.random.default_rng(1).random((5000, 7)) * (hi - lo)
+    a, b = s.predict(x, 1.0), s.predict_torch(x, 1.0, batch=777)
+    assert np.max(np.abs(a - b)) < FLOAT32_ATOL
+    # a per-speed network answers at its own speed only; the speed-input network needs a speed
+    with pytest.raises(ValueError, match="trained at 1 m/s"):
+        s.predict(x[:2], 1.5)
+    with pytest.raises(ValueError, match="needs the ascent speed"):
+        make_surrogate(None).predict(x[:2])
+    # hand-computed network output for one sample
+    z = 2 * (x[0] - lo) / (hi - lo) - 1
+    h = 1 / (1 + np.exp(-(s.W1 @ z + s.b1)))
+    assert np.allclose(a[0], (s.W2 @ h + s.b2) * s.y_std + s.y_mean, rtol=1e-12, atol=1e-12)
+
+
+def test_bad_files_are_refused_with_a_clear_error(tmp_path):
+    s = make_surrogate(hidden=20)
+    good = {k: getattr(s, k) for k in ("W1", "b1", "W2", "b2", "y_mean", "y_std")}
+    inputs = s.inputs.to_json()
+
+    wrong_shape = tmp_path / "wrong_shape.safetensors"
+    _write_raw(wrong_shape, {**good, "W2": np.zeros((3, 20))}, inputs)
+    with pytest.raises(SurrogateFileError, match="W2 has shape"):
+        load(wrong_shape)
+
+    other_bounds = tmp_path / "other_bounds.safetensors"
+    _write_raw(other_bounds, good, {**inputs, "hi": [2 * v for v in inputs["hi"]]})
+    with pytest.raises(SurrogateFileError, match="another input definition"):
+        load(other_bounds)
+
+    other_names = tmp_path / "other_names.safetensors"
+    _write_raw(other_names, good, {**inputs, "names": ["a", "b", "c", "d", "e", "f", "g"]})
+    with pytest.raises(SurrogateFileError, match="another input definition"):
+        load(other_names)
+
+    speed_input = make_surrogate(None, hidden=20).save(tmp_path / "speed_input.safetensors")
+    with pytest.raises(SurrogateFileError, match="expected"):
+        load(speed_input, expect=InputDefinition.for_speed(1.0))
+
+    not_ours = tmp_path / "not_ours.safetensors"
+    _write_raw(not_ours, good, inputs, fmt="someone-else")
+    with pytest.raises(SurrogateFileError, match="not a hawksim-surrogate-1"):
+        load(not_ours)
+
+    nan_weights = tmp_path / "nan.safetensors"
+    _write_raw(nan_weights, {**good, "b1": np.full(20, np.nan)}, inputs)
+    with pytest.raises(SurrogateFileError, match="non-finite"):
+        load(nan_weights)
+
+    pickle_like = tmp_path / "model.pt"
+    pickle_like.write_bytes(b"\x80\x04\x95" + b"\x00" * 100)
+    with pytest.raises(SurrogateFileError, match="not a safetensors"):
+        load(pickle_like)
+    with pytest.raises(SurrogateFileError, match="does not exist"):
+        load(tmp_path / "missing.safetensors")
+    with pytest.raises(SurrogateFileError, match="trained at 1 m/s"):
+        load_for_speed(s.save(tmp_path / "v1.safetensors"), 0.5)
+
+
+def test_predict_cli_with_model_file(tmp_path, capsys):
+    s = make_surrogate(speed=0.5)
+    p = s.save(tmp_path / "m.safetensors")
+    assert main(["predict", "--speed", "0.5", "--kinematics", KIN, "--model", str(p), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    from hawksim.cli import parse_kinematics
+
+    ref = s.predict(parse_kinematics(KIN).as_array()[None], 0.5)[0]
+    assert [out[k] for k in ("L_plus", "D_plus", "M_plus", "P_plus")] == pytest.approx(ref, rel=1e-12)
+
+    for args, needle in ((["--speed", "1.0", "--model", str(p)], "0.5 m/s"),
+                         (["--speed", "0.5", "--model", str(tmp_path / "nope.safetensors")], "nope.safetensors"),
+                         (["--speed", "0.5", "--model", str(p), "--kinematics", KIN.replace("f=26", "f=60")],
+                          "f=60")):
+        full = ["predict", "--kinematics", KIN, *args, "--json"]
+        assert main(full) == 2
+        cap = capsys.readouterr()
+        assert cap.out == "" and len(cap.err.strip().splitlines()) == 1 and needle in cap.err
+
+
+@pytest.mark.skipif(not all(shipped_path(v).is_file() for v in SHIPPED_SPEEDS),
+                    reason="the trained surrogates are not in this checkout")
+def test_shipped_surrogates_load_and_record_their_provenance():
+    for v in SHIPPED_SPEEDS:
+        s = load(shipped_path(v), expect=InputDefinition.for_speed(v))
+        assert s.hidden == 500  # the paper's 7-500-4 network
+        assert s.meta["command"].startswith("hawksim train") and "--seed" in s.meta["command"]
+        assert len(s.meta["data_sha256"]) == 64

@@ -1,0 +1,108 @@
+"""The trim search: Eq. 3's penalties exactly, the GA finds known minima of 7-D test functions, a trim on a
+small surrogate balances on it at the constrained minimum of power, and bad input exits 2."""
+
+import json
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize
+
+from hawksim.cli import main
+from hawksim.kinematics import bounds_si
+from hawksim.surrogate import InputDefinition, Surrogate
+from hawksim.trim import (R_PENALTY, S_PENALTY, GAConfig, bound_violation, fitness, ga_nelder_mead, genetic,
+                          trim_on_surrogate)
+
+BALANCE_TOL = 1e-4
+"""|L+ - 1|, |D+|, |M+| at the trim, on the surrogate it was searched on (Nelder-Mead to 1e-10)."""
+SMALL_GA = GAConfig(population=20_000, max_generations=120)
+
+
+def test_penalties_are_exactly_eq3():
+    lo, hi = bounds_si()
+    inside = (lo + hi) / 2
+    assert R_PENALTY == 2.0 and S_PENALTY == 5.0  # Nguyen et al. 2020, Eq. 3
+    y = np.array([[1.2, -0.1, 0.05, 3.0]])
+    assert fitness(y, inside[None])[0] == pytest.approx(3.0 + 2.0 * (0.2 + 0.1 + 0.05), rel=1e-15)
+    # one parameter 10 % of its range above its bound, another 30 % below: zeta terms 0.1 and 0.3
+    x = inside.copy()
+    x[0] = hi[0] + 0.1 * (hi[0] - lo[0])
+    x[4] = lo[4] - 0.3 * (hi[4] - lo[4])
+    assert bound_violation(x)[0] == pytest.approx(0.4, rel=1e-12)
+    assert fitness(y, x[None])[0] == pytest.approx(3.0 + 2.0 * 0.35 + 5.0 * 0.4, rel=1e-12)
+    assert bound_violation(np.array([lo, hi])).tolist() == [0.0, 0.0]  # on the bounds: no penalty
+
+
+def _sphere(c):
+    return lambda u: np.sum((u - c) ** 2, axis=1)
+
+
+def _rastrigin(c):
+    def f(u):
+        d = 10.0 * (u - c)  # 10 units of Rastrigin's domain per box width: ~10 local minima per axis
+        return 10 * d.shape[1] + np.sum(d**2 - 10 * np.cos(2 * np.pi * d), axis=1)
+    return f
+
+
+@pytest.mark.parametrize("make", [_sphere, _rastrigin])
+def test_ga_finds_known_minima_of_7d_test_functions(make):
+    c = np.array([0.3, 0.7, 0.5, 0.15, 0.85, 0.42, 0.61])
+    r = genetic(make(c), 7, SMALL_GA, np.random.default_rng(1))
+    # the GA lands in the global minimum's basin (Rastrigin: within 0.05 of u = c on every axis, its basins are
+    # 0.1 wide; 10^7 local minima), not in a local one ...
+    assert np.max(np.abs(r.u - c)) < 0.05, r.u - c
+    assert list(r.best_history) == sorted(r.best_history, reverse=True)  # elitism: the best is never lost
+    # ... and Nelder-Mead from there reaches the minimum itself (0 at u = c)
+    u, f, _, _ = ga_nelder_mead(make(c), 7, SMALL_GA, np.random.default_rng(1))
+    assert np.max(np.abs(u - c)) < 1e-6 and f < 1e-9
+    u2, *_ = ga_nelder_mead(make(c), 7, SMALL_GA, np.random.default_rng(1))
+    assert np.array_equal(u, u2)  # seeded
+
+
+def _linear_surrogate(speed=1.0) -> Surrogate:
+    """A 7-7-4 network whose sigmoid units are near-linear (weights 0.2): L+, D+, M+ and P+ are smooth monotone
+    functions of the kinematics with a known constrained minimum of P+ on L+ = 1, D+ = M+ = 0."""
+    inputs = InputDefinition.for_speed(speed)
+    W1 = 0.2 * np.eye(7)
+    W2 = np.array([[1.0, 0.0, 0.2, 0.3, 0.1, 1.0, 0.5],    # L+ rises with f, phi_a, alpha_a, ...
+                   [0.1, 1.0, 0.0, -0.3, 0.2, 0.0, 0.1],    # D+
+                   [0.0, 0.2, 1.0, 0.1, -0.5, 0.0, 0.0],    # M+
+                   [1.5, 0.1, 0.0, 0.0, 0.1, 0.8, 0.3]])    # P+ rises with f, phi_a
+    b2 = -W2 @ np.full(7, 0.5) + np.array([0.0, 0.0, 0.0, 0.0])
+    return Surrogate(inputs, W1, np.zeros(7), W2, b2, np.array([1.0, 0.0, 0.0, 1.0]), np.ones(4))
+
+
+def test_trim_on_a_small_surrogate_balances_at_the_constrained_power_minimum():
+    sur = _linear_surrogate()
+    r = trim_on_surrogate(sur, 1.0, seed=0, cfg=SMALL_GA)
+    o = r.outputs
+    assert abs(o["L_plus"] - 1) < BALANCE_TOL and abs(o["D_plus"]) < BALANCE_TOL and abs(o["M_plus"]) < BALANCE_TOL
+    assert r.in_bounds
+    # independent reference: SLSQP on the same network with the balance as equality constraints
+    lo, hi = bounds_si()
+    pred = lambda u: sur.predict((lo + u * (hi - lo))[None], 1.0)[0]  # noqa: E731
+    cons = [{"type": "eq", "fun": lambda u, k=k, t=t: pred(u)[k] - t} for k, t in ((0, 1.0), (1, 0.0), (2, 0.0))]
+    ref = min((minimize(lambda u: pred(u)[3], u0, method="SLSQP", bounds=[(0, 1)] * 7, constraints=cons,
+                        options={"ftol": 1e-12, "maxiter": 500})
+               for u0 in np.random.default_rng(0).random((8, 7))), key=lambda m: m.fun if m.success else np.inf)
+    assert ref.success
+    assert o["P_plus"] == pytest.approx(ref.fun, abs=1e-3)
+    again = trim_on_surrogate(sur, 1.0, seed=0, cfg=SMALL_GA)
+    assert again.kinematics == r.kinematics  # seeded
+
+
+def test_trim_cli_and_bad_input(tmp_path, capsys):
+    p = _linear_surrogate(0.5).save(tmp_path / "v05.safetensors")
+    assert main(["trim", "--speed", "0.5", "--model", str(p), "--population", "5000", "--no-progress", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert {"kinematics", "chi", "L_plus", "D_plus", "M_plus", "P_plus", "fitness"} <= out.keys()
+    assert set(out["kinematics"]) == {"f", "beta", "phi0", "theta0", "alpha0", "phi_a", "alpha_a"}
+    assert abs(out["L_plus"] - 1) < 1e-3
+    assert out["chi"] == pytest.approx(60.0 - out["kinematics"]["beta"])  # chi = 60 deg - beta
+    for args, needle in ((["--speed", "1.0", "--model", str(p)], "0.5 m/s"),
+                         (["--speed", "0.5", "--model", str(tmp_path / "missing.safetensors")], "missing.safetensors"),
+                         (["--speed", "0.5", "--model", str(p), "--population", "0"], "--population"),
+                         (["--speed", "2.5", "--model", str(p)], "--speed")):
+        assert main(["trim", *args, "--no-progress", "--json"]) == 2
+        cap = capsys.readouterr()
+        assert cap.out == "" and len(cap.err.strip().splitlines()) == 1 and needle in cap.err
