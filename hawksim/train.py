@@ -79,6 +79,17 @@ def scores(y_true: np.ndarray, y_pred: np.ndarray) -> Scores:
     return Scores({k: float(v) for k, v in zip(OUTPUTS, rmse)}, {k: float(v) for k, v in zip(OUTPUTS, r2)})
 
 
+def split_groups(groups: np.ndarray, seed: int, cfg: TrainConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`split` within each group (e.g. each ascent speed), concatenated: the speed-input network holds out
+    exactly the samples each per-speed network holds out (same data order and seed), so both are scored on the
+    same unseen samples."""
+    parts = []
+    for g in np.unique(groups):
+        idx = np.flatnonzero(groups == g)
+        parts.append([idx[s] for s in split(len(idx), seed, cfg)])
+    return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
+
+
 def split(n: int, seed: int, cfg: TrainConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Seeded permutation of range(n) into (train, validation, test) index arrays."""
     perm = np.random.default_rng([int(seed), 7]).permutation(n)
@@ -151,9 +162,11 @@ def gauss_newton(w, zz, yy, n_in: int, H: int, n_out: int, *, rows_per_block: in
 
 
 def train(x: np.ndarray, y: np.ndarray, inputs: InputDefinition, *, seed: int = 0,
-          cfg: TrainConfig = TrainConfig(), meta: dict | None = None, progress=None) -> TrainResult:
+          cfg: TrainConfig = TrainConfig(), meta: dict | None = None, progress=None,
+          groups: np.ndarray | None = None) -> TrainResult:
     """Train a network on inputs x (n, n_in) SI (kinematics, plus speed for the speed-input network) and UVLM
-    outputs y (n, 4). progress(iteration, max_iter, train_mse, val_mse) is called each iteration."""
+    outputs y (n, 4). groups (n,): split within each group (:func:`split_groups`), e.g. the speed of each sample.
+    progress(iteration, max_iter, train_mse, val_mse) is called each iteration."""
     import torch
 
     t0 = time.perf_counter()
@@ -163,7 +176,7 @@ def train(x: np.ndarray, y: np.ndarray, inputs: InputDefinition, *, seed: int = 
         raise ValueError(f"training data shapes {x.shape}, {y.shape} do not fit {inputs.n_in} inputs, 4 outputs")
     if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
         raise ValueError("training data hold non-finite values")
-    tr, va, te = split(x.shape[0], seed, cfg)
+    tr, va, te = split(x.shape[0], seed, cfg) if groups is None else split_groups(np.asarray(groups), seed, cfg)
     y_mean, y_std = y[tr].mean(axis=0), y[tr].std(axis=0)
     y_std = np.where(y_std > 0, y_std, 1.0)
     z = inputs.normalise(x)

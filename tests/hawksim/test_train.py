@@ -77,3 +77,20 @@ def test_speed_input_network_and_bad_data():
         train(x, y_bad, InputDefinition.for_speed(0.0))
     with pytest.raises(ValueError, match="too few"):
         split(3, 0, TrainConfig())
+
+
+def test_grouped_split_holds_out_what_each_group_alone_holds_out():
+    from hawksim.train import split_groups
+
+    cfg = TrainConfig()
+    sizes = (57, 80, 64)
+    groups = np.repeat([0, 500, 1000], sizes)
+    tr, va, te = split_groups(groups, 3, cfg)
+    assert sorted(np.concatenate([tr, va, te]).tolist()) == list(range(sum(sizes)))
+    start = 0
+    for n in sizes:
+        alone = split(n, 3, cfg)
+        for whole, part in zip((tr, va, te), alone):
+            sel = whole[(whole >= start) & (whole < start + n)] - start
+            assert sorted(sel.tolist()) == sorted(part.tolist())
+        start += n

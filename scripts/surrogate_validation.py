@@ -1,0 +1,94 @@
+"""Validation of the shipped surrogates like Nguyen et al. (2020), Fig. 5; prints ONE JSON object.
+
+For each study speed: the held-out test samples of that speed's network (the same split `hawksim train` made:
+same data order, seed and fractions), scored by the per-speed network and by the speed-input network (whose
+grouped split holds out exactly these samples too, so neither has seen them); RMSE and R^2 per output on all of
+them and on 50 drawn at random (the paper's Fig. 5 shows 50 cases); the label noise of the data (from
+``--noise-json``, the output of scripts/label_noise.py) beside them. Writes one PNG grid (speeds x outputs) of the
+50 cases, ANN vs UVLM.
+
+    python scripts/surrogate_validation.py --data data/uvlm_training.sqlite \
+        --noise-json results/surrogate/label_noise.json --out results/surrogate/validation.json \
+        --png results/surrogate/validation.png
+"""
+
+import argparse
+import json
+
+import numpy as np
+
+from hawksim.dataset import read_samples
+from hawksim.jsonout import emit
+from hawksim.surrogate import OUTPUTS, SHIPPED_SPEEDS, load, shipped_path
+from hawksim.train import TrainConfig, scores, split
+
+R2_TARGET = {"L_plus": 0.99, "P_plus": 0.99}
+"""Issue 4's accuracy target on held-out UVLM data."""
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--data", default="data/uvlm_training.sqlite")
+    ap.add_argument("--noise-json")
+    ap.add_argument("--out")
+    ap.add_argument("--png")
+    a = ap.parse_args()
+    noise = json.load(open(a.noise_json))["per_speed"] if a.noise_json else {}
+    allv = load(shipped_path(None)) if shipped_path(None).is_file() else None
+    rows, panels = {}, []
+    for v in SHIPPED_SPEEDS:
+        sur = load(shipped_path(v))
+        cfg = TrainConfig(**{k: sur.meta["train_config"][k] for k in ("test_fraction", "val_fraction")})
+        t = read_samples(a.data, speed=v)
+        _, _, te = split(len(t.y), sur.meta["seed"], cfg)
+        x, y = t.x[te], t.y[te]
+        pick = np.random.default_rng(0).choice(len(te), size=min(50, len(te)), replace=False)
+        p = sur.predict(x, v)
+        row = {"n_test": int(len(te)), "per_speed_net": _sc(y, p), "per_speed_net_50": _sc(y[pick], p[pick])}
+        if allv is not None:
+            q = allv.predict(x, v)
+            row["speed_input_net"] = _sc(y, q)
+            row["speed_input_net_50"] = _sc(y[pick], q[pick])
+        if f"{v:g}" in noise:
+            row["label_noise_rms"] = noise[f"{v:g}"]["label_noise_rms"]
+        row["meets_r2_target"] = {k: row["per_speed_net"]["r2"][k] >= t_ for k, t_ in R2_TARGET.items()}
+        rows[f"{v:g}"] = row
+        panels.append((v, y[pick], p[pick]))
+    if a.png:
+        _grid(panels, a.png)
+    emit({"data": a.data, "r2_target": R2_TARGET, "per_speed": rows}, a.out)
+
+
+def _sc(y, p):
+    s = scores(y, p)
+    return {"rmse": s.rmse, "r2": s.r2}
+
+
+def _grid(panels, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(len(panels), 4, figsize=(12, 2.7 * len(panels)))
+    for i, (v, y, p) in enumerate(panels):
+        s = scores(y, p)
+        for k, name in enumerate(OUTPUTS):
+            ax = axes[i, k]
+            lo, hi = float(min(y[:, k].min(), p[:, k].min())), float(max(y[:, k].max(), p[:, k].max()))
+            ax.plot([lo, hi], [lo, hi], "k-", lw=0.7)
+            ax.plot(y[:, k], p[:, k], "o", ms=3, mfc="none")
+            ax.set_title(f"V={v:g} {name}: R$^2$ {s.r2[name]:.3f}", fontsize=8)
+            ax.tick_params(labelsize=7)
+            if i == len(panels) - 1:
+                ax.set_xlabel("UVLM", fontsize=8)
+            if k == 0:
+                ax.set_ylabel("ANN", fontsize=8)
+    fig.suptitle("Surrogates vs UVLM, 50 held-out cases per speed (cf. Nguyen et al. 2020, Fig. 5)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
