@@ -39,7 +39,8 @@ FLY_WAKE_CYCLES = 3
 cost of a free wake grows with the square of its length)."""
 
 
-def make_backend(name: str, *, symmetric: bool = True, keep_panels: bool = False) -> AeroBackend:
+def make_backend(name: str, *, symmetric: bool = True, keep_panels: bool = False,
+                 kinematics: Kinematics | None = None) -> AeroBackend:
     """Backend by CLI name, at `hawksim fly`'s resolution. Raises ValueError for an unknown or unavailable one.
 
     symmetric: the flight stays left/right symmetric (no lateral perturbation), so the UVLM may mirror.
@@ -59,7 +60,11 @@ def make_backend(name: str, *, symmetric: bool = True, keep_panels: bool = False
         return UVLMBackend(n_chord=FLY_UVLM.n_chord, n_span=FLY_UVLM.n_span, symmetric=symmetric,
                            keep_panels=keep_panels, max_wake_rows=FLY_WAKE_CYCLES * FLY_UVLM.steps_per_cycle)
     if name == "surrogate":
-        raise ValueError("--aero surrogate is not available yet: no trained surrogate ships with this version")
+        from hawksim.surrogate_backend import SurrogateBackend
+
+        if kinematics is None:
+            raise ValueError("the surrogate backend needs the flight's kinematics")
+        return SurrogateBackend(kinematics)
     raise ValueError(f"unknown --aero {name!r}; choose uvlm, surrogate or quasi-steady")
 
 
@@ -224,7 +229,7 @@ def fly(speed: float, cycles: int, aero: str = "quasi-steady", *, perturb: dict[
     perturb = parse_perturbations(perturb or {})
     kin = kinematics if kinematics is not None else trim_kinematics(speed, aero)
     lateral = any(perturb.get(k, 0.0) != 0.0 for k in ("v", "p", "r", "phi"))
-    backend = make_backend(aero, symmetric=not lateral, keep_panels=keep_extras_every > 0)
+    backend = make_backend(aero, symmetric=not lateral, keep_panels=keep_extras_every > 0, kinematics=kin)
     model = load_model(model_path)
     aero_every = 1
     if aero == "uvlm":

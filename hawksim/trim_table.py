@@ -17,7 +17,8 @@ import numpy as np
 
 from hawksim.kinematics import PARAM_NAMES, TABLE3_DEG, TABLE3_SPEEDS, Kinematics
 
-TABLE_FILES = {"uvlm": "trim_table.json", "quasi-steady": "trim_table_quasi_steady.json"}
+TABLE_FILES = {"uvlm": "trim_table.json", "quasi-steady": "trim_table_quasi_steady.json",
+               "surrogate": "trim_table_surrogate.json"}
 
 
 @lru_cache(maxsize=4)

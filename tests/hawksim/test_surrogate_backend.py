@@ -1,0 +1,69 @@
+"""`--aero surrogate`: the mean loads land on the body as predicted, and a flight on a surrogate that balances the
+insect at V holds V over several wingbeats."""
+
+import numpy as np
+import pytest
+
+from hawksim.backend import FlightState
+from hawksim.kinematics import table3_kinematics
+from hawksim.morphology import HAWKMOTH, P0_W
+from hawksim.surrogate import SPEED_BOUNDS, InputDefinition, Surrogate
+from hawksim.surrogate_backend import SurrogateBackend
+
+
+def _speed_net(L0=1.0, dLdV=-0.3, D=0.02, M=-0.01, P=0.9, v0=1.0) -> Surrogate:
+    """A speed-input network with one near-linear hidden unit of the speed: L+ = L0 + dLdV (V - v0) to < 1e-3."""
+    inputs = InputDefinition.for_speed(None)
+    a = 0.05  # sigmoid(a z) ~ 1/2 + a z / 4 for |z| <= 1
+    W1 = np.zeros((1, 8))
+    W1[0, 7] = a
+    z0 = 2 * (v0 - SPEED_BOUNDS[0]) / (SPEED_BOUNDS[1] - SPEED_BOUNDS[0]) - 1
+    s0 = 1 / (1 + np.exp(-a * z0))
+    slope = dLdV / (a / 4 * 2 / (SPEED_BOUNDS[1] - SPEED_BOUNDS[0]))  # d(output)/d(hidden unit)
+    W2 = np.array([[slope], [0.0], [0.0], [0.0]])
+    b2 = np.array([L0 - slope * s0, D, M, P])
+    return Surrogate(inputs, W1, np.zeros(1), W2, b2, np.zeros(4), np.ones(4))
+
+
+def _state(vz=1.0):
+    R = np.eye(3)
+    return FlightState(t=0.0, dt=1e-4, body_pos=np.array([0.1, 0.2, 0.3]), body_R=R, body_v=np.array([0, 0, vz]),
+                       body_omega=np.zeros(3), wing_R=np.stack([R, R]),
+                       wing_origin=np.array([[0.11, 0.005, 0.31], [0.11, -0.005, 0.31]]),
+                       wing_v=np.zeros((2, 3)), wing_omega=np.zeros((2, 3)))
+
+
+def test_mean_loads_land_on_the_body():
+    b = SurrogateBackend(table3_kinematics(1.0), _speed_net())
+    st = _state(vz=1.0)
+    ld = b.loads(st)
+    W = HAWKMOTH.weight
+    assert ld.force.sum(0) == pytest.approx([-0.02 * W, 0.0, 1.0 * W], rel=1e-9, abs=1e-12)
+    # nose-up moment M+ W cbar about the centre of mass: -(M . body y)
+    assert -(ld.moment_about(st, st.body_pos) @ st.body_R[:, 1]) == pytest.approx(-0.01 * W * HAWKMOTH.cbar,
+                                                                                  rel=1e-9)
+    assert ld.power == pytest.approx(0.9 * P0_W)
+    # the ascent speed is an input: faster ascent, less lift (here dL+/dV = -0.3 s/m)
+    assert b.mean_loads(1.5)[0] == pytest.approx(1.0 - 0.15, abs=1e-3)
+    assert b.mean_loads(5.0)[0] == b.mean_loads(2.0)[0]  # clipped to the network's speed range
+
+
+def test_per_speed_network_is_refused():
+    per_speed = Surrogate(InputDefinition.for_speed(1.0), np.zeros((1, 7)), np.zeros(1), np.zeros((4, 1)),
+                          np.zeros(4), np.zeros(4), np.ones(4))
+    with pytest.raises(ValueError, match="speed-input network"):
+        SurrogateBackend(table3_kinematics(1.0), per_speed)
+
+
+def test_flight_on_a_balancing_surrogate_holds_its_speed(monkeypatch):
+    from hawksim import surrogate_backend
+    from hawksim.flight import fly
+
+    net = _speed_net(L0=1.0, dLdV=-0.5, D=0.0, M=0.0, v0=1.0)
+    monkeypatch.setattr(surrogate_backend, "load", lambda path: net)
+    r = fly(1.0, 6, aero="surrogate", kinematics=table3_kinematics(1.0), steps_per_cycle=100)
+    s = r.summary()
+    # lift balances the weight at 1 m/s and falls with speed: the ascent holds 1 m/s within 2 % (the body's
+    # in-cycle heave from the wings' inertia is averaged out by the last-cycle mean)
+    assert s["mean_vertical_speed"] == pytest.approx(1.0, abs=0.02)
+    assert abs(s["horizontal_drift"]) < 0.01
