@@ -74,16 +74,45 @@ def trim_speed(speed: float, *, seed: int = 0, population: int = 100_000, balanc
 
 
 def power_fit(speeds, power_W) -> tuple[float, float]:
-    """Least-squares (a, b) of P = a + b V [W]."""
+    """Least-squares (a, b) of P = a + b V [W] (NaN with fewer than two speeds)."""
+    if len(np.unique(np.asarray(speeds, float))) < 2:
+        return float("nan"), float("nan")
     b, a = np.polyfit(np.asarray(speeds, float), np.asarray(power_W, float), 1)
     return float(a), float(b)
 
 
-def compute(speeds=TABLE3_SPEEDS, *, seed: int = 0, population: int = 100_000, log=print) -> dict:
+def _model_sha256(speed: float) -> str:
+    import hashlib
+
+    from hawksim.surrogate import default_for_speed, shipped_path
+
+    net = default_for_speed(speed)
+    path = shipped_path(net.inputs.speed)
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def compute(speeds=TABLE3_SPEEDS, *, seed: int = 0, population: int = 100_000, log=print,
+            rows_dir: Path | None = None) -> dict:
+    """Trims at ``speeds``. With ``rows_dir``, each speed's row is kept there as it is computed and reused by a
+    later call with the same network file (SHA-256), seed and population: an interrupted run continues."""
     rows = []
     for v in speeds:
+        sha = _model_sha256(v)
+        cached = None if rows_dir is None else Path(rows_dir) / f"v{int(round(v * 1000)):04d}.json"
+        if cached is not None and cached.is_file():
+            row = json.loads(cached.read_text())
+            s = row.get("surrogate", {})
+            if (s.get("model_sha256"), s.get("seed"), s.get("population")) == (sha, seed, population):
+                log(f"trim at {v:g} m/s: reused {cached}")
+                rows.append(row)
+                continue
         log(f"trim at {v:g} m/s ...")
-        rows.append(trim_speed(v, seed=seed, population=population))
+        row = trim_speed(v, seed=seed, population=population)
+        row["surrogate"]["model_sha256"] = sha
+        if cached is not None:
+            cached.parent.mkdir(parents=True, exist_ok=True)
+            cached.write_text(json.dumps(row))
+        rows.append(row)
     sp = [r["speed"] for r in rows]
     fits = {"uvlm_balanced": power_fit(sp, [r["balanced"]["uvlm"]["power_W"] for r in rows]),
             "uvlm_at_optimum": power_fit(sp, [r["uvlm_at_optimum"]["power_W"] for r in rows]),
@@ -248,7 +277,7 @@ def write_trim_results(out_dir: str | Path, speeds=TABLE3_SPEEDS, *, seed: int =
     into ``out_dir``; returns a summary."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    res = compute(speeds, seed=seed, population=population, log=log)
+    res = compute(speeds, seed=seed, population=population, log=log, rows_dir=out_dir / "rows")
     res["command"] = f"hawksim reproduce --out {out_dir.parent}"
     (out_dir / "trim_results.json").write_text(json.dumps(res, indent=1))
     (out_dir / "table3.md").write_text(table3_markdown(res))
