@@ -67,3 +67,22 @@ def test_flight_on_a_balancing_surrogate_holds_its_speed(monkeypatch):
     # in-cycle heave from the wings' inertia is averaged out by the last-cycle mean)
     assert s["mean_vertical_speed"] == pytest.approx(1.0, abs=0.02)
     assert abs(s["horizontal_drift"]) < 0.01
+
+
+@pytest.mark.skipif(not __import__("hawksim.surrogate", fromlist=["x"]).shipped_path(None).is_file(),
+                    reason="the speed-input surrogate is not in this checkout")
+@pytest.mark.parametrize("speed", [0.5, 1.0, 2.0])
+def test_shipped_surrogate_trim_holds_over_ten_wingbeats(speed):
+    """From the shipped surrogate trim (hawksim/data/trim_table_surrogate.json: the speed-input network's own
+    minimum of Eq. 3), the free flight on that network's loads keeps its ascent speed within 0.05 m/s over 10
+    beats: the trim balances the network (|L+ - 1| < 1e-3 there) and lift falls as the ascent speeds up."""
+    from hawksim.flight import fly
+    from hawksim.trim_table import trim_source
+
+    assert "surrogate" in trim_source("surrogate")
+    r = fly(speed, 10, "surrogate", steps_per_cycle=100)
+    n = r.steps_per_cycle
+    z = r.body_pos[:, 2]
+    for c in range(10):
+        s = slice(c * n, (c + 1) * n)
+        assert (z[s][-1] - z[s][0]) / (r.t[s][-1] - r.t[s][0]) == pytest.approx(speed, abs=0.05)
