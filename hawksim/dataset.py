@@ -293,9 +293,20 @@ def _compute(todo, speed, seed, resolution, scheduler, workers):
         cluster = None
     else:
         n_workers = workers or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                               silence_logs=40, death_timeout=10,
-                               env={"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"})
+        one_thread = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+        # Set in this process too while the workers start: they inherit it from their first instruction on
+        # (LocalCluster's env= alone reached them too late; measured 1.9 s instead of 0.65 s per sample).
+        saved = {k: os.environ.get(k) for k in one_thread}
+        os.environ.update(one_thread)
+        try:
+            cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0", silence_logs=40, death_timeout=10, env=one_thread)
+        finally:
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
         client = Client(cluster)
     try:
         # Submit in a bounded window: results stream back and are committed one by one.
