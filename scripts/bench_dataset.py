@@ -39,7 +39,7 @@ def main():
             arrivals = []
             t0 = time.perf_counter()
             r = generate(Path(d) / "bench.sqlite", v, a.n, seed=12345, resolution=TRAINING,
-                         progress=lambda done, total: arrivals.append((done, time.perf_counter())))
+                         progress=lambda done, total, log=arrivals: log.append((done, time.perf_counter())))
             wall = time.perf_counter() - t0
             k = min(len(arrivals) - 1, (os.cpu_count() or 1) + 1)  # skip each worker's first sample
             (n0, t1), (n1, t2) = arrivals[k], arrivals[-1]
