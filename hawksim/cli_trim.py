@@ -51,7 +51,6 @@ def cmd_trim(args) -> dict:
         out["uvlm_balanced"] = {"kinematics": b.kinematics.to_edge(), "chi": math.degrees(b.kinematics.chi),
                                 "L_plus": av.L_plus, "D_plus": av.D_plus, "M_plus": av.M_plus, "P_plus": av.P_plus,
                                 "converged": b.converged, "evaluations": b.evaluations}
-    out["wall_time_s"] = r.wall_time_s
     return out
 
 

@@ -169,15 +169,26 @@ def open_dataset(path: str | Path, *, create: bool = False) -> sqlite3.Connectio
     return conn
 
 
+def _where(speed: float | None = None, seed: int | None = None) -> tuple[str, list]:
+    """SQL condition and arguments selecting one speed (matched in integer mm/s) and/or seed; '1' for all."""
+    where, args = ["1"], []
+    if speed is not None:
+        where.append("CAST(round(speed*1000) AS INTEGER)=?")
+        args.append(speed_key(speed))
+    if seed is not None:
+        where.append("seed=?")
+        args.append(int(seed))
+    return " AND ".join(where), args
+
+
 def stored_indices(conn: sqlite3.Connection, speed: float, seed: int) -> set[int]:
-    rows = conn.execute("SELECT idx FROM samples WHERE seed=? AND CAST(round(speed*1000) AS INTEGER)=?",
-                        (int(seed), speed_key(speed)))
-    return {r[0] for r in rows}
+    w, args = _where(speed, seed)
+    return {r[0] for r in conn.execute(f"SELECT idx FROM samples WHERE {w}", args)}
 
 
 def stored_resolution(conn: sqlite3.Connection, speed: float, seed: int) -> Resolution | None:
-    row = conn.execute("SELECT resolution FROM samples WHERE seed=? AND CAST(round(speed*1000) AS INTEGER)=? "
-                       "LIMIT 1", (int(seed), speed_key(speed))).fetchone()
+    w, args = _where(speed, seed)
+    row = conn.execute(f"SELECT resolution FROM samples WHERE {w} LIMIT 1", args).fetchone()
     return None if row is None else Resolution(**json.loads(row[0]))
 
 
@@ -209,14 +220,7 @@ def read_samples(path: str | Path, speed: float | None = None, seed: int | None 
     """The 'ok' samples of a data set (optionally one speed and/or seed), ordered by (speed, seed, idx)."""
     conn = open_dataset(path)
     try:
-        where, args = ["1"], []
-        if speed is not None:
-            where.append("CAST(round(speed*1000) AS INTEGER)=?")
-            args.append(speed_key(speed))
-        if seed is not None:
-            where.append("seed=?")
-            args.append(int(seed))
-        w = " AND ".join(where)
+        w, args = _where(speed, seed)
         rows = conn.execute(f"SELECT speed, idx, {', '.join(PARAM_NAMES)}, {', '.join(OUTPUTS)} FROM samples "
                             f"WHERE {w} AND status='ok' ORDER BY speed, seed, idx", args).fetchall()
         n_div = conn.execute(f"SELECT count(*) FROM samples WHERE {w} AND status!='ok'", args).fetchone()[0]
@@ -332,18 +336,12 @@ def file_sha256(path: str | Path, speed: float | None = None, seed: int | None =
     and/or seed, independent of the SQLite page layout: the identity of the data a network was trained on."""
     import hashlib
 
-    where, args = ["1"], []
-    if speed is not None:
-        where.append("CAST(round(speed*1000) AS INTEGER)=?")
-        args.append(speed_key(speed))
-    if seed is not None:
-        where.append("seed=?")
-        args.append(int(seed))
+    w, args = _where(speed, seed)
     conn = open_dataset(path)
     h = hashlib.sha256()
     try:
         for row in conn.execute(f"SELECT speed, seed, idx, {', '.join(PARAM_NAMES)}, {', '.join(OUTPUTS)}, status "
-                                f"FROM samples WHERE {' AND '.join(where)} ORDER BY speed, seed, idx", args):
+                                f"FROM samples WHERE {w} ORDER BY speed, seed, idx", args):
             h.update(repr(row).encode())
     finally:
         conn.close()

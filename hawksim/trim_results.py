@@ -160,6 +160,16 @@ def table4_markdown(res: dict) -> str:
     return head + "\n".join(lines) + "\n"
 
 
+def _save(fig, title: str, path: Path) -> Path:
+    import matplotlib.pyplot as plt
+
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
 def figures(res: dict, out_dir: Path) -> list[Path]:
     import matplotlib
 
@@ -182,11 +192,8 @@ def figures(res: dict, out_dir: Path) -> list[Path]:
         ax.set_xlabel("t / T")
         ax.set_ylabel(f"{name} (deg)")
     axes[0].legend(fontsize=8)
-    fig.suptitle("Wing kinematics of the UVLM-balanced minimum-power trims (cf. Nguyen et al. 2020, Fig. 9)")
-    fig.tight_layout()
-    paths.append(out_dir / "fig09_kinematics.png")
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    paths.append(_save(fig, "Wing kinematics of the UVLM-balanced minimum-power trims (cf. Nguyen et al. 2020, "
+                       "Fig. 9)", out_dir / "fig09_kinematics.png"))
 
     # Fig. 11: lift and drag over one wingbeat
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
@@ -199,11 +206,8 @@ def figures(res: dict, out_dir: Path) -> list[Path]:
     for ax in axes:
         ax.set_xlabel("t / T")
     axes[0].legend(fontsize=8)
-    fig.suptitle("UVLM lift and drag at the balanced trims (cf. Nguyen et al. 2020, Fig. 11)")
-    fig.tight_layout()
-    paths.append(out_dir / "fig11_forces.png")
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    paths.append(_save(fig, "UVLM lift and drag at the balanced trims (cf. Nguyen et al. 2020, Fig. 11)",
+                       out_dir / "fig11_forces.png"))
 
     # Figs. 13 and 14: mean power and energy per unit distance against V, with fits; distributions in a cycle
     sp = np.array([r["speed"] for r in rows])
@@ -245,12 +249,8 @@ def figures(res: dict, out_dir: Path) -> list[Path]:
         axes[1].set_ylabel("power (mW)" if kind == "power" else "power / V (mJ/m)")
         axes[1].legend(fontsize=7)
         n = 13 if kind == "power" else 14
-        fig.suptitle(f"{'Mean required power' if kind == 'power' else 'Energy per unit distance'} "
-                     f"(cf. Nguyen et al. 2020, Fig. {n})")
-        fig.tight_layout()
-        paths.append(out_dir / f"fig{n}_{kind}.png")
-        fig.savefig(paths[-1], dpi=110)
-        plt.close(fig)
+        paths.append(_save(fig, f"{'Mean required power' if kind == 'power' else 'Energy per unit distance'} "
+                                f"(cf. Nguyen et al. 2020, Fig. {n})", out_dir / f"fig{n}_{kind}.png"))
     return paths
 
 
