@@ -4,8 +4,12 @@ The data set stores the averages of wingbeat 3 of 3 at the training resolution (
 Here the same samples (seed 0, indices 0..n-1: the shipped set's first samples) are run for one more wingbeat; the
 RMS of (wingbeat 4 - wingbeat 3) / sqrt(2) estimates the noise of one stored label (and 1.4826 MAD / sqrt(2)
 the same without the weight of a few near-blow-up runs) (the wake's cycle-to-cycle
-variation, largest in hover where the wake stays under the wings). No network can predict the labels better than
-this; compare with the surrogates' held-out RMSE. Prints ONE JSON object.
+variation, largest in hover where the wake stays under the wings).
+
+A second estimate ("realization"): each sample is run again with its flapping frequency changed by a relative
+1e-10 (round-off level); the RMS of (label - label') / sqrt(2) over wingbeat 3 is the scatter that the free wake's
+sensitivity to round-off alone puts on one stored label (docs/uvlm.md, "Hover is not periodic"). No network can
+predict the labels better than these; compare with the surrogates' held-out RMSE. Prints ONE JSON object.
 
     python scripts/label_noise.py [--n 40] [--speeds 0 0.5 1 1.5 2] [--out results/surrogate/label_noise.json]
 """
@@ -18,6 +22,10 @@ import numpy as np
 from hawksim.dataset import OUTPUTS, sample_kinematics
 from hawksim.evaluate import TRAINING, run
 from hawksim.jsonout import emit
+from hawksim.kinematics import Kinematics
+
+REALIZATION_STEP = 1e-10
+"""Relative change of the flapping frequency between the two realizations of a sample."""
 
 
 def main():
@@ -29,20 +37,28 @@ def main():
     res = replace(TRAINING, cycles=TRAINING.cycles + 1)
     out = {}
     for v in a.speeds:
-        d = []
+        d, dr = [], []
         for i in range(a.n):
+            kin = sample_kinematics(0, v, i)
+            x = kin.as_array()
+            x[0] *= 1.0 + REALIZATION_STEP
             try:
-                r = run(sample_kinematics(0, v, i), v, res)
+                r = run(kin, v, res)
+                r2 = run(Kinematics.from_array(x), v, TRAINING)
             except FloatingPointError:
                 continue
             c3, c4 = r.per_cycle[-2], r.per_cycle[-1]
             d.append([getattr(c4, k) - getattr(c3, k) for k in OUTPUTS])
-        d = np.asarray(d)
-        d = d[np.all(np.isfinite(d), axis=1) & np.all(np.abs(d) < 2.0, axis=1)]  # leave out blown-up runs
-        rms = np.sqrt(np.mean(d**2, axis=0)) / np.sqrt(2)
-        robust = 1.4826 * np.median(np.abs(d - np.median(d, axis=0)), axis=0) / np.sqrt(2)  # MAD -> sigma
-        out[f"{v:g}"] = {"samples": int(len(d)), "label_noise_rms": dict(zip(OUTPUTS, rms.tolist())),
-                         "label_noise_robust": dict(zip(OUTPUTS, robust.tolist()))}
+            dr.append([getattr(r2.averages, k) - getattr(c3, k) for k in OUTPUTS])
+        row = {}
+        for name, diff in (("", d), ("realization_", dr)):
+            diff = np.asarray(diff)
+            diff = diff[np.all(np.isfinite(diff), axis=1) & np.all(np.abs(diff) < 2.0, axis=1)]  # no blow-ups
+            rms = np.sqrt(np.mean(diff**2, axis=0)) / np.sqrt(2)
+            robust = 1.4826 * np.median(np.abs(diff - np.median(diff, axis=0)), axis=0) / np.sqrt(2)  # MAD
+            row.update({f"{name}samples": int(len(diff)), f"{name}label_noise_rms": dict(zip(OUTPUTS, rms.tolist())),
+                        f"{name}label_noise_robust": dict(zip(OUTPUTS, robust.tolist()))})
+        out[f"{v:g}"] = row
     emit({"resolution": TRAINING.to_dict(), "per_speed": out}, a.out)
 
 
