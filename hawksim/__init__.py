@@ -1,3 +1,3 @@
 """hawksim: a hawkmoth in vertically ascending flight (MuJoCo + extended UVLM)."""
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"

@@ -192,6 +192,12 @@ def stored_resolution(conn: sqlite3.Connection, speed: float, seed: int) -> Reso
     return None if row is None else Resolution(**json.loads(row[0]))
 
 
+def stored_versions(conn: sqlite3.Connection, speed: float, seed: int) -> set[str]:
+    """hawksim versions that computed the stored samples of (speed, seed)."""
+    w, args = _where(speed, seed)
+    return {r[0] for r in conn.execute(f"SELECT DISTINCT version FROM samples WHERE {w}", args)}
+
+
 def insert_sample(conn: sqlite3.Connection, s: Sample, resolution: Resolution) -> None:
     """Store one sample and commit (INSERT OR IGNORE: a sample already stored is kept, never duplicated)."""
     y = s.y if s.y is not None else (None,) * len(OUTPUTS)
@@ -267,6 +273,11 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
         if have_res is not None and have_res != resolution:
             raise DatasetError(f"data set {str(path)!r} holds speed {speed} seed {seed} at resolution "
                                f"{have_res.to_dict()}, not {resolution.to_dict()}")
+        other = stored_versions(conn, speed, seed) - {__version__}
+        if other:  # another version may have another UVLM (e.g. 0.1 -> 0.2 changed the wake's core growth)
+            raise DatasetError(f"data set {str(path)!r} holds speed {speed} seed {seed} computed by hawksim "
+                               f"{', '.join(sorted(other))}, not {__version__}: continue it with that version or "
+                               "start a new file")
         todo = [i for i in range(n) if i not in stored_indices(conn, speed, seed)]
         done0 = n - len(todo)
         if progress:

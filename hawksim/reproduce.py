@@ -32,12 +32,13 @@ def table4_comparison(cycles: int = 4) -> dict:
     return {"resolution": res.to_dict(), "note": "averages over all but the first wingbeat", "rows": rows}
 
 
-def stability_all(out_dir: Path) -> dict:
+def stability_all(out_dir: Path, *, table3: bool = False) -> dict:
+    """Stability reports and studies at the five speeds, at the default trims (or Table 3's kinematics)."""
     from hawksim.cli_stability import stability_report
-    from hawksim.kinematics import TABLE3_SPEEDS
+    from hawksim.kinematics import TABLE3_SPEEDS, table3_kinematics
     from hawksim.studies import write
 
-    reports = [stability_report(v) for v in TABLE3_SPEEDS]
+    reports = [stability_report(v, kinematics=table3_kinematics(v) if table3 else None) for v in TABLE3_SPEEDS]
     studies = write(reports, out_dir)
     return {"speeds": studies["speeds"], "modes": studies["fig15"]["modes"]}
 

@@ -94,7 +94,13 @@ def _model_sha256(speed: float) -> str:
 def compute(speeds=TABLE3_SPEEDS, *, seed: int = 0, population: int = 100_000, log=print,
             rows_dir: Path | None = None) -> dict:
     """Trims at ``speeds``. With ``rows_dir``, each speed's row is kept there as it is computed and reused by a
-    later call with the same network file (SHA-256), seed and population: an interrupted run continues."""
+    later call with the same network file (SHA-256), seed, population and UVLM constants: an interrupted run
+    continues."""
+    from dataclasses import asdict
+
+    from aero.uvlm import UVLMConfig
+
+    uvlm = asdict(UVLMConfig())  # the solver constants the UVLM runs used: a change invalidates the cached rows
     rows = []
     for v in speeds:
         sha = _model_sha256(v)
@@ -102,13 +108,15 @@ def compute(speeds=TABLE3_SPEEDS, *, seed: int = 0, population: int = 100_000, l
         if cached is not None and cached.is_file():
             row = json.loads(cached.read_text())
             s = row.get("surrogate", {})
-            if (s.get("model_sha256"), s.get("seed"), s.get("population")) == (sha, seed, population):
+            if (s.get("model_sha256"), s.get("seed"), s.get("population"), row.get("uvlm_config")) == \
+                    (sha, seed, population, uvlm):
                 log(f"trim at {v:g} m/s: reused {cached}")
                 rows.append(row)
                 continue
         log(f"trim at {v:g} m/s ...")
         row = trim_speed(v, seed=seed, population=population)
         row["surrogate"]["model_sha256"] = sha
+        row["uvlm_config"] = uvlm
         if cached is not None:
             cached.parent.mkdir(parents=True, exist_ok=True)
             cached.write_text(json.dumps(row))

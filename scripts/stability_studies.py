@@ -2,6 +2,7 @@
 (also part of `hawksim reproduce`).
 
     python scripts/stability_studies.py --out results/stability
+    python scripts/stability_studies.py --table3 --out results/stability_table3   (at the paper's Table 3 kinematics)
 """
 
 import argparse
@@ -14,8 +15,9 @@ from hawksim.reproduce import stability_all
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", default="results/stability")
+    ap.add_argument("--table3", action="store_true", help="at the paper's Table 3 kinematics, not the default trims")
     a = ap.parse_args()
-    print(json.dumps(stability_all(Path(a.out))))
+    print(json.dumps(stability_all(Path(a.out), table3=a.table3)))
 
 
 if __name__ == "__main__":

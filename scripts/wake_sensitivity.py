@@ -7,9 +7,10 @@ of every wingbeat; per (speed, variant): the mean and standard deviation of L+ o
 beat-to-beat scatter) and the largest |L+ - L+'| between the two realizations over beats 2-4 and 2..N (how far
 round-off is amplified). A periodic, insensitive wake has both near zero.
 
-Variants (`aero.uvlm.UVLMConfig` fields): the default; larger initial wake cores (``wake_core_chords``, a
-Krasny-type blob regularisation); a wake truncated to 2 beats (``max_wake_rows``, as `hawksim fly` keeps 3);
-faster core growth (Ramasamy-Leishman's ``a_prime`` 15, 50 and 150 times the default). Prints ONE JSON object.
+Variants (`aero.uvlm.UVLMConfig` fields): Ramasamy & Leishman's rotor a' (the default before this study);
+with it, larger initial wake cores (``wake_core_chords``, a Krasny-type blob regularisation) or a wake truncated
+to 2 beats (``max_wake_rows``, as `hawksim fly` keeps 3); faster core growth (``a_prime`` 15, 50 and 150 times
+the rotor value; 150 times, 1e-2, is the default since). Prints ONE JSON object.
 
     python scripts/wake_sensitivity.py --out results/uvlm_wake_sensitivity.json
 """
@@ -20,7 +21,7 @@ import time
 
 import numpy as np
 
-from aero.uvlm import UVLMConfig
+from aero.uvlm import ROTOR_A_PRIME, UVLMConfig
 from hawksim.evaluate import DEFAULT
 from hawksim.held import held_flight
 from hawksim.jsonout import emit
@@ -32,14 +33,16 @@ REALIZATION_STEP = 1e-10
 """Relative change of the flapping frequency of the second realization."""
 
 VARIANTS = {
-    "default": {},
-    "wake_core_0.2c": {"wake_core_chords": 0.2},
-    "wake_core_0.5c": {"wake_core_chords": 0.5},
-    "truncated_2_beats": {"max_wake_rows": 2 * DEFAULT.steps_per_cycle},
+    "rotor_a_prime": {"a_prime": ROTOR_A_PRIME},
+    "truncated_2_beats": {"max_wake_rows": 2 * DEFAULT.steps_per_cycle, "a_prime": ROTOR_A_PRIME},
+    "wake_core_0.2c": {"wake_core_chords": 0.2, "a_prime": ROTOR_A_PRIME},
+    "wake_core_0.5c": {"wake_core_chords": 0.5, "a_prime": ROTOR_A_PRIME},
     "a_prime_x15": {"a_prime": 1e-3},
     "a_prime_x50": {"a_prime": 3e-3},
     "a_prime_x150": {"a_prime": 1e-2},
 }
+"""Wake variants: Ramasamy-Leishman's rotor a' (the default before the study), the same truncated or with larger
+initial cores, and faster core growth (1e-2 is now `UVLMConfig`'s default)."""
 
 
 def per_beat(kin: Kinematics, speed: float, beats: int, config: UVLMConfig) -> np.ndarray:

@@ -70,6 +70,13 @@ def test_generate_is_deterministic_and_continues_without_duplicates(tmp_path):
     with pytest.raises(DatasetError, match="resolution"):
         generate(b, 1.0, 13, seed=5, resolution=Resolution(n_chord=2, n_span=4, steps_per_cycle=20, cycles=1),
                  workers=1)
+    # samples of another hawksim version (another UVLM) are not continued either
+    conn = sqlite3.connect(b)
+    conn.execute("UPDATE samples SET version='0.0.1' WHERE idx=3")
+    conn.commit()
+    conn.close()
+    with pytest.raises(DatasetError, match="0.0.1"):
+        generate(b, 1.0, 13, seed=5, resolution=TINY, workers=1)
 
 
 def test_sigkill_mid_run_then_rerun_gives_exact_count_and_same_data(tmp_path):
