@@ -299,31 +299,11 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
 
 def _compute(todo, speed, seed, resolution, scheduler, workers):
     """Yield evaluated samples as they finish (any order)."""
-    import os
+    from dask.distributed import as_completed
 
-    from dask.distributed import Client, LocalCluster, as_completed
+    from hawksim.cluster import dask_client
 
-    if scheduler:
-        client = Client(scheduler)
-        cluster = None
-    else:
-        n_workers = workers or os.cpu_count() or 1
-        one_thread = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-        # Set in this process too while the workers start: they inherit it from their first instruction on
-        # (LocalCluster's env= alone reached them too late; measured 1.9 s instead of 0.65 s per sample).
-        saved = {k: os.environ.get(k) for k in one_thread}
-        os.environ.update(one_thread)
-        try:
-            cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0", silence_logs=40, death_timeout=10, env=one_thread)
-        finally:
-            for k, v in saved.items():
-                if v is None:
-                    os.environ.pop(k, None)
-                else:
-                    os.environ[k] = v
-        client = Client(cluster)
-    try:
+    with dask_client(scheduler, workers) as client:
         # Submit in a bounded window: results stream back and are committed one by one.
         window = 4 * max(1, len(client.scheduler_info()["workers"]))
         it = iter(todo)
@@ -336,10 +316,6 @@ def _compute(todo, speed, seed, resolution, scheduler, workers):
             nxt = next(it, None)
             if nxt is not None:
                 ac.add(client.submit(evaluate_sample, seed, speed, nxt, resolution, pure=False))
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 def file_sha256(path: str | Path, speed: float | None = None, seed: int | None = None) -> str:

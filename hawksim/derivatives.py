@@ -112,8 +112,10 @@ def _base_run(kin, speed, res, symmetric, cycles):
 
 def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DERIVATIVE_RESOLUTION, *,
                             delta_velocity: float = DELTA_VELOCITY, delta_rate: float = DELTA_RATE,
-                            map_fn=map) -> DerivativeRuns:
-    """All 18 derivatives of the paper at a trim. ``map_fn`` may be a parallel map (e.g. a Dask client's)."""
+                            map_fn=map, client=None) -> DerivativeRuns:
+    """All 18 derivatives of the paper at a trim. ``map_fn`` may be a parallel map; with a dask.distributed
+    ``client`` (`hawksim.cluster.dask_client`) the 2 shared starts and the 12 disturbed runs go to its workers
+    instead (the starts stay there as futures). The results do not depend on where the runs go."""
     import time
 
     from hawksim.stability import Scales
@@ -131,11 +133,16 @@ def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DER
     # the disturbed runs continue a shared undisturbed start (the first cycles - average_cycles wingbeats), so
     # a central difference compares two runs from the same wake rather than two independent free wakes
     warm = res.cycles - res.average_cycles
-    bases = {True: _base_run(kin, speed, res, True, warm), False: _base_run(kin, speed, res, False, warm)} \
-        if warm > 0 else {True: None, False: None}
     cases += [("v", -1, -dv * unit[1], np.zeros(3), False), ("p", -1, np.zeros(3), -dw * unit[0], False),
               ("r", -1, np.zeros(3), -dw * unit[2], False)]
-    loads = list(map_fn(lambda c: _loads_stability(kin, speed, res, c[2], c[3], c[4], bases[c[4]]), cases))
+    if client is not None:
+        bases = {s: client.submit(_base_run, kin, speed, res, s, warm, pure=False) if warm > 0 else None
+                 for s in (True, False)}
+        loads = client.gather([client.submit(_loads_stability, kin, speed, res, c[2], c[3], c[4], bases[c[4]],
+                                             pure=False) for c in cases])
+    else:
+        bases = {s: _base_run(kin, speed, res, s, warm) if warm > 0 else None for s in (True, False)}
+        loads = list(map_fn(lambda c: _loads_stability(kin, speed, res, c[2], c[3], c[4], bases[c[4]]), cases))
     got = {(c[0], c[1]): y for c, y in zip(cases, loads)}
     step = {"u": dv, "w": dv, "q": dw, "v": dv, "p": dw, "r": dw}
     out = {}

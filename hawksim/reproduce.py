@@ -38,7 +38,11 @@ def stability_all(out_dir: Path, *, table3: bool = False) -> dict:
     from hawksim.kinematics import TABLE3_SPEEDS, table3_kinematics
     from hawksim.studies import write
 
-    reports = [stability_report(v, kinematics=table3_kinematics(v) if table3 else None) for v in TABLE3_SPEEDS]
+    from hawksim.cluster import dask_client
+
+    with dask_client() as client:
+        reports = [stability_report(v, kinematics=table3_kinematics(v) if table3 else None, client=client)
+                   for v in TABLE3_SPEEDS]
     studies = write(reports, out_dir)
     return {"speeds": studies["speeds"], "modes": studies["fig15"]["modes"]}
 

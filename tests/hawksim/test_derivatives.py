@@ -65,3 +65,18 @@ def test_nr_sweep_changes_only_nr():
     out = nr_sweep(hover, [hover, fast])
     assert out["Nr_plus"] == [-0.3, -3.0]
     assert out["lateral"][0] != out["lateral"][1]
+
+
+def test_dask_workers_give_the_same_derivatives():
+    """The 14 UVLM runs on a LocalCluster of single-threaded workers (what `hawksim stability` does by default)
+    give the derivatives of the in-process runs (same computation; only the thread count of the LU solves and of
+    the Biot-Savart loops differs, which changes nothing beyond round-off)."""
+    from hawksim.cluster import dask_client
+
+    res = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=2, average_cycles=1)
+    kin = table3_kinematics(1.0)
+    here = dimensional_derivatives(kin, 1.0, res).derivatives
+    with dask_client(workers=2) as client:
+        there = dimensional_derivatives(kin, 1.0, res, client=client).derivatives
+    for k, v in here.items():
+        assert there[k] == pytest.approx(v, rel=1e-9, abs=1e-15)

@@ -1,0 +1,46 @@
+"""Dask clients for the UVLM's embarrassingly parallel work (data sets, stability derivatives).
+
+``dask_client(scheduler, workers)`` yields a client of a running scheduler (e.g. dask-jobqueue on SLURM) or of a
+LocalCluster of single-threaded worker processes. Each worker runs numba, OpenMP, MKL and OpenBLAS on one thread:
+the UVLM's small problems scale poorly over threads, so one process per core is faster than one process with a
+thread per core (measured for the data set: 0.65 s per sample against 1.9 s when the workers kept 2 numba
+threads).
+"""
+
+from __future__ import annotations
+
+import os
+from contextlib import contextmanager
+
+ONE_THREAD = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+"""Environment of the workers."""
+
+
+@contextmanager
+def dask_client(scheduler: str | None = None, workers: int | None = None):
+    """A dask.distributed Client (closed, with its LocalCluster, on exit)."""
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler:
+        client, cluster = Client(scheduler), None
+    else:
+        # Set in this process too while the workers start: they inherit it from their first instruction on
+        # (LocalCluster's env= alone reached them too late).
+        saved = {k: os.environ.get(k) for k in ONE_THREAD}
+        os.environ.update(ONE_THREAD)
+        try:
+            cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0", silence_logs=40, death_timeout=10, env=ONE_THREAD)
+        finally:
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
+        client = Client(cluster)
+    try:
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
