@@ -19,3 +19,16 @@ def test_balance_reaches_the_tolerance_and_keeps_the_other_parameters():
     assert r.kinematics.f < kin0.f
     for k in ("theta0", "phi_a", "alpha_a"):
         assert getattr(r.kinematics, k) == pytest.approx(getattr(kin0, k))
+
+
+def test_a_stalled_balance_restarts_from_its_best_point():
+    """With too few evaluations for the first pass (max_evals=6: the 4-run Jacobian and 1 step), the restart from
+    the best point reaches the tolerance; the result counts both passes and keeps the original start."""
+    kin0 = table3_kinematics(1.0)
+    no_restart = balance_on_uvlm(kin0, 1.0, QS, tol=0.005, max_evals=6, restarts=0)
+    assert not no_restart.converged and no_restart.evaluations == 6
+    r = balance_on_uvlm(kin0, 1.0, QS, tol=0.005, max_evals=6)
+    assert r.converged and 6 < r.evaluations <= 26
+    assert r.start == kin0
+    a = evaluate(r.kinematics, 1.0, QS)
+    assert max(abs(a.L_plus - 1), abs(a.D_plus), abs(a.M_plus)) <= 0.005
