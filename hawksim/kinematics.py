@@ -169,6 +169,18 @@ def bounds_si() -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
+ROUND_OFF_STEP = 1e-10
+"""Relative change of f between two realizations of a kinematics (round-off level; docs/uvlm.md)."""
+
+
+def realization(kin: Kinematics, k: int = 1) -> Kinematics:
+    """kin with its flapping frequency scaled by 1 + k ROUND_OFF_STEP (k = 0 gives kin's values): a change at the
+    round-off level, to measure how much the UVLM's free wake amplifies round-off."""
+    x = kin.as_array()
+    x[0] *= 1.0 + k * ROUND_OFF_STEP
+    return Kinematics.from_array(x)
+
+
 def table3_kinematics(speed: float) -> Kinematics:
     """Table 3's optimal kinematics at ascent speed [m/s], linearly interpolated between its speeds.
 

@@ -18,12 +18,9 @@ import numpy as np
 
 from hawksim.derivatives import DERIVATIVE_RESOLUTION, dimensional_derivatives
 from hawksim.jsonout import emit
-from hawksim.kinematics import Kinematics
+from hawksim.kinematics import ROUND_OFF_STEP, realization
 from hawksim.stability import Scales
 from hawksim.trim_table import trim_kinematics
-
-REALIZATION_STEP = 1e-10
-"""Relative change of the flapping frequency from one realization to the next."""
 
 
 def main():
@@ -43,9 +40,7 @@ def main():
     for d in a.sizes:
         reals, wall = [], 0.0
         for k in range(a.realizations):
-            x = kin0.as_array()
-            x[0] *= 1.0 + k * REALIZATION_STEP
-            r = dimensional_derivatives(Kinematics.from_array(x), a.speed, res, delta_velocity=d, delta_rate=d)
+            r = dimensional_derivatives(realization(kin0, k), a.speed, res, delta_velocity=d, delta_rate=d)
             reals.append({name: sc.derivative(name, v) for name, v in r.derivatives.items()})
             wall += r.wall_time_s
         row = {"size": d, "derivatives_plus": reals[0], "wall_time_s": wall}
@@ -58,7 +53,7 @@ def main():
                         "determined": [n for n, m, s in zip(names, mean, std) if abs(m) > 2 * s]})
         rows.append(row)
     emit({"speed": a.speed, "resolution": res.to_dict(), "realizations": a.realizations,
-          "realization_step": REALIZATION_STEP, "rows": rows}, a.out)
+          "realization_step": ROUND_OFF_STEP, "rows": rows}, a.out)
 
 
 if __name__ == "__main__":

@@ -22,10 +22,8 @@ import numpy as np
 from hawksim.dataset import OUTPUTS, sample_kinematics
 from hawksim.evaluate import TRAINING, run
 from hawksim.jsonout import emit
-from hawksim.kinematics import Kinematics
+from hawksim.kinematics import realization
 
-REALIZATION_STEP = 1e-10
-"""Relative change of the flapping frequency between the two realizations of a sample."""
 
 
 def main():
@@ -40,11 +38,9 @@ def main():
         d, dr = [], []
         for i in range(a.n):
             kin = sample_kinematics(0, v, i)
-            x = kin.as_array()
-            x[0] *= 1.0 + REALIZATION_STEP
             try:
                 r = run(kin, v, res)
-                r2 = run(Kinematics.from_array(x), v, TRAINING)
+                r2 = run(realization(kin), v, TRAINING)
             except FloatingPointError:
                 continue
             c3, c4 = r.per_cycle[-2], r.per_cycle[-1]

@@ -79,14 +79,12 @@ WELL_CONDITIONED_TOL = 0.01
 def _conditioning(data_seed, v, idx, y, preds) -> dict:
     from hawksim.dataset import sample_kinematics
     from hawksim.evaluate import TRAINING, evaluate
-    from hawksim.kinematics import Kinematics
+    from hawksim.kinematics import realization
 
     again, other = [], []
     for i in idx:
         kin = sample_kinematics(data_seed, v, int(i))
-        x = kin.as_array()
-        x[0] *= 1.0 + 1e-10
-        for out, k in ((again, kin), (other, Kinematics.from_array(x))):
+        for out, k in ((again, kin), (other, realization(kin))):
             try:
                 c = evaluate(k, v, TRAINING)
                 out.append([getattr(c, n) for n in OUTPUTS])

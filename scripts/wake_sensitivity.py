@@ -25,12 +25,9 @@ from aero.uvlm import ROTOR_A_PRIME, UVLMConfig
 from hawksim.evaluate import DEFAULT
 from hawksim.held import held_flight
 from hawksim.jsonout import emit
-from hawksim.kinematics import Kinematics
+from hawksim.kinematics import ROUND_OFF_STEP, Kinematics, realization
 from hawksim.trim_table import trim_kinematics
 from hawksim.uvlm_backend import RHO_AIR, UVLMBackend
-
-REALIZATION_STEP = 1e-10
-"""Relative change of the flapping frequency of the second realization."""
 
 VARIANTS = {
     "rotor_a_prime": {"a_prime": ROTOR_A_PRIME},
@@ -69,9 +66,7 @@ def main():
         rows = old["rows"]
     for v in a.speeds:
         kin = trim_kinematics(v)
-        x = kin.as_array()
-        x[0] *= 1.0 + REALIZATION_STEP
-        kin2 = Kinematics.from_array(x)
+        kin2 = realization(kin)
         for name in a.variants:
             cfg = UVLMConfig(rho=RHO_AIR, **VARIANTS[name])
             t0 = time.perf_counter()
@@ -93,7 +88,7 @@ def main():
             rows.append(row)
             print(f"V={v:g} {name}: " + " ".join(f"{l:.3f}" for l in runs[0][:, 0]) if runs[0] is not None else "",
                   flush=True)
-    emit({"resolution": DEFAULT.to_dict(), "beats": a.beats, "realization_step": REALIZATION_STEP, "rows": rows},
+    emit({"resolution": DEFAULT.to_dict(), "beats": a.beats, "realization_step": ROUND_OFF_STEP, "rows": rows},
          a.out)
 
 
