@@ -4,6 +4,10 @@
 * reference case: two flapping wings (8 x 16 panels each, mirror images), 3 wingbeats at 25 Hz, 220 steps,
   free wake, no truncation, core growth and leading-edge suction on; wall time excluding compilation.
 * compile_s: first-call time of a tiny run (numba compilation or cache load).
+* sqrt_g_s, div_g_s: this machine's float64 square-root and division throughput (G/s, all cores, vectorised
+  numba loops), and kernel_bound_geval_s = 1 / (2 / sqrt_g_s + 1 / div_g_s): the kernel's ceiling, since
+  each evaluation needs two square roots and one division (measured, so the kernel's rate can be compared with
+  what the machine allows on the day: the rates here vary by up to 2x between days).
 * ptera_wall_s / speedup: when --ptera-json FILE (output of scripts/bench_pterasoftware.py) is given.
 """
 
@@ -13,6 +17,7 @@ import os
 import time
 
 import numpy as np
+from numba import njit, prange
 
 from aero.biot_savart import induced_velocity, pack
 from aero.mesh import wing_mesh
@@ -49,6 +54,40 @@ def kernel_rate(ns=20000, nt=4000, reps=5):
     return ns * nt / best / 1e9
 
 
+@njit(parallel=True, fastmath=True, error_model="numpy")
+def _sqrt_sum(x, reps):
+    out = np.zeros(reps)
+    for r in prange(reps):
+        s = 0.0
+        for k in range(x.shape[0]):
+            s += np.sqrt(x[k] + r)
+        out[r] = s
+    return out.sum()
+
+
+@njit(parallel=True, fastmath=True, error_model="numpy")
+def _div_sum(x, reps):
+    out = np.zeros(reps)
+    for r in prange(reps):
+        s = 0.0
+        for k in range(x.shape[0]):
+            s += 1.0 / (x[k] + r)
+        out[r] = s
+    return out.sum()
+
+
+def unit_rate(fn, n=2048, reps=20000, tries=5):
+    """Throughput of fn's operation [G/s] over all cores (best of tries)."""
+    x = np.random.default_rng(0).random(n) + 1.0
+    fn(x, 2)
+    best = np.inf
+    for _ in range(tries):
+        t0 = time.perf_counter()
+        fn(x, reps)
+        best = min(best, time.perf_counter() - t0)
+    return n * reps / best / 1e9
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--ptera-json", help="JSON file written by scripts/bench_pterasoftware.py")
@@ -58,11 +97,14 @@ def main():
     run_case(steps=4, cycles=4 / 220 * 3)
     compile_s = time.perf_counter() - t0
     rate = kernel_rate()
+    sqrt_rate, div_rate = unit_rate(_sqrt_sum), unit_rate(_div_sum)
     t0 = time.perf_counter()
     res = run_case(args.steps)
     wall = time.perf_counter() - t0
     n = args.steps // 3
     out = {"kernel_geval_s": round(rate, 3), "reference_case_s": round(wall, 2), "steps": args.steps,
+           "sqrt_g_s": round(sqrt_rate, 3), "div_g_s": round(div_rate, 3),
+           "kernel_bound_geval_s": round(1.0 / (2.0 / sqrt_rate + 1.0 / div_rate), 3),
            "panels_per_wing": "8x16", "compile_s": round(compile_s, 2), "cpus": os.cpu_count(),
            "mean_lift_last_cycle_N": float(2 * res.force[-n:, 0, 2].mean()),
            "mean_power_last_cycle_W": float(2 * res.power[-n:].mean())}
