@@ -2,15 +2,18 @@
 files, the two inference paths agree, and `hawksim predict` answers from a given or shipped model."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 from safetensors.numpy import save_file
 
 from hawksim.cli import main
+from hawksim.dataset import file_sha256, read_samples
 from hawksim.kinematics import bounds_si
 from hawksim.surrogate import (FORMAT, SHIPPED_SPEEDS, InputDefinition, Surrogate, SurrogateFileError, load,
                                load_for_speed, shipped_path)
+from hawksim.train import TrainConfig, scores, split
 
 FLOAT32_ATOL = 1e-4
 """predict_torch (float32) vs predict (float64) for outputs of order 1 through 500 hidden units."""
@@ -129,3 +132,33 @@ def test_shipped_surrogates_load_and_record_their_provenance():
         assert s.hidden == 500  # the paper's 7-500-4 network
         assert s.meta["command"].startswith("hawksim train") and "--seed" in s.meta["command"]
         assert len(s.meta["data_sha256"]) == 64
+
+
+SHIPPED_DATA = Path(__file__).resolve().parents[2] / "data" / "uvlm_training_0.2.sqlite"
+"""The data set the shipped networks were trained on (hawksim/data/surrogates/README.md)."""
+R2_FLOOR = {"L_plus": 0.97, "P_plus": 0.99}
+"""Held-out R^2 the shipped networks must keep. Issue 4's target is 0.99 for both; P+ meets it at every speed
+(measured 0.998-0.9997), L+ does not everywhere (measured 0.976-0.993: single near-blow-up labels and the
+hover wake's beat-to-beat fluctuation, docs/surrogate.md), so for L+ this is a regression floor, not the target."""
+
+
+@pytest.mark.skipif(not (SHIPPED_DATA.is_file() and all(shipped_path(v).is_file() for v in SHIPPED_SPEEDS)),
+                    reason="the shipped data set or networks are not in this checkout")
+@pytest.mark.parametrize("speed", SHIPPED_SPEEDS)
+def test_shipped_surrogates_meet_the_accuracy_target_on_held_out_data(speed):
+    """Both shipped networks, on the test split of the shipped data set that `hawksim train` held out (never
+    seen in training or early stopping), keep R2_FLOOR; the networks' recorded data hash is this file's, so
+    they were trained on it."""
+    per_speed = load(shipped_path(speed), expect=InputDefinition.for_speed(speed))
+    all_speeds = load(shipped_path(None))
+    data_seed = None  # as `hawksim train` without --data-seed: every seed in the file
+    assert per_speed.meta["data_sha256"] == file_sha256(SHIPPED_DATA, speed, data_seed)
+    assert all_speeds.meta["data_sha256"] == file_sha256(SHIPPED_DATA, None, data_seed)
+    t = read_samples(SHIPPED_DATA, speed=speed, seed=data_seed)
+    cfg = TrainConfig(**{k: per_speed.meta["train_config"][k] for k in ("test_fraction", "val_fraction")})
+    _, _, test = split(len(t.y), per_speed.meta["seed"], cfg)
+    assert len(test) >= 250
+    for net in (per_speed, all_speeds):
+        r2 = scores(t.y[test], net.predict(t.x[test], speed)).r2
+        for k, floor in R2_FLOOR.items():
+            assert r2[k] >= floor, (net.meta["command"], k, r2[k])
