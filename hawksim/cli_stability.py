@@ -5,7 +5,7 @@ from __future__ import annotations
 from hawksim.cli import positive_int_arg, speed_arg
 
 
-def stability_report(speed: float, *, kinematics=None, map_fn=map, client=None) -> dict:
+def stability_report(speed: float, *, kinematics=None, client=None) -> dict:
     """The CLI contract's JSON for one ascent speed (also used by the studies of `hawksim reproduce`); client: a
     dask.distributed client whose workers run the UVLM cases (`hawksim.derivatives.dimensional_derivatives`)."""
     from hawksim.derivatives import dimensional_derivatives, mass_properties
@@ -13,7 +13,7 @@ def stability_report(speed: float, *, kinematics=None, map_fn=map, client=None) 
     from hawksim.trim_table import trim_kinematics, trim_source
 
     kin = kinematics if kinematics is not None else trim_kinematics(speed)
-    runs = dimensional_derivatives(kin, speed, map_fn=map_fn, client=client)
+    runs = dimensional_derivatives(kin, speed, client=client)
     mp = mass_properties(kin)
     d, A_long, A_lat, scalars = nondimensional_system(kin, speed, runs.derivatives, mp)
     return {
@@ -31,9 +31,8 @@ def stability_report(speed: float, *, kinematics=None, map_fn=map, client=None) 
 
 
 def cmd_stability(args) -> dict:
-    from hawksim.kinematics import Kinematics
-
     from hawksim.cluster import dask_client
+    from hawksim.kinematics import Kinematics
 
     kin = args.kinematics if isinstance(args.kinematics, Kinematics) else None
     if args.workers == 1 and not args.scheduler:
@@ -54,4 +53,3 @@ def register(sub) -> None:
     p.add_argument("--scheduler", help="address of a running Dask scheduler to run them on instead")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_stability)
-

@@ -112,10 +112,10 @@ def _base_run(kin, speed, res, symmetric, cycles):
 
 def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DERIVATIVE_RESOLUTION, *,
                             delta_velocity: float = DELTA_VELOCITY, delta_rate: float = DELTA_RATE,
-                            map_fn=map, client=None) -> DerivativeRuns:
-    """All 18 derivatives of the paper at a trim. ``map_fn`` may be a parallel map; with a dask.distributed
-    ``client`` (`hawksim.cluster.dask_client`) the 2 shared starts and the 12 disturbed runs go to its workers
-    instead (the starts stay there as futures). The results do not depend on where the runs go."""
+                            client=None) -> DerivativeRuns:
+    """All 18 derivatives of the paper at a trim. With a dask.distributed ``client``
+    (`hawksim.cluster.dask_client`) the 2 shared starts and the 12 disturbed runs go to its workers (the starts
+    stay there as futures); without, they run in this process. The results do not depend on where the runs go."""
     import time
 
     from hawksim.stability import Scales
@@ -142,7 +142,7 @@ def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DER
                                              pure=False) for c in cases])
     else:
         bases = {s: _base_run(kin, speed, res, s, warm) if warm > 0 else None for s in (True, False)}
-        loads = list(map_fn(lambda c: _loads_stability(kin, speed, res, c[2], c[3], c[4], bases[c[4]]), cases))
+        loads = [_loads_stability(kin, speed, res, c[2], c[3], c[4], bases[c[4]]) for c in cases]
     got = {(c[0], c[1]): y for c, y in zip(cases, loads)}
     step = {"u": dv, "w": dv, "q": dw, "v": dv, "p": dw, "r": dw}
     out = {}

@@ -35,10 +35,9 @@ def table4_comparison(cycles: int = 4) -> dict:
 def stability_all(out_dir: Path, *, table3: bool = False) -> dict:
     """Stability reports and studies at the five speeds, at the default trims (or Table 3's kinematics)."""
     from hawksim.cli_stability import stability_report
+    from hawksim.cluster import dask_client
     from hawksim.kinematics import TABLE3_SPEEDS, table3_kinematics
     from hawksim.studies import write
-
-    from hawksim.cluster import dask_client
 
     with dask_client() as client:
         reports = [stability_report(v, kinematics=table3_kinematics(v) if table3 else None, client=client)

@@ -100,6 +100,13 @@ def split(n: int, seed: int, cfg: TrainConfig) -> tuple[np.ndarray, np.ndarray, 
     return perm[n_test + n_val:], perm[n_test:n_test + n_val], perm[:n_test]
 
 
+def held_out(meta: dict, n: int) -> np.ndarray:
+    """Test indices that the per-speed network with metadata ``meta`` (`train`'s) held out of its n samples (the
+    same data order: `hawksim.dataset.read_samples` of that speed)."""
+    cfg = TrainConfig(**{k: meta["train_config"][k] for k in ("test_fraction", "val_fraction")})
+    return split(n, meta["seed"], cfg)[2]
+
+
 def _unpack(w, n_in: int, H: int, n_out: int):
     """Flat weights (H n_in + H + n_out H + n_out,) -> W1 (H, n_in), b1 (H,), W2 (n_out, H), b2 (n_out,)."""
     p = H * n_in

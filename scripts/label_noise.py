@@ -25,7 +25,6 @@ from hawksim.jsonout import emit
 from hawksim.kinematics import realization
 
 
-
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=40)

@@ -32,7 +32,7 @@ import numpy as np
 from hawksim.dataset import read_samples
 from hawksim.jsonout import emit
 from hawksim.surrogate import OUTPUTS, SHIPPED_SPEEDS, load, shipped_path
-from hawksim.train import TrainConfig, scores, split
+from hawksim.train import held_out, scores
 
 R2_TARGET = {"L_plus": 0.99, "P_plus": 0.99}
 """Issue 4's accuracy target on held-out UVLM data."""
@@ -56,9 +56,8 @@ def main():
     rows, panels = {}, []
     for v in SHIPPED_SPEEDS:
         sur = load(shipped_path(v))
-        cfg = TrainConfig(**{k: sur.meta["train_config"][k] for k in ("test_fraction", "val_fraction")})
         t = read_samples(a.data, speed=v)
-        _, _, te = split(len(t.y), sur.meta["seed"], cfg)
+        te = held_out(sur.meta, len(t.y))
         x, y = t.x[te], t.y[te]
         pick = np.random.default_rng(0).choice(len(te), size=min(50, len(te)), replace=False)
         p = sur.predict(x, v)

@@ -13,7 +13,7 @@ from hawksim.dataset import file_sha256, read_samples
 from hawksim.kinematics import bounds_si
 from hawksim.surrogate import (FORMAT, SHIPPED_SPEEDS, InputDefinition, Surrogate, SurrogateFileError, load,
                                load_for_speed, shipped_path)
-from hawksim.train import TrainConfig, scores, split
+from hawksim.train import held_out, scores
 
 FLOAT32_ATOL = 1e-4
 """predict_torch (float32) vs predict (float64) for outputs of order 1 through 500 hidden units."""
@@ -155,8 +155,7 @@ def test_shipped_surrogates_meet_the_accuracy_target_on_held_out_data(speed):
     assert per_speed.meta["data_sha256"] == file_sha256(SHIPPED_DATA, speed, data_seed)
     assert all_speeds.meta["data_sha256"] == file_sha256(SHIPPED_DATA, None, data_seed)
     t = read_samples(SHIPPED_DATA, speed=speed, seed=data_seed)
-    cfg = TrainConfig(**{k: per_speed.meta["train_config"][k] for k in ("test_fraction", "val_fraction")})
-    _, _, test = split(len(t.y), per_speed.meta["seed"], cfg)
+    test = held_out(per_speed.meta, len(t.y))
     assert len(test) >= 250
     for net in (per_speed, all_speeds):
         r2 = scores(t.y[test], net.predict(t.x[test], speed)).r2
