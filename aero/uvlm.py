@@ -35,6 +35,19 @@ from aero.mesh import WingMesh
 from aero.biot_savart import induced_velocity, pack, ring_influence
 from aero.wake import Segments, Wake, lattice_segments
 
+
+def _cross(a, b) -> np.ndarray:
+    """a x b over the last axis (broadcast): np.cross's formula and result, bit for bit, without its per-call
+    overhead (a step makes ~13 calls on small arrays)."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
+    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
+    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return out
+
+
 MAX_SHED_RATIO = 4.0
 """Largest allowed ratio of the wake row shed in one step (trailing-edge speed x dt) to the mean chordwise panel
 length; a coarser step under-resolves the near wake."""
@@ -93,7 +106,7 @@ class FreeStream:
 
     def at(self, x: np.ndarray) -> np.ndarray:
         """Air velocity (..., 3) at points x (..., 3)."""
-        return np.asarray(self.v0, float) + np.cross(np.asarray(self.omega, float), x - np.asarray(self.ref, float))
+        return np.asarray(self.v0, float) + _cross(np.asarray(self.omega, float), x - np.asarray(self.ref, float))
 
 
 @dataclass(frozen=True)
@@ -119,14 +132,14 @@ class StepResult:
 
     def moment(self, ref: np.ndarray) -> np.ndarray:
         """Moment (nw, 3) of each wing's load about the point ref (3,) [N m]."""
-        m = np.cross(self.element_point - ref, self.element_force)
+        m = _cross(self.element_point - ref, self.element_force)
         out = np.zeros((self.force.shape[0], 3))
         np.add.at(out, self.element_wing, m)
         return out
 
     def moment_per_wing(self, refs: np.ndarray) -> np.ndarray:
         """Moment (nw, 3) of each wing's load about its own point refs[w] (nw, 3) [N m]."""
-        m = np.cross(self.element_point - refs[self.element_wing], self.element_force)
+        m = _cross(self.element_point - refs[self.element_wing], self.element_force)
         out = np.zeros((self.force.shape[0], 3))
         np.add.at(out, self.element_wing, m)
         return out
@@ -134,7 +147,7 @@ class StepResult:
     def power(self, v_ref=(0.0, 0.0, 0.0), omega_ref=(0.0, 0.0, 0.0), ref=(0.0, 0.0, 0.0)) -> float:
         """Power the solved wings spend on the air relative to a carrier rigid motion [W]:
         P = -sum_i F_i . (v_i - (v_ref + omega_ref x (p_i - ref)))."""
-        v_c = np.asarray(v_ref, float) + np.cross(np.asarray(omega_ref, float), self.element_point - np.asarray(ref))
+        v_c = np.asarray(v_ref, float) + _cross(np.asarray(omega_ref, float), self.element_point - np.asarray(ref))
         return float(-(self.element_force * (self.element_velocity - v_c)).sum())
 
 
@@ -214,7 +227,7 @@ class UVLM:
         normals = [msh.normals @ Rw.T for msh, Rw in zip(self.meshes, R)]
 
         def v_kin(w, x):
-            return v_origin[w] + np.cross(omega[w], x - origin[w])
+            return v_origin[w] + _cross(omega[w], x - origin[w])
 
         # trailing-edge check: shed length vs panel length
         for w in range(nw):
@@ -256,7 +269,8 @@ class UVLM:
         gammas = [g.reshape(s) for g, s in zip(np.split(gamma_all, splits), shapes)]
 
         # 4. loads
-        result = self._loads(dt, rings, colloc, normals, gammas, wake_seg, freestream, v_kin, mirror)
+        bound_seg = self._bound_segments(rings, gammas)
+        result = self._loads(dt, rings, colloc, normals, gammas, bound_seg, wake_seg, freestream, v_kin, mirror)
         if not (np.all(np.isfinite(result.element_force))):
             raise FloatingPointError(f"UVLM blow-up at step {k}: non-finite loads")
         self._gamma_prev = [g.copy() for g in gammas]
@@ -266,7 +280,7 @@ class UVLM:
             self.wakes[w].shed(rings[w][-1], gammas[w][-1])
             if c.max_wake_rows is not None:
                 self.wakes[w].truncate(c.max_wake_rows)
-        self._convect(dt, rings, gammas, freestream, mirror)
+        self._convect(dt, bound_seg, freestream, mirror)
         self.step_count += 1
         return result
 
@@ -274,10 +288,11 @@ class UVLM:
         r2 = self.rb * self.rb
         return Segments.concat([lattice_segments(G, g, r2, r2) for G, g in zip(rings, gammas)])
 
-    def _loads(self, dt, rings, colloc, normals, gammas, wake_seg, freestream, v_kin, mirror) -> StepResult:
+    def _loads(self, dt, rings, colloc, normals, gammas, bound_seg, wake_seg, freestream, v_kin, mirror
+               ) -> StepResult:
         c = self.config
         r2 = self.rb * self.rb
-        all_seg = Segments.concat([self._bound_segments(rings, gammas), wake_seg])
+        all_seg = Segments.concat([bound_seg, wake_seg])
         # force-carrying segments: every bound edge but the trailing-edge row
         parts = [lattice_segments(G, g, r2, r2, skip_last_row=True) for G, g in zip(rings, gammas)]
         mids = np.concatenate([0.5 * (p.a + p.b) for p in parts])
@@ -292,13 +307,13 @@ class UVLM:
             V = freestream.at(mid) - vk + v_ind[off:off + mid.shape[0]]
             off += mid.shape[0]
             lvec = p.b - p.a
-            F = c.rho * p.gamma[:, None] * np.cross(V, lvec)
+            F = c.rho * p.gamma[:, None] * _cross(V, lvec)
             n_span = nc * ns  # spanwise (leading) edges of rows 0..nc-1, row-major
             n_ring = normals[w]
             if c.le_suction:
                 # leading-edge row: spanwise edges 0..ns-1; suction = forward in-plane component
                 le = slice(0, ns)
-                e_f = np.cross(lvec[le], n_ring[0])
+                e_f = _cross(lvec[le], n_ring[0])
                 e_f /= np.linalg.norm(e_f, axis=1, keepdims=True)
                 s = (F[le] * e_f).sum(1)
                 s_pos = np.maximum(s, 0.0)
@@ -332,7 +347,7 @@ class UVLM:
             pressure=np.stack(pressure), gamma=np.stack(gammas), element_force=ef,
             element_point=np.concatenate(P_list), element_velocity=np.concatenate(V_list), element_wing=ew)
 
-    def _convect(self, dt, rings, gammas, freestream, mirror) -> None:
+    def _convect(self, dt, bound_seg, freestream, mirror) -> None:
         c = self.config
         movable = [w.vertices[1:].reshape(-1, 3) for w in self.wakes]
         pts = np.concatenate(movable)
@@ -340,9 +355,8 @@ class UVLM:
             return
         v = freestream.at(pts)
         if c.free_wake:
-            bound = self._bound_segments(rings, gammas)
             rcv = c.convection_core_chords * self.chord
-            bound = Segments(bound.a, bound.b, bound.gamma, np.full_like(bound.gamma, rcv * rcv))
+            bound = Segments(bound_seg.a, bound_seg.b, bound_seg.gamma, np.full_like(bound_seg.gamma, rcv * rcv))
             seg = Segments.concat([bound, self._wake_segments(r_attached=rcv)])
             v = v + self._induced(pts, seg, mirror)
         if not np.all(np.isfinite(v)):
@@ -394,7 +408,7 @@ def run_prescribed(meshes, config, times, R, origin, v_origin, omega, freestream
     for w, msh in enumerate(solver.meshes):
         te_local = msh.rings[-1]
         te = origin[:, w, None, :] + np.einsum("tij,sj->tsi", R[:, w], te_local)
-        v_te = v_origin[:, w, None, :] + np.cross(omega[:, w, None, :], te - origin[:, w, None, :])
+        v_te = v_origin[:, w, None, :] + _cross(omega[:, w, None, :], te - origin[:, w, None, :])
         shed = np.linalg.norm(freestream.at(te) - v_te, axis=-1).max(axis=1) * dts
         worst = int(np.argmax(shed))
         if shed[worst] > MAX_SHED_RATIO * solver.mean_len:
