@@ -65,7 +65,8 @@ def cmd_train(args) -> dict:
     meta = {"command": shlex.join(command), "data": str(args.data),
             "data_sha256": file_sha256(args.data, speed, args.data_seed),
             "n_samples": int(len(table.y)),
-            "speeds": speeds if speed is None else [speed], "n_diverged_left_out": table.n_diverged}
+            "speeds": speeds if speed is None else [speed],
+            "n_diverged_left_out": table.n_diverged - table.n_unsettled, "n_unsettled_left_out": table.n_unsettled}
     r = train(x, table.y, InputDefinition.for_speed(speed), seed=args.seed, cfg=cfg, meta=meta, progress=progress,
               groups=np.round(table.speed * 1000).astype(int) if speed is None else None)
     if bar is not None:

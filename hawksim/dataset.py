@@ -12,9 +12,13 @@ the same command continues with the missing indices.
 
 Row contents: the speed [m/s], seed, index; the seven kinematic parameters in SI (f [Hz], angles [rad], in the
 order of :data:`hawksim.kinematics.PARAM_NAMES`); L+, D+, M+, P+ (paper Eq. 2) and the power [W] averaged over
-the last wingbeat(s); the peak force coefficient (see :data:`PEAK_FORCE_CEILING`); ``status`` 'ok' or
-'diverged' (the UVLM blew up, or its peak force exceeds the ceiling: such a sample is left out of training, and
-its loads are NULL if non-finite); the resolution as JSON; the hawksim version; the evaluation's wall time [s].
+the last wingbeat(s); the peak force coefficient (see :data:`PEAK_FORCE_CEILING`); from layout 2 on, the same
+four averages one wingbeat earlier (``*_prev``: the window of averaged wingbeats moved back by one); ``status``
+'ok', 'diverged' (the UVLM blew up, or its peak force exceeds the ceiling; its loads are NULL if non-finite) or
+'unsettled' (a cycle average still changes by more than :data:`SETTLE_TOL` from one wingbeat to the next: the
+label is not yet periodic); only 'ok' samples are used for training; the resolution as JSON; the hawksim
+version; the evaluation's wall time [s]. Layout 1 files (hawksim 0.2's data sets, no ``*_prev``, no
+'unsettled') are read as they are, not written.
 """
 
 from __future__ import annotations
@@ -36,8 +40,11 @@ from hawksim.kinematics import PARAM_NAMES, Kinematics, bounds_si
 APPLICATION_ID = 0x48574B53
 """``PRAGMA application_id`` of a hawksim data set ('HWKS'): tells our files from other SQLite files."""
 
-SCHEMA_VERSION = 1
-"""``PRAGMA user_version`` of the current layout."""
+SCHEMA_VERSION = 2
+"""``PRAGMA user_version`` of the layout written (2: adds the ``*_prev`` averages and the 'unsettled' status)."""
+
+READABLE_VERSIONS = (1, 2)
+"""Layouts read (layout 1: hawksim 0.2.0's data sets, on which the shipped 0.2 networks were trained)."""
 
 OUTPUTS = ("L_plus", "D_plus", "M_plus", "P_plus")
 """The surrogate's outputs, in order."""
@@ -50,6 +57,13 @@ loads of a revolving wing stay below C_F ~ 3, Dickinson et al. 1999, Sane & Dick
 a wake vortex crossing the lattice sets off a numerical blow-up reach 5 to 2000; those are stored as
 'diverged' and left out of training."""
 
+SETTLE_TOL = 0.1
+"""Largest change of any of L+, D+, M+, P+ between the averaged wingbeat and the one before it for a label to
+count as periodic ('ok'; otherwise 'unsettled'). Measured on the 1451 held-out samples of the 0.2 data set
+(results/surrogate/label_periodicity.json): the beat 2 -> 3 change of L+ has median 0.004-0.012 and 99th
+percentile 0.06-0.13 per speed, it is correlated with the beat 3 -> 4 change (r = 0.39-0.78: the same runs keep
+changing), and 0.1 leaves out 0-10 % of the samples (most at hover, where the wake stays under the wings)."""
+
 _SCHEMA = f"""
 CREATE TABLE samples (
     speed REAL NOT NULL,
@@ -59,6 +73,7 @@ CREATE TABLE samples (
     {", ".join(f"{n} REAL" for n in OUTPUTS)},
     power_W REAL,
     peak_cf REAL,
+    {", ".join(f"{n}_prev REAL" for n in OUTPUTS)},
     status TEXT NOT NULL,
     resolution TEXT NOT NULL,
     version TEXT NOT NULL,
@@ -75,7 +90,8 @@ class DatasetError(ValueError):
 @dataclass(frozen=True)
 class Sample:
     """One evaluated sample. x: the seven parameters (SI, PARAM_NAMES order); y: (L+, D+, M+, P+) or None when
-    the UVLM diverged; power_W [W] or None; wall_s: evaluation time [s]."""
+    the UVLM diverged; power_W [W] or None; wall_s: evaluation time [s]; y_prev: the averages one wingbeat
+    earlier (None if the run has no earlier window or diverged)."""
 
     speed: float
     seed: int
@@ -85,10 +101,20 @@ class Sample:
     power_W: float | None
     wall_s: float
     peak_cf: float | None = None
+    y_prev: tuple[float, float, float, float] | None = None
+
+    @property
+    def status(self) -> str:
+        """'diverged', 'unsettled' or 'ok' (module docstring)."""
+        if self.y is None or self.peak_cf is None or self.peak_cf > PEAK_FORCE_CEILING:
+            return "diverged"
+        if self.y_prev is not None and max(abs(a - b) for a, b in zip(self.y, self.y_prev)) > SETTLE_TOL:
+            return "unsettled"
+        return "ok"
 
     @property
     def ok(self) -> bool:
-        return self.y is not None and self.peak_cf is not None and self.peak_cf <= PEAK_FORCE_CEILING
+        return self.status == "ok"
 
 
 def speed_key(speed: float) -> int:
@@ -112,21 +138,24 @@ def evaluate_sample(seed: int, speed: float, i: int, resolution: Resolution) -> 
 
     kin = sample_kinematics(seed, speed, i)
     t0 = time.perf_counter()
-    peak = None
+    peak = prev = None
     try:
         r = run(kin, speed, resolution)
         a = r.averages
         y = (a.L_plus, a.D_plus, a.M_plus, a.P_plus)
+        k = resolution.average_cycles
+        if len(r.per_cycle) > k:  # the averaged window moved back by one wingbeat (equal-length beats: mean)
+            prev = tuple(float(np.mean([getattr(c, n) for c in r.per_cycle[-k - 1:-1]])) for n in OUTPUTS)
         power = a.power_W
         u_tip = 2.0 * math.pi * kin.f * kin.phi_a * HAWKMOTH.R
         peak = float(np.linalg.norm(r.force_world, axis=1).max()
                      / (0.5 * RHO_AIR * u_tip**2 * 2.0 * HAWKMOTH.wing_area))
-        if not all(math.isfinite(v) for v in (*y, power, peak)):
-            y, power, peak = None, None, None
+        if not all(math.isfinite(v) for v in (*y, power, peak, *(prev or ()))):
+            y, power, peak, prev = None, None, None, None
     except FloatingPointError:
         y, power = None, None
     return Sample(float(speed), int(seed), int(i), tuple(float(v) for v in kin.as_array()), y, power,
-                  time.perf_counter() - t0, peak)
+                  time.perf_counter() - t0, peak, prev)
 
 
 # --------------------------------------------------------------------------------------------- the file
@@ -161,9 +190,10 @@ def open_dataset(path: str | Path, *, create: bool = False) -> sqlite3.Connectio
     elif app_id != APPLICATION_ID:
         conn.close()
         raise DatasetError(f"{str(path)!r} is a SQLite file but not a hawksim data set (application_id {app_id:#x})")
-    elif version != SCHEMA_VERSION:
+    elif version not in READABLE_VERSIONS:
         conn.close()
-        raise DatasetError(f"data set {str(path)!r} has layout version {version}; this hawksim reads {SCHEMA_VERSION}")
+        raise DatasetError(f"data set {str(path)!r} has layout version {version}; this hawksim reads "
+                           f"{', '.join(map(str, READABLE_VERSIONS))}")
     conn.execute("PRAGMA journal_mode=WAL")
     conn.execute("PRAGMA synchronous=NORMAL")
     return conn
@@ -201,9 +231,10 @@ def stored_versions(conn: sqlite3.Connection, speed: float, seed: int) -> set[st
 def insert_sample(conn: sqlite3.Connection, s: Sample, resolution: Resolution) -> None:
     """Store one sample and commit (INSERT OR IGNORE: a sample already stored is kept, never duplicated)."""
     y = s.y if s.y is not None else (None,) * len(OUTPUTS)
-    cols = ("speed", "seed", "idx", *PARAM_NAMES, *OUTPUTS, "power_W", "peak_cf", "status", "resolution", "version",
-            "wall_s")
-    vals = (s.speed, s.seed, s.idx, *s.x, *y, s.power_W, s.peak_cf, "ok" if s.ok else "diverged",
+    y_prev = s.y_prev if s.y_prev is not None else (None,) * len(OUTPUTS)
+    cols = ("speed", "seed", "idx", *PARAM_NAMES, *OUTPUTS, "power_W", "peak_cf", *(f"{n}_prev" for n in OUTPUTS),
+            "status", "resolution", "version", "wall_s")
+    vals = (s.speed, s.seed, s.idx, *s.x, *y, s.power_W, s.peak_cf, *y_prev, s.status,
             json.dumps(resolution.to_dict(), sort_keys=True), __version__, s.wall_s)
     with conn:
         conn.execute(f"INSERT OR IGNORE INTO samples ({', '.join(cols)}) VALUES ({', '.join('?' * len(cols))})",
@@ -213,13 +244,15 @@ def insert_sample(conn: sqlite3.Connection, s: Sample, resolution: Resolution) -
 @dataclass(frozen=True)
 class Table:
     """Samples read back for training. x (n, 7) SI kinematics; y (n, 4) L+, D+, M+, P+; speed (n,) [m/s];
-    idx (n,) sample indices; n_diverged: rows without loads (left out)."""
+    idx (n,) sample indices; n_diverged: rows left out (status 'diverged' or 'unsettled'), of which n_unsettled
+    'unsettled'."""
 
     x: np.ndarray
     y: np.ndarray
     speed: np.ndarray
     idx: np.ndarray
     n_diverged: int
+    n_unsettled: int = 0
 
 
 def read_samples(path: str | Path, speed: float | None = None, seed: int | None = None) -> Table:
@@ -230,10 +263,12 @@ def read_samples(path: str | Path, speed: float | None = None, seed: int | None 
         rows = conn.execute(f"SELECT speed, idx, {', '.join(PARAM_NAMES)}, {', '.join(OUTPUTS)} FROM samples "
                             f"WHERE {w} AND status='ok' ORDER BY speed, seed, idx", args).fetchall()
         n_div = conn.execute(f"SELECT count(*) FROM samples WHERE {w} AND status!='ok'", args).fetchone()[0]
+        n_uns = conn.execute(f"SELECT count(*) FROM samples WHERE {w} AND status='unsettled'", args).fetchone()[0]
     finally:
         conn.close()
     a = np.asarray(rows, dtype=float).reshape(-1, 2 + len(PARAM_NAMES) + len(OUTPUTS))
-    return Table(x=a[:, 2:9], y=a[:, 9:], speed=a[:, 0], idx=a[:, 1].astype(int), n_diverged=int(n_div))
+    return Table(x=a[:, 2:9], y=a[:, 9:], speed=a[:, 0], idx=a[:, 1].astype(int), n_diverged=int(n_div),
+                 n_unsettled=int(n_uns))
 
 
 def speeds_in(path: str | Path) -> list[float]:
@@ -269,6 +304,10 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
     conn = open_dataset(path, create=True)
     t0 = time.perf_counter()
     try:
+        layout = conn.execute("PRAGMA user_version").fetchone()[0]
+        if layout != SCHEMA_VERSION:
+            raise DatasetError(f"data set {str(path)!r} has layout {layout} (hawksim 0.2.0, without the wingbeat "
+                               f"before the label); this hawksim writes layout {SCHEMA_VERSION}: start a new file")
         have_res = stored_resolution(conn, speed, seed)
         if have_res is not None and have_res != resolution:
             raise DatasetError(f"data set {str(path)!r} holds speed {speed} seed {seed} at resolution "

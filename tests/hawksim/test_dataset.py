@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 
 from hawksim.cli import main
-from hawksim.dataset import (APPLICATION_ID, DatasetError, file_sha256, generate, open_dataset, read_samples,
-                             sample_kinematics, speeds_in)
+from hawksim.dataset import (APPLICATION_ID, OUTPUTS, PEAK_FORCE_CEILING, SETTLE_TOL, DatasetError, Sample,
+                             file_sha256, generate, insert_sample, open_dataset, read_samples, sample_kinematics,
+                             speeds_in)
 from hawksim.evaluate import Resolution
 from hawksim.kinematics import bounds_si
 
@@ -153,3 +154,58 @@ def test_file_carries_the_application_id(tmp_path):
     res = json.loads(conn.execute("SELECT resolution FROM samples LIMIT 1").fetchone()[0])
     conn.close()
     assert res == TINY.to_dict()
+
+
+def test_status_marks_labels_that_still_change_between_wingbeats():
+    x = (26.0,) * 7
+    y = (1.0, 0.1, 0.0, 0.9)
+    ok = Sample(0.0, 0, 0, x, y, 0.08, 1.0, peak_cf=1.5, y_prev=(1.0 + 0.5 * SETTLE_TOL, 0.1, 0.0, 0.9))
+    assert ok.status == "ok" and ok.ok
+    moving = Sample(0.0, 0, 1, x, y, 0.08, 1.0, peak_cf=1.5, y_prev=(1.0, 0.1, 0.0, 0.9 + 1.5 * SETTLE_TOL))
+    assert moving.status == "unsettled" and not moving.ok
+    blown = Sample(0.0, 0, 2, x, y, 0.08, 1.0, peak_cf=2 * PEAK_FORCE_CEILING, y_prev=(0.0,) * 4)
+    assert blown.status == "diverged"
+    assert Sample(0.0, 0, 3, x, y, 0.08, 1.0, peak_cf=1.5).status == "ok"  # one wingbeat: nothing to compare
+
+
+def test_rows_hold_the_previous_wingbeat_and_unsettled_samples_are_left_out(tmp_path):
+    from hawksim.evaluate import run
+
+    res = Resolution(n_chord=2, n_span=3, steps_per_cycle=20, cycles=2)
+    path = tmp_path / "d.sqlite"
+    generate(path, 0.5, 3, seed=1, resolution=res, workers=1)
+    conn = sqlite3.connect(path)
+    rows = conn.execute(f"SELECT idx, {', '.join(OUTPUTS)}, {', '.join(n + '_prev' for n in OUTPUTS)}, status "
+                        "FROM samples ORDER BY idx").fetchall()
+    conn.close()
+    beats = run(sample_kinematics(1, 0.5, 0), 0.5, res).per_cycle
+    assert rows[0][1:5] == tuple(getattr(beats[1], n) for n in OUTPUTS)
+    assert rows[0][5:9] == tuple(getattr(beats[0], n) for n in OUTPUTS)
+    assert {r[9] for r in rows} <= {"ok", "unsettled", "diverged"}
+    # a stored 'unsettled' sample is not training data
+    n_ok = len(read_samples(path).y)
+    conn = open_dataset(path)
+    insert_sample(conn, Sample(0.5, 1, 99, (26.0,) * 7, (1.0, 0.0, 0.0, 1.0), 0.08, 1.0, peak_cf=1.0,
+                               y_prev=(0.5, 0.0, 0.0, 1.0)), res)
+    conn.close()
+    t = read_samples(path)
+    assert len(t.y) == n_ok and 99 not in t.idx and t.n_diverged == 3 - n_ok + 1
+
+
+def test_layout_1_files_are_read_but_not_continued(tmp_path, capsys):
+    """hawksim 0.2.0's data set (layout 1, the shipped networks' training data) is read as it is; continuing it
+    would mix rows with and without the previous wingbeat: refused, the file untouched."""
+    import shutil
+
+    src = Path(__file__).resolve().parents[2] / "data" / "uvlm_training_0.2.sqlite"
+    old = tmp_path / "old.sqlite"
+    shutil.copy(src, old)
+    assert len(read_samples(old, speed=1.0).y) > 2800
+    before = old.read_bytes()
+    with pytest.raises(DatasetError, match="layout 1"):
+        generate(old, 1.0, 3001, seed=0, resolution=TINY, workers=1)
+    assert main(["dataset", "--speed", "1", "--samples", "3001", "--out", str(old), "--json", "--no-progress",
+                 *TINY_ARGS]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "layout 1" in err[0]
+    assert old.read_bytes() == before
