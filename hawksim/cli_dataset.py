@@ -51,8 +51,8 @@ def cmd_dataset(args) -> dict:
     r = generate(args.out, args.speed, args.samples, seed=args.seed, resolution=res, scheduler=args.scheduler,
                  workers=args.workers, progress=progress)
     return {"path": str(Path(r.path)), "samples": r.samples, "new": r.new, "diverged_new": r.diverged,
-            "speed": args.speed, "seed": args.seed, "resolution": res.to_dict(), "wall_time_s": r.wall_time_s,
-            "samples_per_s": r.samples_per_s}
+            "unsettled_new": r.unsettled, "speed": args.speed, "seed": args.seed, "resolution": res.to_dict(),
+            "wall_time_s": r.wall_time_s, "samples_per_s": r.samples_per_s}
 
 
 def register(sub) -> None:

@@ -291,6 +291,7 @@ class GenerationResult:
     diverged: int
     wall_time_s: float
     samples_per_s: float
+    unsettled: int = 0
 
 
 def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolution: Resolution,
@@ -321,19 +322,20 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
         done0 = n - len(todo)
         if progress:
             progress(done0, n)
-        new = diverged = 0
+        new = diverged = unsettled = 0
         if todo:
             for s in _compute(todo, speed, seed, resolution, scheduler, workers):
                 insert_sample(conn, s, resolution)
                 new += 1
-                diverged += not s.ok
+                diverged += s.status == "diverged"
+                unsettled += s.status == "unsettled"
                 if progress:
                     progress(done0 + new, n)
         samples = len(stored_indices(conn, speed, seed))
     finally:
         conn.close()
     wall = time.perf_counter() - t0
-    return GenerationResult(str(path), samples, new, diverged, wall, new / wall if wall > 0 else 0.0)
+    return GenerationResult(str(path), samples, new, diverged, wall, new / wall if wall > 0 else 0.0, unsettled)
 
 
 def _compute(todo, speed, seed, resolution, scheduler, workers):
