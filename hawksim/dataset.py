@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from hawksim import __version__
-from hawksim.evaluate import Resolution
+from hawksim.evaluate import OUTPUTS, Resolution
 from hawksim.kinematics import PARAM_NAMES, Kinematics, bounds_si
 
 APPLICATION_ID = 0x48574B53
@@ -45,9 +45,6 @@ SCHEMA_VERSION = 2
 
 READABLE_VERSIONS = (1, 2)
 """Layouts read (layout 1: hawksim 0.2.0's data sets, on which the shipped 0.2 networks were trained)."""
-
-OUTPUTS = ("L_plus", "D_plus", "M_plus", "P_plus")
-"""The surrogate's outputs, in order."""
 
 PEAK_FORCE_CEILING = 4.0
 """Largest credible peak force coefficient: the peak of |total aerodynamic force| over the run divided by the
@@ -262,13 +259,12 @@ def read_samples(path: str | Path, speed: float | None = None, seed: int | None 
         w, args = _where(speed, seed)
         rows = conn.execute(f"SELECT speed, idx, {', '.join(PARAM_NAMES)}, {', '.join(OUTPUTS)} FROM samples "
                             f"WHERE {w} AND status='ok' ORDER BY speed, seed, idx", args).fetchall()
-        n_div = conn.execute(f"SELECT count(*) FROM samples WHERE {w} AND status!='ok'", args).fetchone()[0]
-        n_uns = conn.execute(f"SELECT count(*) FROM samples WHERE {w} AND status='unsettled'", args).fetchone()[0]
+        count = dict(conn.execute(f"SELECT status, count(*) FROM samples WHERE {w} GROUP BY status", args))
     finally:
         conn.close()
     a = np.asarray(rows, dtype=float).reshape(-1, 2 + len(PARAM_NAMES) + len(OUTPUTS))
-    return Table(x=a[:, 2:9], y=a[:, 9:], speed=a[:, 0], idx=a[:, 1].astype(int), n_diverged=int(n_div),
-                 n_unsettled=int(n_uns))
+    return Table(x=a[:, 2:9], y=a[:, 9:], speed=a[:, 0], idx=a[:, 1].astype(int),
+                 n_diverged=sum(n for st, n in count.items() if st != "ok"), n_unsettled=count.get("unsettled", 0))
 
 
 def speeds_in(path: str | Path) -> list[float]:

@@ -7,7 +7,9 @@ given, and returns the last cycle's L+, D+, M+, P+ (paper Eq. 2) and the require
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
+
+import numpy as np
 
 from hawksim.held import CycleAverages, HeldResult, held_flight
 from hawksim.kinematics import Kinematics
@@ -76,3 +78,16 @@ def run(kin: Kinematics, speed: float, res: Resolution = DEFAULT, progress=None)
 def evaluate(kin: Kinematics, speed: float, res: Resolution = DEFAULT) -> CycleAverages:
     """Cycle averages of one evaluation."""
     return run(kin, speed, res).averages
+
+
+OUTPUTS = ("L_plus", "D_plus", "M_plus", "P_plus")
+"""The normalised cycle averages (paper Eq. 2) that data sets store and surrogates predict, in column order."""
+
+
+def beat_averages(kin: Kinematics, speed: float, res: Resolution, beats: int) -> np.ndarray:
+    """Each wingbeat's L+, D+, M+, P+ of a run of ``beats`` wingbeats at ``res``'s lattice: shape (beats, 4),
+    columns :data:`OUTPUTS`. Row ``res.cycles - 1`` is the label ``evaluate(kin, speed, res)`` gives when
+    ``res.average_cycles`` is 1 (the run is deterministic and does not depend on later beats).
+    Raises FloatingPointError when the UVLM diverges."""
+    r = run(kin, speed, replace(res, cycles=int(beats), average_cycles=1))
+    return np.array([[getattr(c, n) for n in OUTPUTS] for c in r.per_cycle])

@@ -25,6 +25,8 @@ import numpy as np
 from hawksim.kinematics import PARAM_NAMES, Kinematics, bounds_si
 
 OUTPUTS = ("L_plus", "D_plus", "M_plus", "P_plus")
+"""hawksim.evaluate.OUTPUTS, spelled out so that `hawksim predict` does not import MuJoCo (a test checks they
+agree)."""
 SPEED_BOUNDS = (0.0, 2.0)
 """Ascent-speed range of the study [m/s] (Nguyen et al. 2020: 0 to 2 m/s), the speed input's bounds."""
 FORMAT = "hawksim-surrogate-1"

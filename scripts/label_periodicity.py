@@ -20,11 +20,10 @@ effect of the criterion on the test labels only.
 
 import argparse
 import os
-from dataclasses import replace
 
 import numpy as np
 
-from hawksim.dataset import OUTPUTS, read_samples, sample_kinematics
+from hawksim.dataset import read_samples, sample_kinematics
 from hawksim.jsonout import emit
 from hawksim.surrogate import SHIPPED_SPEEDS, load, shipped_path
 from hawksim.train import held_out, scores
@@ -32,14 +31,13 @@ from hawksim.train import held_out, scores
 
 def _beats(args):
     """Per-wingbeat averages (4, 4) of sample (seed, speed, i), or None if the UVLM diverges."""
-    from hawksim.evaluate import TRAINING, run
+    from hawksim.evaluate import TRAINING, beat_averages
 
     seed, v, i = args
     try:
-        r = run(sample_kinematics(seed, v, int(i)), v, replace(TRAINING, cycles=TRAINING.cycles + 1))
+        return beat_averages(sample_kinematics(seed, v, int(i)), v, TRAINING, TRAINING.cycles + 1).tolist()
     except FloatingPointError:
         return None
-    return [[getattr(c, n) for n in OUTPUTS] for c in r.per_cycle]
 
 
 def _r2(y, p) -> dict:

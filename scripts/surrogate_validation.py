@@ -85,10 +85,8 @@ WELL_CONDITIONED_TOL = 0.01
 
 
 def _conditioning(data_seed, v, idx, y, beats, preds) -> dict:
-    from dataclasses import replace
-
     from hawksim.dataset import sample_kinematics
-    from hawksim.evaluate import TRAINING, evaluate, run
+    from hawksim.evaluate import TRAINING, beat_averages
     from hawksim.kinematics import realization
 
     nan = [np.nan] * len(OUTPUTS)
@@ -96,15 +94,14 @@ def _conditioning(data_seed, v, idx, y, beats, preds) -> dict:
     for i in idx:
         kin = sample_kinematics(data_seed, v, int(i))
         try:  # the per-beat averages of beats 1..K; beat 3 is the stored label (TRAINING.cycles == 3)
-            beat = [[getattr(c, n) for n in OUTPUTS] for c in run(kin, v, replace(TRAINING, cycles=beats)).per_cycle]
+            beat = beat_averages(kin, v, TRAINING, beats)
             again.append(beat[TRAINING.cycles - 1])
             multi.append(np.mean(beat[TRAINING.cycles - 1:], axis=0))
         except FloatingPointError:
             again.append(nan)
             multi.append(nan)
         try:
-            c = evaluate(realization(kin), v, TRAINING)
-            other.append([getattr(c, n) for n in OUTPUTS])
+            other.append(beat_averages(realization(kin), v, TRAINING, TRAINING.cycles)[-1])
         except FloatingPointError:
             other.append(nan)
     again, other, multi = np.array(again), np.array(other), np.array(multi)

@@ -169,7 +169,7 @@ def test_status_marks_labels_that_still_change_between_wingbeats():
 
 
 def test_rows_hold_the_previous_wingbeat_and_unsettled_samples_are_left_out(tmp_path):
-    from hawksim.evaluate import run
+    from hawksim.evaluate import beat_averages
 
     res = Resolution(n_chord=2, n_span=3, steps_per_cycle=20, cycles=2)
     path = tmp_path / "d.sqlite"
@@ -178,18 +178,25 @@ def test_rows_hold_the_previous_wingbeat_and_unsettled_samples_are_left_out(tmp_
     rows = conn.execute(f"SELECT idx, {', '.join(OUTPUTS)}, {', '.join(n + '_prev' for n in OUTPUTS)}, status "
                         "FROM samples ORDER BY idx").fetchall()
     conn.close()
-    beats = run(sample_kinematics(1, 0.5, 0), 0.5, res).per_cycle
-    assert rows[0][1:5] == tuple(getattr(beats[1], n) for n in OUTPUTS)
-    assert rows[0][5:9] == tuple(getattr(beats[0], n) for n in OUTPUTS)
+    beats = beat_averages(sample_kinematics(1, 0.5, 0), 0.5, res, beats=3)  # one more beat than stored
+    assert rows[0][1:5] == tuple(beats[1]) and rows[0][5:9] == tuple(beats[0])  # exact: later beats change nothing
     assert {r[9] for r in rows} <= {"ok", "unsettled", "diverged"}
     # a stored 'unsettled' sample is not training data
-    n_ok = len(read_samples(path).y)
+    before = read_samples(path)
+    n_ok = len(before.y)
     conn = open_dataset(path)
     insert_sample(conn, Sample(0.5, 1, 99, (26.0,) * 7, (1.0, 0.0, 0.0, 1.0), 0.08, 1.0, peak_cf=1.0,
                                y_prev=(0.5, 0.0, 0.0, 1.0)), res)
     conn.close()
     t = read_samples(path)
     assert len(t.y) == n_ok and 99 not in t.idx and t.n_diverged == 3 - n_ok + 1
+    assert t.n_unsettled == before.n_unsettled + 1
+
+
+def test_the_surrogate_spells_the_same_outputs():
+    from hawksim import surrogate
+
+    assert surrogate.OUTPUTS == OUTPUTS
 
 
 def test_layout_1_files_are_read_but_not_continued(tmp_path, capsys):
