@@ -67,6 +67,8 @@ def cmd_train(args) -> dict:
             "n_samples": int(len(table.y)),
             "speeds": speeds if speed is None else [speed],
             "n_diverged_left_out": table.n_diverged - table.n_unsettled, "n_unsettled_left_out": table.n_unsettled}
+    if args.data_seed is not None:
+        meta["data_seed"] = args.data_seed
     r = train(x, table.y, InputDefinition.for_speed(speed), seed=args.seed, cfg=cfg, meta=meta, progress=progress,
               groups=np.round(table.speed * 1000).astype(int) if speed is None else None)
     if bar is not None:

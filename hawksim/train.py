@@ -107,6 +107,21 @@ def held_out(meta: dict, n: int) -> np.ndarray:
     return split(n, meta["seed"], cfg)[2]
 
 
+def held_out_samples(net: Surrogate, path, speed: float):
+    """The samples of data-set file ``path`` at ``speed`` and the indices into them of the test split that the
+    per-speed network ``net`` held out (never seen in training or early stopping): ``(Table, (n_test,) int)``.
+    Raises ValueError when ``net`` was not trained on this file's rows at this speed (its recorded
+    ``data_sha256`` differs), since a split of other data would mix training samples into the test set."""
+    from hawksim.dataset import file_sha256, read_samples
+
+    want = net.meta.get("data_sha256")
+    if want != file_sha256(path, speed, net.meta.get("data_seed")):
+        raise ValueError(f"{path}: the network ({net.meta.get('command', '?')}) was trained on other data at "
+                         f"{speed:g} m/s (data_sha256 differs), so its held-out split does not apply")
+    t = read_samples(path, speed=speed, seed=net.meta.get("data_seed"))
+    return t, held_out(net.meta, len(t.y))
+
+
 def _unpack(w, n_in: int, H: int, n_out: int):
     """Flat weights (H n_in + H + n_out H + n_out,) -> W1 (H, n_in), b1 (H,), W2 (n_out, H), b2 (n_out,)."""
     p = H * n_in

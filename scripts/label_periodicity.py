@@ -11,22 +11,25 @@ wingbeat 3 is the stored label, checked equal to the rerun). Reported per speed:
   (the criterion of `hawksim.dataset.SETTLE_TOL`, which a layout-2 data set applies when it is made), and the
   R^2 of L+ and P+ of the per-speed and speed-input networks on those samples alone, beside all of them.
 
-The networks were trained on all 'ok' samples of the layout-1 data set (no criterion), so this measures the
-effect of the criterion on the test labels only.
+``--data`` must be the file the shipped networks were trained on (their recorded data hash is checked).
+``results/surrogate/label_periodicity.json`` was made at commit be22a4c, whose networks were trained on all 'ok'
+samples of the layout-1 data set (no criterion), so it measures the effect of the criterion on the test labels
+only; run on the layout-2 data set of the current networks, the criterion is already applied to every sample.
 
     python scripts/label_periodicity.py --data data/uvlm_training_0.2.sqlite \
-        --out results/surrogate/label_periodicity.json
+        --out results/surrogate/label_periodicity.json      # at commit be22a4c
 """
 
 import argparse
 import os
+import sys
 
 import numpy as np
 
-from hawksim.dataset import read_samples, sample_kinematics
+from hawksim.dataset import sample_kinematics
 from hawksim.jsonout import emit
 from hawksim.surrogate import SHIPPED_SPEEDS, load, shipped_path
-from hawksim.train import held_out, scores
+from hawksim.train import held_out_samples, scores
 
 
 def _beats(args):
@@ -47,7 +50,7 @@ def _r2(y, p) -> dict:
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--data", default="data/uvlm_training_0.2.sqlite")
+    ap.add_argument("--data", default="data/uvlm_training_0.3.sqlite")
     ap.add_argument("--data-seed", type=int, default=0)
     ap.add_argument("--tols", type=float, nargs="+", default=[0.05, 0.1, 0.2])
     ap.add_argument("--n", type=int, help="only the first N held-out samples per speed")
@@ -62,8 +65,11 @@ def main():
     with get_context("spawn").Pool(a.workers) as pool:
         for v in SHIPPED_SPEEDS:
             sur = load(shipped_path(v))
-            t = read_samples(a.data, speed=v, seed=a.data_seed)
-            te = held_out(sur.meta, len(t.y))[:a.n]
+            try:
+                t, te = held_out_samples(sur, a.data, v)
+            except ValueError as e:
+                sys.exit(f"error: --data {e}")
+            te = te[:a.n]
             beats = pool.map(_beats, [(a.data_seed, v, i) for i in t.idx[te]], chunksize=4)
             ok = np.array([b is not None for b in beats])
             B = np.array([b for b in beats if b is not None])  # (n, beat, output)

@@ -19,20 +19,20 @@ wingbeat 3's average alone, which at hover fluctuates from beat to beat (the wak
 networks are also scored against the mean of wingbeats 3..K (``multi_beat``), a better estimate of the UVLM's
 cycle average for the same held-out kinematics, and the RMS of the single-beat labels about that mean is given.
 
-    python scripts/surrogate_validation.py --data data/uvlm_training_0.2.sqlite --conditioning --beats 6 \
+    python scripts/surrogate_validation.py --data data/uvlm_training_0.3.sqlite --conditioning --beats 6 \
         --noise-json results/surrogate/label_noise.json --out results/surrogate/validation.json \
         --png results/surrogate/validation.png
 """
 
 import argparse
 import json
+import sys
 
 import numpy as np
 
-from hawksim.dataset import read_samples
 from hawksim.jsonout import emit
 from hawksim.surrogate import OUTPUTS, SHIPPED_SPEEDS, load, shipped_path
-from hawksim.train import held_out, scores
+from hawksim.train import held_out_samples, scores
 
 R2_TARGET = {"L_plus": 0.99, "P_plus": 0.99}
 """Issue 4's accuracy target on held-out UVLM data."""
@@ -40,7 +40,7 @@ R2_TARGET = {"L_plus": 0.99, "P_plus": 0.99}
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--data", default="data/uvlm_training_0.2.sqlite")
+    ap.add_argument("--data", default="data/uvlm_training_0.3.sqlite")
     ap.add_argument("--noise-json")
     ap.add_argument("--out")
     ap.add_argument("--png")
@@ -56,8 +56,10 @@ def main():
     rows, panels = {}, []
     for v in SHIPPED_SPEEDS:
         sur = load(shipped_path(v))
-        t = read_samples(a.data, speed=v)
-        te = held_out(sur.meta, len(t.y))
+        try:
+            t, te = held_out_samples(sur, a.data, v)
+        except ValueError as e:
+            sys.exit(f"error: --data {e}")
         x, y = t.x[te], t.y[te]
         pick = np.random.default_rng(0).choice(len(te), size=min(50, len(te)), replace=False)
         p = sur.predict(x, v)
