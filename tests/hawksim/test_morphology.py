@@ -45,3 +45,18 @@ def test_masses():
 def test_bad_r2_rejected():
     with pytest.raises(ValueError, match="r2_hat"):
         beta_planform(0.05, 0.017, 0.9)
+
+
+def test_beta_function_matches_scipy():
+    """The planform's B(p, q) without scipy.special: bit-equal at the hawkmoth's (p, q) (so every chord, and
+    every UVLM result, is unchanged), and to 1e-14 relative over the planforms' range 1 < p, q < 6."""
+    from scipy.special import beta
+
+    from hawksim.morphology import _beta_fn
+
+    p, q = HAWKMOTH.planform.p, HAWKMOTH.planform.q
+    assert _beta_fn(p, q) == beta(p, q)
+    grid = np.linspace(1.01, 6.0, 23)
+    for a in grid:
+        for b in grid:
+            assert _beta_fn(a, b) == pytest.approx(beta(a, b), rel=1e-14)
