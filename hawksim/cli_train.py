@@ -66,7 +66,7 @@ def cmd_train(args) -> dict:
             "data_sha256": file_sha256(args.data, speed, args.data_seed),
             "n_samples": int(len(table.y)),
             "speeds": speeds if speed is None else [speed],
-            "n_diverged_left_out": table.n_diverged - table.n_unsettled, "n_unsettled_left_out": table.n_unsettled}
+            "n_diverged_left_out": table.n_diverged, "n_unsettled_left_out": table.n_unsettled}
     if args.data_seed is not None:
         meta["data_seed"] = args.data_seed
     r = train(x, table.y, InputDefinition.for_speed(speed), seed=args.seed, cfg=cfg, meta=meta, progress=progress,

@@ -241,8 +241,7 @@ def insert_sample(conn: sqlite3.Connection, s: Sample, resolution: Resolution) -
 @dataclass(frozen=True)
 class Table:
     """Samples read back for training. x (n, 7) SI kinematics; y (n, 4) L+, D+, M+, P+; speed (n,) [m/s];
-    idx (n,) sample indices; n_diverged: rows left out (status 'diverged' or 'unsettled'), of which n_unsettled
-    'unsettled'."""
+    idx (n,) sample indices; rows left out: n_diverged with status 'diverged', n_unsettled with 'unsettled'."""
 
     x: np.ndarray
     y: np.ndarray
@@ -250,6 +249,11 @@ class Table:
     idx: np.ndarray
     n_diverged: int
     n_unsettled: int = 0
+
+    @property
+    def n_left_out(self) -> int:
+        """Rows of the file (that speed / seed) not used for training: diverged + unsettled."""
+        return self.n_diverged + self.n_unsettled
 
 
 def read_samples(path: str | Path, speed: float | None = None, seed: int | None = None) -> Table:
@@ -264,7 +268,7 @@ def read_samples(path: str | Path, speed: float | None = None, seed: int | None 
         conn.close()
     a = np.asarray(rows, dtype=float).reshape(-1, 2 + len(PARAM_NAMES) + len(OUTPUTS))
     return Table(x=a[:, 2:9], y=a[:, 9:], speed=a[:, 0], idx=a[:, 1].astype(int),
-                 n_diverged=sum(n for st, n in count.items() if st != "ok"), n_unsettled=count.get("unsettled", 0))
+                 n_diverged=count.get("diverged", 0), n_unsettled=count.get("unsettled", 0))
 
 
 def speeds_in(path: str | Path) -> list[float]:

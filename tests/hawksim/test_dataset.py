@@ -65,7 +65,7 @@ def test_generate_is_deterministic_and_continues_without_duplicates(tmp_path):
     again = generate(b, 1.0, 12, seed=5, resolution=TINY, workers=1)
     assert again.new == 0 and again.samples == 12
     t = read_samples(b)
-    assert t.x.shape == (12 - t.n_diverged, 7) and t.y.shape == (12 - t.n_diverged, 4)
+    assert t.x.shape == (12 - t.n_left_out, 7) and t.y.shape == (12 - t.n_left_out, 4)
     assert speeds_in(b) == [1.0]
     # another resolution for the same (speed, seed) would mix data: refused
     with pytest.raises(DatasetError, match="resolution"):
@@ -189,8 +189,8 @@ def test_rows_hold_the_previous_wingbeat_and_unsettled_samples_are_left_out(tmp_
                                y_prev=(0.5, 0.0, 0.0, 1.0)), res)
     conn.close()
     t = read_samples(path)
-    assert len(t.y) == n_ok and 99 not in t.idx and t.n_diverged == 3 - n_ok + 1
-    assert t.n_unsettled == before.n_unsettled + 1
+    assert len(t.y) == n_ok and 99 not in t.idx and t.n_left_out == 3 - n_ok + 1
+    assert t.n_unsettled == before.n_unsettled + 1 and t.n_diverged == before.n_diverged
 
 
 def test_the_surrogate_spells_the_same_outputs():

@@ -25,7 +25,7 @@ def test_dataset_train_predict_trim(tmp_path, capsys):
     assert out["samples"] == 80 and out["new"] == 80
     out = _run(capsys, ["train", "--data", str(data), "--out", str(model), "--hidden", "6", "--max-iter", "30",
                         "--no-progress", "--json"])
-    n_ok = 80 - read_samples(data).n_diverged
+    n_ok = 80 - read_samples(data).n_left_out
     assert out["n_train"] + out["n_val"] + out["n_test"] == n_ok and out["n_test"] == round(0.1 * n_ok)
     assert set(out["r2"]) == set(out["rmse"]) == {"L_plus", "D_plus", "M_plus", "P_plus"}
     # P+ is a smooth function of the kinematics (mostly f^3 phi_a^3): even 6 units on 64 one-beat samples learn
