@@ -122,6 +122,19 @@ def held_out_samples(net: Surrogate, path, speed: float):
     return t, held_out(net.meta, len(t.y))
 
 
+def shipped_held_out(path) -> list:
+    """[(speed, network, Table, test indices)] for each shipped per-speed network (`hawksim.surrogate`'s
+    SHIPPED_SPEEDS) on data-set file ``path``, by :func:`held_out_samples` (ValueError if a network was not
+    trained on that file)."""
+    from hawksim.surrogate import SHIPPED_SPEEDS, load, shipped_path
+
+    out = []
+    for v in SHIPPED_SPEEDS:
+        net = load(shipped_path(v))
+        out.append((v, net, *held_out_samples(net, path, v)))
+    return out
+
+
 def _unpack(w, n_in: int, H: int, n_out: int):
     """Flat weights (H n_in + H + n_out H + n_out,) -> W1 (H, n_in), b1 (H,), W2 (n_out, H), b2 (n_out,)."""
     p = H * n_in

@@ -28,8 +28,8 @@ import numpy as np
 
 from hawksim.dataset import sample_kinematics
 from hawksim.jsonout import emit
-from hawksim.surrogate import SHIPPED_SPEEDS, load, shipped_path
-from hawksim.train import held_out_samples, scores
+from hawksim.surrogate import load, shipped_path
+from hawksim.train import scores, shipped_held_out
 
 
 def _beats(args):
@@ -60,15 +60,15 @@ def main():
     os.environ["NUMBA_NUM_THREADS"] = "1"  # one process per core (set before the workers import numba)
     from multiprocessing import get_context
 
+    try:
+        sets = shipped_held_out(a.data)
+    except ValueError as e:
+        print(f"error: --data {e}", file=sys.stderr)
+        sys.exit(2)
     allv = load(shipped_path(None))
     rows = {}
     with get_context("spawn").Pool(a.workers) as pool:
-        for v in SHIPPED_SPEEDS:
-            sur = load(shipped_path(v))
-            try:
-                t, te = held_out_samples(sur, a.data, v)
-            except ValueError as e:
-                sys.exit(f"error: --data {e}")
+        for v, sur, t, te in sets:
             te = te[:a.n]
             beats = pool.map(_beats, [(a.data_seed, v, i) for i in t.idx[te]], chunksize=4)
             ok = np.array([b is not None for b in beats])

@@ -31,8 +31,8 @@ import sys
 import numpy as np
 
 from hawksim.jsonout import emit
-from hawksim.surrogate import OUTPUTS, SHIPPED_SPEEDS, load, shipped_path
-from hawksim.train import held_out_samples, scores
+from hawksim.surrogate import OUTPUTS, load, shipped_path
+from hawksim.train import scores, shipped_held_out
 
 R2_TARGET = {"L_plus": 0.99, "P_plus": 0.99}
 """Issue 4's accuracy target on held-out UVLM data."""
@@ -52,14 +52,14 @@ def main():
     if a.beats < 3:
         ap.error(f"--beats {a.beats}: must be at least 3 (the data set's labels are wingbeat 3)")
     noise = json.load(open(a.noise_json))["per_speed"] if a.noise_json else {}
+    try:
+        sets = shipped_held_out(a.data)
+    except ValueError as e:
+        print(f"error: --data {e}", file=sys.stderr)
+        sys.exit(2)
     allv = load(shipped_path(None)) if shipped_path(None).is_file() else None
     rows, panels = {}, []
-    for v in SHIPPED_SPEEDS:
-        sur = load(shipped_path(v))
-        try:
-            t, te = held_out_samples(sur, a.data, v)
-        except ValueError as e:
-            sys.exit(f"error: --data {e}")
+    for v, sur, t, te in sets:
         x, y = t.x[te], t.y[te]
         pick = np.random.default_rng(0).choice(len(te), size=min(50, len(te)), replace=False)
         p = sur.predict(x, v)
