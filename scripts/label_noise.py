@@ -15,6 +15,7 @@ predict the labels better than these; compare with the surrogates' held-out RMSE
 """
 
 import argparse
+
 import numpy as np
 
 from hawksim.dataset import sample_kinematics

@@ -13,7 +13,7 @@ from hawksim.dataset import file_sha256
 from hawksim.kinematics import bounds_si
 from hawksim.surrogate import (FORMAT, SHIPPED_SPEEDS, InputDefinition, Surrogate, SurrogateFileError, load,
                                load_for_speed, shipped_path)
-from hawksim.train import scores, held_out_samples
+from hawksim.train import held_out_samples, scores
 
 FLOAT32_ATOL = 1e-4
 """predict_torch (float32) vs predict (float64) for outputs of order 1 through 500 hidden units."""
