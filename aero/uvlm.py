@@ -31,9 +31,10 @@ from typing import Sequence
 import numpy as np
 import scipy.linalg
 
+from aero.biot_savart import ring_influence
+from aero.lattice import Lattice, lattice_velocity, ring_lattice
 from aero.mesh import WingMesh
-from aero.biot_savart import induced_velocity, pack, ring_influence
-from aero.wake import Segments, Wake, lattice_segments
+from aero.wake import Wake
 
 
 def _cross(a, b) -> np.ndarray:
@@ -175,25 +176,24 @@ class UVLM:
         self.chord = float(np.mean([m.panel_areas.sum() / np.ptp(m.vertices[..., 1]) for m in self.meshes]))
 
     # ---- velocities --------------------------------------------------------------------------------
-    def _induced(self, targets: np.ndarray, seg: Segments, mirror) -> np.ndarray:
-        """Velocity (n, 3) induced at targets by the segments (and their mirror images)."""
+    def _induced(self, targets: np.ndarray, lattices: list[Lattice], mirror) -> np.ndarray:
+        """Velocity (n, 3) induced at targets by the lattices (and their mirror images)."""
         n = targets.shape[0]
-        if seg.gamma.size == 0 or n == 0:
+        if not lattices or n == 0:
             return np.zeros((n, 3))
         pts = targets if mirror is None else np.concatenate([targets, _reflect_points(targets, *mirror)])
-        out = np.empty((pts.shape[0], 3))
-        induced_velocity(np.ascontiguousarray(pts), *pack(seg.a, seg.b, seg.gamma, seg.rc2), out)
+        out = lattice_velocity(pts, lattices)
         if mirror is None:
             return out
         return out[:n] + _reflect_vectors(out[n:], mirror[1])
 
-    def _wake_segments(self, r_attached: float | None = None) -> Segments:
-        """Wake edges; r_attached: core of the edges on the trailing edge (default: the bound core)."""
+    def _wake_lattices(self, r_attached: float | None = None) -> list[Lattice]:
+        """Wake lattices; r_attached: core of the edges on the trailing edge (default: the bound core)."""
         c = self.config
         rw = c.wake_core_chords * self.chord
         ra = self.rb if r_attached is None else r_attached
-        return Segments.concat([w.segments(rw, c.nu, c.a_prime, c.core_growth, r_attached=ra)
-                                for w in self.wakes])
+        lats = [w.lattice(rw, c.nu, c.a_prime, c.core_growth, r_attached=ra) for w in self.wakes]
+        return [lat for lat in lats if lat is not None]
 
     # ---- the step ----------------------------------------------------------------------------------
     def step(self, dt: float, R: np.ndarray, origin: np.ndarray, v_origin: np.ndarray, omega: np.ndarray,
@@ -244,8 +244,8 @@ class UVLM:
         X = np.concatenate([x.reshape(-1, 3) for x in colloc])
         N = np.concatenate([n.reshape(-1, 3) for n in normals])
         V_rel = np.concatenate([(freestream.at(x) - v_kin(w, x)).reshape(-1, 3) for w, x in enumerate(colloc)])
-        wake_seg = self._wake_segments()
-        v_wake = self._induced(X, wake_seg, mirror)
+        wake_lat = self._wake_lattices()
+        v_wake = self._induced(X, wake_lat, mirror)
         rhs = -((V_rel + v_wake) * N).sum(1)
 
         # 3. influence matrix of the bound rings (+ images), LU solve
@@ -269,8 +269,8 @@ class UVLM:
         gammas = [g.reshape(s) for g, s in zip(np.split(gamma_all, splits), shapes)]
 
         # 4. loads
-        bound_seg = self._bound_segments(rings, gammas)
-        result = self._loads(dt, rings, colloc, normals, gammas, bound_seg, wake_seg, freestream, v_kin, mirror)
+        bound_lat = [ring_lattice(G, g, self.rb * self.rb, self.rb * self.rb) for G, g in zip(rings, gammas)]
+        result = self._loads(dt, colloc, normals, gammas, bound_lat, wake_lat, freestream, v_kin, mirror)
         if not (np.all(np.isfinite(result.element_force))):
             raise FloatingPointError(f"UVLM blow-up at step {k}: non-finite loads")
         self._gamma_prev = [g.copy() for g in gammas]
@@ -280,23 +280,17 @@ class UVLM:
             self.wakes[w].shed(rings[w][-1], gammas[w][-1])
             if c.max_wake_rows is not None:
                 self.wakes[w].truncate(c.max_wake_rows)
-        self._convect(dt, bound_seg, freestream, mirror)
+        self._convect(dt, rings, gammas, freestream, mirror)
         self.step_count += 1
         return result
 
-    def _bound_segments(self, rings, gammas) -> Segments:
-        r2 = self.rb * self.rb
-        return Segments.concat([lattice_segments(G, g, r2, r2) for G, g in zip(rings, gammas)])
-
-    def _loads(self, dt, rings, colloc, normals, gammas, bound_seg, wake_seg, freestream, v_kin, mirror
+    def _loads(self, dt, colloc, normals, gammas, bound_lat, wake_lat, freestream, v_kin, mirror
                ) -> StepResult:
         c = self.config
-        r2 = self.rb * self.rb
-        all_seg = Segments.concat([bound_seg, wake_seg])
         # force-carrying segments: every bound edge but the trailing-edge row
-        parts = [lattice_segments(G, g, r2, r2, skip_last_row=True) for G, g in zip(rings, gammas)]
+        parts = [lat.segments(skip_last_row=True) for lat in bound_lat]
         mids = np.concatenate([0.5 * (p.a + p.b) for p in parts])
-        v_ind = self._induced(mids, all_seg, mirror)
+        v_ind = self._induced(mids, bound_lat + wake_lat, mirror)
         F_list, P_list, V_list, W_list = [], [], [], []
         panel_force, pressure = [], []
         off = 0
@@ -347,7 +341,7 @@ class UVLM:
             pressure=np.stack(pressure), gamma=np.stack(gammas), element_force=ef,
             element_point=np.concatenate(P_list), element_velocity=np.concatenate(V_list), element_wing=ew)
 
-    def _convect(self, dt, bound_seg, freestream, mirror) -> None:
+    def _convect(self, dt, rings, gammas, freestream, mirror) -> None:
         c = self.config
         movable = [w.vertices[1:].reshape(-1, 3) for w in self.wakes]
         pts = np.concatenate(movable)
@@ -356,9 +350,8 @@ class UVLM:
         v = freestream.at(pts)
         if c.free_wake:
             rcv = c.convection_core_chords * self.chord
-            bound = Segments(bound_seg.a, bound_seg.b, bound_seg.gamma, np.full_like(bound_seg.gamma, rcv * rcv))
-            seg = Segments.concat([bound, self._wake_segments(r_attached=rcv)])
-            v = v + self._induced(pts, seg, mirror)
+            bound = [ring_lattice(G, g, rcv * rcv, rcv * rcv) for G, g in zip(rings, gammas)]
+            v = v + self._induced(pts, bound + self._wake_lattices(r_attached=rcv), mirror)
         if not np.all(np.isfinite(v)):
             raise FloatingPointError(f"UVLM blow-up at step {self.step_count}: non-finite wake velocity")
         off = 0

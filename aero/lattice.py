@@ -1,0 +1,103 @@
+"""Vortex-ring lattices as unique straight edges, and the velocity they induce.
+
+A lattice of vortex rings on a corner grid G (r+1, s+1, 3) [m] with ring circulations g (r, s) [m^2/s] (each
+ring's loop (i,j) -> (i,j+1) -> (i+1,j+1) -> (i+1,j)) is the set of its shared edges with net circulations:
+spanwise edges (i, j)->(i, j+1), i = 0..r, carry g[i,j] - g[i-1,j]; chordwise edges (i, j)->(i+1, j),
+j = 0..s, carry g[i,j-1] - g[i,j] (circulation outside the lattice is zero). This halves the Biot-Savart work
+of a ring-by-ring evaluation, and the edges' shared corners halve the square roots again
+(:func:`aero.biot_savart.lattice_induced_velocity`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import get_num_threads
+
+from aero.biot_savart import lattice_induced_velocity
+
+
+@dataclass(frozen=True)
+class Segments:
+    """Straight vortex segments a -> b (m, 3) [m], circulation (m,) [m^2/s], squared core radius (m,) [m^2]."""
+
+    a: np.ndarray
+    b: np.ndarray
+    gamma: np.ndarray
+    rc2: np.ndarray
+
+
+@dataclass(frozen=True)
+class Lattice:
+    """A ring lattice's unique edges.
+
+    G (r+1, s+1, 3): corner grid [m]; spanwise edges (i, j)->(i, j+1): span_gamma (r+1, s) [m^2/s] and squared
+    core radii span_rc2 (r+1, s) [m^2]; chordwise edges (i, j)->(i+1, j): chord_gamma (r, s+1), chord_rc2
+    (r, s+1).
+    """
+
+    G: np.ndarray
+    span_gamma: np.ndarray
+    span_rc2: np.ndarray
+    chord_gamma: np.ndarray
+    chord_rc2: np.ndarray
+
+    def segments(self, skip_last_row: bool = False) -> Segments:
+        """The edges as segments: spanwise edges row by row, then chordwise. skip_last_row leaves out the
+        spanwise edges of the last corner row (a wing's trailing-edge segment, which carries no force under the
+        Kutta condition)."""
+        G = self.G
+        rows = G.shape[0] - 1 if skip_last_row else G.shape[0]
+        a = np.concatenate([G[:rows, :-1].reshape(-1, 3), G[:-1, :].reshape(-1, 3)])
+        b = np.concatenate([G[:rows, 1:].reshape(-1, 3), G[1:, :].reshape(-1, 3)])
+        gam = np.concatenate([self.span_gamma[:rows].ravel(), self.chord_gamma.ravel()])
+        rc2 = np.concatenate([self.span_rc2[:rows].ravel(), self.chord_rc2.ravel()])
+        return Segments(a, b, gam, rc2)
+
+
+def edge_circulations(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Net circulations of the spanwise (r+1, s) and chordwise (r, s+1) edges of rings g (r, s)."""
+    r, s = g.shape
+    gp = np.zeros((r + 2, s + 2))
+    gp[1:-1, 1:-1] = g
+    return gp[1:, 1:-1] - gp[:-1, 1:-1], gp[1:-1, :-1] - gp[1:-1, 1:]
+
+
+def ring_lattice(G: np.ndarray, g: np.ndarray, span_rc2, chord_rc2) -> Lattice:
+    """The lattice of rings g (r, s) on corners G (r+1, s+1, 3); span_rc2 and chord_rc2: squared cores of the
+    spanwise and chordwise edges (scalars or arrays that broadcast to (r+1, s) and (r, s+1)) [m^2]."""
+    r, s = g.shape
+    span, chord = edge_circulations(g)
+    return Lattice(G, span, np.broadcast_to(np.asarray(span_rc2, float), (r + 1, s)),
+                   chord, np.broadcast_to(np.asarray(chord_rc2, float), (r, s + 1)))
+
+
+def _flat(lat: Lattice) -> tuple:
+    """Kernel arrays of one lattice, padded to (r+1, s+1) with zero-circulation edges."""
+    G = lat.G
+    r1, s1 = G.shape[:2]
+    sg, sr, cg, cr = np.zeros((r1, s1)), np.ones((r1, s1)), np.zeros((r1, s1)), np.ones((r1, s1))
+    sg[:, :-1] = lat.span_gamma
+    sr[:, :-1] = ((G[:, 1:] - G[:, :-1]) ** 2).sum(-1) * lat.span_rc2
+    cg[:-1] = lat.chord_gamma
+    cr[:-1] = ((G[1:] - G[:-1]) ** 2).sum(-1) * lat.chord_rc2
+    return G.reshape(-1, 3), sg.ravel(), sr.ravel(), cg.ravel(), cr.ravel()
+
+
+def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
+    """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the edges of all lattices (Scully cores, the
+    formula of :mod:`aero.biot_savart`). Lattices with the same number of corners per row share one kernel
+    call."""
+    targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
+    out = np.zeros((targets.shape[0], 3))
+    groups: dict[int, list] = {}
+    for lat in lattices:
+        if lat.span_gamma.size + lat.chord_gamma.size:
+            groups.setdefault(lat.G.shape[1], []).append(_flat(lat))
+    for stride, parts in groups.items():
+        V, sg, sr, cg, cr = (np.concatenate(c) for c in zip(*parts))
+        lattice_induced_velocity(targets, np.ascontiguousarray(V[:, 0]), np.ascontiguousarray(V[:, 1]),
+                                 np.ascontiguousarray(V[:, 2]), stride, sg, sr, cg, cr, out,
+                                 4 * get_num_threads())
+    return out
