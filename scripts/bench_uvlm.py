@@ -1,13 +1,18 @@
 """Benchmark of the extended UVLM (aero.uvlm); prints ONE JSON object.
 
-* kernel_geval_s: Biot-Savart segment-point evaluations per second (float64, all cores), 20k segments x 4k points.
+* kernel_geval_s: Biot-Savart segment-point evaluations per second (float64, all cores) of the per-segment
+  kernel (aero.biot_savart.induced_velocity), 20k random segments x 4k points.
+* lattice_kernel_geval_s: the same for the lattice kernel the UVLM uses (aero.biot_savart.lattice_induced_velocity:
+  corners shared by the edges, divider-free 1/sqrt), on a wake-like lattice of 600 x 16 rings (19 816 edges) x
+  4k points; evaluations counted per real edge.
 * reference case: two flapping wings (8 x 16 panels each, mirror images), 3 wingbeats at 25 Hz, 220 steps,
   free wake, no truncation, core growth and leading-edge suction on; wall time excluding compilation.
 * compile_s: first-call time of a tiny run (numba compilation or cache load).
 * sqrt_g_s, div_g_s: this machine's float64 square-root and division throughput (G/s, all cores, vectorised
-  numba loops), and kernel_bound_geval_s = 1 / (2 / sqrt_g_s + 1 / div_g_s): the kernel's ceiling, since
-  each evaluation needs two square roots and one division (measured, so the kernel's rate can be compared with
-  what the machine allows on the day: the rates here vary by up to 2x between days).
+  numba loops), and kernel_bound_geval_s = 1 / (2 / sqrt_g_s + 1 / div_g_s): the per-segment kernel's
+  ceiling, since each of its evaluations needs two square roots and one division (measured, so the kernel's rate
+  can be compared with what the machine allows on the day: the rates here vary by up to 2x between days). The
+  lattice kernel needs one division per evaluation and no square root: its ceiling is div_g_s.
 * ptera_wall_s / speedup: when --ptera-json FILE (output of scripts/bench_pterasoftware.py) is given.
 """
 
@@ -20,6 +25,7 @@ import numpy as np
 from numba import njit, prange
 
 from aero.biot_savart import induced_velocity, pack
+from aero.lattice import lattice_velocity, ring_lattice
 from aero.mesh import wing_mesh
 from aero.uvlm import UVLMConfig, run_prescribed
 from aero.uvlm_kinematics import two_wing_motion
@@ -52,6 +58,23 @@ def kernel_rate(ns=20000, nt=4000, reps=5):
         induced_velocity(p, *seg, out)
         best = min(best, time.perf_counter() - t0)
     return ns * nt / best / 1e9
+
+
+def lattice_kernel_rate(rows=600, ns=16, nt=4000, reps=5):
+    rng = np.random.default_rng(0)
+    G = np.zeros((rows + 1, ns + 1, 3))
+    G[..., 0] = -1e-3 * np.arange(rows + 1)[:, None]
+    G[..., 1] = 3e-3 * np.arange(ns + 1)[None, :]
+    G += 2e-4 * rng.normal(size=G.shape)
+    lat = ring_lattice(G, 1e-3 * rng.normal(size=(rows, ns)), 1e-8, 1e-8)
+    p = np.stack([-0.6 * rng.random(nt), 0.05 * rng.random(nt), 0.01 * rng.normal(size=nt)], axis=1)
+    lattice_velocity(p[:8], [lat])
+    best = np.inf
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        lattice_velocity(p, [lat])
+        best = min(best, time.perf_counter() - t0)
+    return (lat.span_gamma.size + lat.chord_gamma.size) * nt / best / 1e9
 
 
 def _unit_kernel(op: str):
@@ -92,12 +115,14 @@ def main():
     run_case(steps=4, cycles=4 / 220 * 3)
     compile_s = time.perf_counter() - t0
     rate = kernel_rate()
+    lattice_rate = lattice_kernel_rate()
     sqrt_rate, div_rate = unit_rate(_unit_kernel("sqrt")), unit_rate(_unit_kernel("div"))
     t0 = time.perf_counter()
     res = run_case(args.steps)
     wall = time.perf_counter() - t0
     n = args.steps // 3
-    out = {"kernel_geval_s": round(rate, 3), "reference_case_s": round(wall, 2), "steps": args.steps,
+    out = {"kernel_geval_s": round(rate, 3), "lattice_kernel_geval_s": round(lattice_rate, 3),
+           "reference_case_s": round(wall, 2), "steps": args.steps,
            "sqrt_g_s": round(sqrt_rate, 3), "div_g_s": round(div_rate, 3),
            "kernel_bound_geval_s": round(1.0 / (2.0 / sqrt_rate + 1.0 / div_rate), 3),
            "panels_per_wing": "8x16", "compile_s": round(compile_s, 2), "cpus": os.cpu_count(),
