@@ -4,8 +4,8 @@ A lattice of vortex rings on a corner grid G (r+1, s+1, 3) [m] with ring circula
 ring's loop (i,j) -> (i,j+1) -> (i+1,j+1) -> (i+1,j)) is the set of its shared edges with net circulations:
 spanwise edges (i, j)->(i, j+1), i = 0..r, carry g[i,j] - g[i-1,j]; chordwise edges (i, j)->(i+1, j),
 j = 0..s, carry g[i,j-1] - g[i,j] (circulation outside the lattice is zero). This halves the Biot-Savart work
-of a ring-by-ring evaluation, and the edges' shared corners halve the square roots again
-(:func:`aero.biot_savart.lattice_induced_velocity`).
+of a ring-by-ring evaluation, and the corners the edges share let the kernel compute each target's distances
+once per corner, not twice per edge (:func:`aero.biot_savart.lattice_induced_velocity`).
 """
 
 from __future__ import annotations
