@@ -61,14 +61,14 @@ class Wake:
         if self.rows == 0:
             return None
         span, chord = edge_circulations(self.gamma)
-        if core_growth:
-            age_span = self.age[:, None]
-            age_chord = 0.5 * (self.age[1:] + self.age[:-1])[:, None]
-            span_rc2 = r0 * r0 + 4.0 * A_LAMB * nu * (1.0 + a_prime * np.abs(span) / nu) * age_span
-            chord_rc2 = r0 * r0 + 4.0 * A_LAMB * nu * (1.0 + a_prime * np.abs(chord) / nu) * age_chord
-        else:
-            span_rc2 = np.full(span.shape, r0 * r0)
-            chord_rc2 = np.full(chord.shape, r0 * r0)
+
+        def core2(gamma, age):
+            if not core_growth:
+                return np.full(gamma.shape, r0 * r0)
+            return r0 * r0 + 4.0 * A_LAMB * nu * (1.0 + a_prime * np.abs(gamma) / nu) * age[:, None]
+
+        span_rc2 = core2(span, self.age)
+        chord_rc2 = core2(chord, 0.5 * (self.age[1:] + self.age[:-1]))
         if r_attached is not None:
             span_rc2[0] = r_attached * r_attached
         return Lattice(self.vertices, span, span_rc2, chord, chord_rc2)
