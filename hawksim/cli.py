@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 
 from hawksim.kinematics import PARAM_NAMES, TABLE2_BOUNDS_DEG, Kinematics
+from hawksim.vector_width import use_wide_vectors
 
 
 class UsageError(Exception):
@@ -194,6 +195,7 @@ PLUGIN_MODULES = ("aero", "dataset", "predict", "train", "trim", "stability", "r
 
 
 def main(argv: list[str] | None = None) -> int:
+    use_wide_vectors()  # before numba is imported: see hawksim.vector_width
     parser = build_parser()
     try:
         args = parser.parse_args(argv)

@@ -14,6 +14,8 @@
   can be compared with what the machine allows on the day: the rates here vary by up to 2x between days). The
   lattice kernel needs one division per evaluation and no square root: its ceiling is div_g_s.
 * ptera_wall_s / speedup: when --ptera-json FILE (output of scripts/bench_pterasoftware.py) is given.
+* vector_bits: the vector width numba compiled for. Like the ``hawksim`` command, the benchmark asks for 512-bit
+  vectors on CPUs that run them at full speed (hawksim.vector_width; HAWKSIM_VECTOR_WIDTH=256 keeps 256).
 """
 
 import argparse
@@ -21,14 +23,18 @@ import json
 import os
 import time
 
-import numpy as np
-from numba import njit, prange
+from hawksim.vector_width import use_wide_vectors, vector_bits
 
-from aero.biot_savart import induced_velocity, pack
-from aero.lattice import lattice_velocity, ring_lattice
-from aero.mesh import wing_mesh
-from aero.uvlm import UVLMConfig, run_prescribed
-from aero.uvlm_kinematics import two_wing_motion
+use_wide_vectors()  # before numba is imported
+
+import numpy as np  # noqa: E402
+from numba import njit, prange  # noqa: E402
+
+from aero.biot_savart import induced_velocity, pack  # noqa: E402
+from aero.lattice import lattice_velocity, ring_lattice  # noqa: E402
+from aero.mesh import wing_mesh  # noqa: E402
+from aero.uvlm import UVLMConfig, run_prescribed  # noqa: E402
+from aero.uvlm_kinematics import two_wing_motion  # noqa: E402
 
 
 def reference_wing(nc=8, ns=16):
@@ -126,6 +132,7 @@ def main():
            "sqrt_g_s": round(sqrt_rate, 3), "div_g_s": round(div_rate, 3),
            "kernel_bound_geval_s": round(1.0 / (2.0 / sqrt_rate + 1.0 / div_rate), 3),
            "panels_per_wing": "8x16", "compile_s": round(compile_s, 2), "cpus": os.cpu_count(),
+           "vector_bits": vector_bits(),
            "mean_lift_last_cycle_N": float(2 * res.force[-n:, 0, 2].mean()),
            "mean_power_last_cycle_W": float(2 * res.power[-n:].mean())}
     if args.ptera_json:
