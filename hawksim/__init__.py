@@ -1,3 +1,5 @@
 """hawksim: a hawkmoth in vertically ascending flight (MuJoCo + extended UVLM)."""
 
+import aero  # noqa: F401  (first: applies the opt-in HAWKSIM_VECTOR_WIDTH before numba is imported)
+
 __version__ = "0.2.0"

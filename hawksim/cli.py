@@ -14,8 +14,8 @@ import os
 import sys
 from pathlib import Path
 
+from aero.vector_width import apply_vector_width
 from hawksim.kinematics import PARAM_NAMES, TABLE2_BOUNDS_DEG, Kinematics
-from hawksim.vector_width import use_wide_vectors
 
 
 class UsageError(Exception):
@@ -195,9 +195,9 @@ PLUGIN_MODULES = ("aero", "dataset", "predict", "train", "trim", "stability", "r
 
 
 def main(argv: list[str] | None = None) -> int:
-    use_wide_vectors()  # before numba is imported: see hawksim.vector_width
     parser = build_parser()
     try:
+        apply_vector_width(strict=True)  # checks HAWKSIM_VECTOR_WIDTH (importing aero applied it)
         args = parser.parse_args(argv)
         if (getattr(args, "steps_per_cycle", None) or 200) < 20:
             raise UsageError(f"--steps-per-cycle {args.steps_per_cycle} must be >= 20")

@@ -14,8 +14,8 @@
   can be compared with what the machine allows on the day: the rates here vary by up to 2x between days). The
   lattice kernel needs one division per evaluation and no square root: its ceiling is div_g_s.
 * ptera_wall_s / speedup: when --ptera-json FILE (output of scripts/bench_pterasoftware.py) is given.
-* vector_bits: the vector width numba compiled for. Like the ``hawksim`` command, the benchmark asks for 512-bit
-  vectors on CPUs that run them at full speed (hawksim.vector_width; HAWKSIM_VECTOR_WIDTH=256 keeps 256).
+* vector_bits: the vector width numba compiled for (256 by default; HAWKSIM_VECTOR_WIDTH=512 in the environment
+  asks for 512-bit vectors on AVX-512 hosts: aero.vector_width).
 """
 
 import argparse
@@ -23,11 +23,9 @@ import json
 import os
 import time
 
-from hawksim.vector_width import use_wide_vectors, vector_bits
+from aero.vector_width import vector_bits  # first: importing aero applies HAWKSIM_VECTOR_WIDTH before numba
 
-use_wide_vectors()  # before numba is imported
-
-import numpy as np  # noqa: E402
+import numpy as np  # noqa: E402, I001
 from numba import njit, prange  # noqa: E402
 
 from aero.biot_savart import induced_velocity, pack  # noqa: E402

@@ -1,0 +1,63 @@
+"""aero.vector_width: the opt-in 512-bit vector width, and that it reaches numba in a new process."""
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from aero.vector_width import apply_vector_width, vector_bits, wide_vector_features
+
+FEATURES = "+64bit,+avx2,+avx512f,+fma"
+CLEAN = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CPU_FEATURES", "HAWKSIM_VECTOR_WIDTH")}
+PROBE = ("import json, llvmlite.binding as b, aero; from aero.vector_width import vector_bits; "
+         "from numba.core import config; "
+         "print(json.dumps([vector_bits(), config.CPU_FEATURES, b.get_host_cpu_features().flatten()]))")
+
+
+def _probe(**extra):
+    out = subprocess.run([sys.executable, "-c", PROBE], env={**CLEAN, **extra}, capture_output=True, text=True,
+                         check=True)
+    return json.loads(out.stdout)
+
+
+def test_features_need_avx512():
+    assert wide_vector_features(FEATURES) == FEATURES + ",-prefer-256-bit"
+    assert wide_vector_features("+64bit,+avx2,-avx512f,+fma") is None
+
+
+def test_default_is_numbas_own_choice():
+    bits, numba_features, _ = _probe()
+    assert (bits, numba_features) == (256, None)
+
+
+def test_opt_in_reaches_numba_in_a_new_process():
+    bits, numba_features, host = _probe(HAWKSIM_VECTOR_WIDTH="512")
+    expected = wide_vector_features(host)
+    assert numba_features == expected
+    assert bits == (512 if expected else 256)
+
+
+def test_user_features_win_and_bad_values_are_refused():
+    env = {"HAWKSIM_VECTOR_WIDTH": "512", "NUMBA_CPU_FEATURES": "+avx2"}
+    assert apply_vector_width(env) is False and env["NUMBA_CPU_FEATURES"] == "+avx2"
+    assert apply_vector_width({"HAWKSIM_VECTOR_WIDTH": "1024"}) is False  # importing aero ignores it
+    with pytest.raises(ValueError, match="HAWKSIM_VECTOR_WIDTH"):
+        apply_vector_width({"HAWKSIM_VECTOR_WIDTH": "1024"}, strict=True)
+
+
+def test_the_command_refuses_a_bad_width():
+    out = subprocess.run([sys.executable, "-m", "hawksim.cli", "aero", "--speed", "0", "--kinematics",
+                          "f=26.1,beta=4.3,phi0=9.4,theta0=-2.8,alpha0=-0.4,phi_a=58.4,alpha_a=48.8", "--json"],
+                         env={**CLEAN, "HAWKSIM_VECTOR_WIDTH": "1024"}, capture_output=True, text=True)
+    assert out.returncode == 2 and out.stdout == ""
+    assert out.stderr.strip() == "hawksim: HAWKSIM_VECTOR_WIDTH must be 256 or 512, got '1024'"
+
+
+def test_nothing_changes_once_numba_is_imported():
+    import numba  # noqa: F401  (this test process has compiled kernels already)
+
+    env = {"HAWKSIM_VECTOR_WIDTH": "512"}
+    assert apply_vector_width(env) is False and "NUMBA_CPU_FEATURES" not in env
+    assert vector_bits() in (256, 512)
