@@ -23,17 +23,16 @@ import json
 import os
 import time
 
-from aero.vector_width import vector_bits  # first: importing aero applies HAWKSIM_VECTOR_WIDTH before numba
+from aero.vector_width import vector_bits  # noqa: I001  (first: importing aero applies HAWKSIM_VECTOR_WIDTH before numba)
 
-import numpy as np  # noqa: E402, I001
-from numba import njit, prange  # noqa: E402
+import numpy as np
+from numba import njit, prange
 
-from aero.biot_savart import induced_velocity, pack  # noqa: E402
-from aero.lattice import lattice_velocity, ring_lattice  # noqa: E402
-from aero.mesh import wing_mesh  # noqa: E402
-from aero.uvlm import UVLMConfig, run_prescribed  # noqa: E402
-from aero.uvlm_kinematics import two_wing_motion  # noqa: E402
-
+from aero.biot_savart import induced_velocity, pack
+from aero.lattice import lattice_velocity, ring_lattice
+from aero.mesh import wing_mesh
+from aero.uvlm import UVLMConfig, run_prescribed
+from aero.uvlm_kinematics import two_wing_motion
 
 def reference_wing(nc=8, ns=16):
     y = np.linspace(0, 0.05, ns + 1)
