@@ -97,7 +97,7 @@ def test_invalid_inputs_raise_value_error():
     with pytest.raises(ValueError, match="too coarse"):
         run_prescribed([left], UVLMConfig(), t[::8], R[::8, :1], o[::8, :1], v[::8, :1], w[::8, :1])
     with pytest.raises(ValueError, match="non-finite"):
-        run_prescribed([left], UVLMConfig(), t, R[:, :1], o[:, :1], v[:, :1] * np.inf, w[:, :1])
+        run_prescribed([left], UVLMConfig(), t, R[:, :1], o[:, :1], v[:, :1] + np.inf, w[:, :1])
     with pytest.raises(ValueError):
         FreeStream(v0=np.array([np.nan, 0, 0]))
 
