@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import get_num_threads
+from numba import get_num_threads, njit
 
 from aero.biot_savart import lattice_induced_velocity
 
@@ -73,16 +73,38 @@ def ring_lattice(G: np.ndarray, g: np.ndarray, span_rc2, chord_rc2) -> Lattice:
                    chord, np.broadcast_to(np.asarray(chord_rc2, float), (r, s + 1)))
 
 
-def _flat(lat: Lattice) -> tuple:
-    """Kernel arrays of one lattice, padded to (r+1, s+1) with zero-circulation edges."""
-    G = lat.G
-    r1, s1 = G.shape[:2]
-    sg, sr, cg, cr = np.zeros((r1, s1)), np.ones((r1, s1)), np.zeros((r1, s1)), np.ones((r1, s1))
-    sg[:, :-1] = lat.span_gamma
-    sr[:, :-1] = ((G[:, 1:] - G[:, :-1]) ** 2).sum(-1) * lat.span_rc2
-    cg[:-1] = lat.chord_gamma
-    cr[:-1] = ((G[1:] - G[:-1]) ** 2).sum(-1) * lat.chord_rc2
-    return G.reshape(-1, 3), sg.ravel(), sr.ravel(), cg.ravel(), cr.ravel()
+@njit(cache=True)
+def _fill(G, span_gamma, span_rc2, chord_gamma, chord_rc2, off, vx, vy, vz, sg, sr, cg, cr):
+    """Write one lattice into the kernel arrays from corner ``off`` on: its corners G (r+1, s+1, 3) row-major
+    into vx, vy, vz, and per corner the edges that start there, padded with zero-circulation edges (gamma 0,
+    rr 1) where there is none: spanwise (to the next corner in the row) sg, sr = |r0|^2 r_c^2, chordwise (to the
+    same corner of the next row) cg, cr. Same arithmetic as numpy's ((b - a) ** 2).sum(-1) * rc2 (no fastmath,
+    so bit for bit)."""
+    r1, s1 = G.shape[0], G.shape[1]
+    for i in range(r1):
+        for j in range(s1):
+            c = off + i * s1 + j
+            vx[c] = G[i, j, 0]
+            vy[c] = G[i, j, 1]
+            vz[c] = G[i, j, 2]
+            if j < s1 - 1:
+                dx = G[i, j + 1, 0] - G[i, j, 0]
+                dy = G[i, j + 1, 1] - G[i, j, 1]
+                dz = G[i, j + 1, 2] - G[i, j, 2]
+                sg[c] = span_gamma[i, j]
+                sr[c] = (dx * dx + dy * dy + dz * dz) * span_rc2[i, j]
+            else:
+                sg[c] = 0.0
+                sr[c] = 1.0
+            if i < r1 - 1:
+                dx = G[i + 1, j, 0] - G[i, j, 0]
+                dy = G[i + 1, j, 1] - G[i, j, 1]
+                dz = G[i + 1, j, 2] - G[i, j, 2]
+                cg[c] = chord_gamma[i, j]
+                cr[c] = (dx * dx + dy * dy + dz * dz) * chord_rc2[i, j]
+            else:
+                cg[c] = 0.0
+                cr[c] = 1.0
 
 
 def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
@@ -91,13 +113,16 @@ def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
     call."""
     targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
     out = np.zeros((targets.shape[0], 3))
-    groups: dict[int, list] = {}
+    groups: dict[int, list[Lattice]] = {}
     for lat in lattices:
         if lat.span_gamma.size + lat.chord_gamma.size:
-            groups.setdefault(lat.G.shape[1], []).append(_flat(lat))
-    for stride, parts in groups.items():
-        V, sg, sr, cg, cr = (np.concatenate(c) for c in zip(*parts))
-        lattice_induced_velocity(targets, np.ascontiguousarray(V[:, 0]), np.ascontiguousarray(V[:, 1]),
-                                 np.ascontiguousarray(V[:, 2]), stride, sg, sr, cg, cr, out,
-                                 4 * get_num_threads())
+            groups.setdefault(lat.G.shape[1], []).append(lat)
+    for stride, lats in groups.items():
+        arrays = np.empty((7, stride * sum(lat.G.shape[0] for lat in lats)))
+        off = 0
+        for lat in lats:
+            _fill(lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma, lat.chord_rc2, off, *arrays)
+            off += lat.G.shape[0] * stride
+        vx, vy, vz, sg, sr, cg, cr = arrays
+        lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out, 4 * get_num_threads())
     return out

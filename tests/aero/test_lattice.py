@@ -5,7 +5,7 @@ import numpy as np
 from numba import njit
 
 from aero.biot_savart import LATTICE_BLOCK, RSQRT_MIN, rsqrt, segment_velocity
-from aero.lattice import Lattice, lattice_velocity, ring_lattice
+from aero.lattice import Lattice, _fill, lattice_velocity, ring_lattice
 
 ULP_TOL = 4
 """rsqrt's allowed error in units of the last place of the correctly rounded value."""
@@ -80,3 +80,30 @@ def test_no_edges_no_velocity():
     lat = ring_lattice(np.zeros((1, 5, 3)), np.zeros((0, 4)), 1e-8, 1e-8)
     assert np.array_equal(lattice_velocity(np.ones((3, 3)), [lat]), np.zeros((3, 3)))
     assert np.array_equal(lattice_velocity(np.ones((3, 3)), []), np.zeros((3, 3)))
+
+
+def test_fill_writes_corners_and_padded_edges_bit_for_bit():
+    """The kernel arrays of two stacked lattices (one with scalar cores broadcast, one with per-edge cores, as the
+    wake has) equal numpy's ((b - a) ** 2).sum(-1) * rc2 exactly, with gamma 0 and rr 1 on the missing edges."""
+    lats = [_lattice(3, 5, 6), _lattice(4, 5, 7)]
+    rng = np.random.default_rng(8)
+    w = lats[1]
+    lats[1] = Lattice(w.G, w.span_gamma, rng.random(w.span_gamma.shape) * 1e-8, w.chord_gamma,
+                      rng.random(w.chord_gamma.shape) * 1e-8)
+    n = sum(lat.G.shape[0] * lat.G.shape[1] for lat in lats)
+    arrays = np.full((7, n), np.nan)
+    off = 0
+    for lat in lats:
+        _fill(lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma, lat.chord_rc2, off, *arrays)
+        off += lat.G.shape[0] * lat.G.shape[1]
+    parts = []
+    for lat in lats:
+        G = lat.G
+        shape = G.shape[:2]
+        sg, sr, cg, cr = np.zeros(shape), np.ones(shape), np.zeros(shape), np.ones(shape)
+        sg[:, :-1] = lat.span_gamma
+        sr[:, :-1] = ((G[:, 1:] - G[:, :-1]) ** 2).sum(-1) * lat.span_rc2
+        cg[:-1] = lat.chord_gamma
+        cr[:-1] = ((G[1:] - G[:-1]) ** 2).sum(-1) * lat.chord_rc2
+        parts.append(np.stack([*G.reshape(-1, 3).T, sg.ravel(), sr.ravel(), cg.ravel(), cr.ravel()]))
+    assert np.array_equal(arrays, np.concatenate(parts, axis=1))
