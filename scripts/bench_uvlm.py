@@ -14,6 +14,11 @@
   can be compared with what the machine allows on the day: the rates here vary by up to 2x between days). The
   lattice kernel needs one division per evaluation and no square root: its ceiling is div_g_s.
 * ptera_wall_s / speedup: when --ptera-json FILE (output of scripts/bench_pterasoftware.py) is given.
+* aero_command_s, aero_wall_time_s: `hawksim aero` at the default resolution (Table 3's hover kinematics, a
+  fresh process): the whole command's wall time and the solve time it reports (``wall_time_s``, which includes
+  numba's one-time start in that process, ~0.35 s here); aero_warm_s: the same solve in this process, numba
+  already started (best of 2).
+* targets: the speed targets of the UVLM issue, for reading the numbers above against.
 * vector_bits: the vector width numba compiled for (256 by default; HAWKSIM_VECTOR_WIDTH=512 in the environment
   asks for 512-bit vectors on AVX-512 hosts: aero.vector_width).
 """
@@ -21,6 +26,8 @@
 import argparse
 import json
 import os
+import subprocess
+import sys
 import time
 
 from aero.vector_width import vector_bits  # noqa: I001  (first: importing aero applies HAWKSIM_VECTOR_WIDTH before numba)
@@ -33,6 +40,11 @@ from aero.lattice import lattice_velocity, ring_lattice
 from aero.mesh import wing_mesh
 from aero.uvlm import UVLMConfig, run_prescribed
 from aero.uvlm_kinematics import two_wing_motion
+from hawksim.evaluate import DEFAULT, run
+from hawksim.kinematics import TABLE3_DEG, table3_kinematics
+
+TARGETS = {"lattice_kernel_geval_s": 1.5, "reference_case_s": 6.0, "aero_wall_time_s": 1.0,
+           "speedup_vs_ptera": 25.0}
 
 def reference_wing(nc=8, ns=16):
     y = np.linspace(0, 0.05, ns + 1)
@@ -109,6 +121,20 @@ def unit_rate(fn, n=2048, reps=20000, tries=5):
     return n * reps / best / 1e9
 
 
+def aero_timings() -> dict:
+    """`hawksim aero` at the default resolution with Table 3's hover kinematics: a fresh command, then the same
+    solve in this process (warm)."""
+    kin = ",".join(f"{k}={v[0]}" for k, v in TABLE3_DEG.items())
+    argv = ["aero", "--speed", "0", "--kinematics", kin, "--json", "--no-progress"]
+    code = "import sys; from hawksim.cli import main; sys.exit(main(sys.argv[1:]))"
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True, check=True)
+    command = time.perf_counter() - t0
+    warm = min(run(table3_kinematics(0.0), 0.0, DEFAULT).wall_time_s for _ in range(2))
+    return {"aero_command_s": round(command, 2), "aero_wall_time_s": round(json.loads(proc.stdout)["wall_time_s"], 3),
+            "aero_warm_s": round(warm, 3)}
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--ptera-json", help="JSON file written by scripts/bench_pterasoftware.py")
@@ -132,12 +158,14 @@ def main():
            "vector_bits": vector_bits(),
            "mean_lift_last_cycle_N": float(2 * res.force[-n:, 0, 2].mean()),
            "mean_power_last_cycle_W": float(2 * res.power[-n:].mean())}
+    out.update(aero_timings())
     if args.ptera_json:
         with open(args.ptera_json) as f:
             p = json.load(f)
         out["ptera_wall_s"] = p.get("ptera_wall_s")
         if out["ptera_wall_s"]:
             out["speedup_vs_ptera"] = round(out["ptera_wall_s"] / wall, 1)
+    out["targets"] = TARGETS
     print(json.dumps(out))
 
 
