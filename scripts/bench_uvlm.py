@@ -45,6 +45,8 @@ from hawksim.kinematics import TABLE3_DEG, table3_kinematics
 
 TARGETS = {"lattice_kernel_geval_s": 1.5, "reference_case_s": 6.0, "aero_wall_time_s": 1.0,
            "speedup_vs_ptera": 25.0}
+"""Issue 3's speed targets (G evaluations/s, s, s, ratio)."""
+
 
 def reference_wing(nc=8, ns=16):
     y = np.linspace(0, 0.05, ns + 1)
