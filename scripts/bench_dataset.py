@@ -12,15 +12,15 @@ and added to the projection.
 
 import argparse
 import os
-
-import numpy as np
 import tempfile
 import time
 from pathlib import Path
 
-from hawksim.dataset import generate
-from hawksim.evaluate import TRAINING
+import numpy as np
+
+from hawksim.backends.resolution import TRAINING
 from hawksim.jsonout import emit
+from hawksim.surrogate.dataset import generate
 
 PAPER_SAMPLES = 5 * 3000
 """Nguyen et al. (2020), Sec. 2.4: 3000 UVLM samples per ascent speed, five speeds."""

@@ -24,13 +24,13 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     a = ap.parse_args()
 
-    from hawksim.flight import fly
+    from hawksim.cli.fly import fly_named
 
-    fly(a.speed, 1, a.aero)  # warm-up: numba cache, model generation
+    fly_named(a.speed, 1, a.aero)  # warm-up: numba cache, model generation
     loop = []
     for _ in range(a.repeat):
         t0 = time.perf_counter()
-        r = fly(a.speed, a.cycles, a.aero)
+        r = fly_named(a.speed, a.cycles, a.aero)
         loop.append((r.wall_time_s, time.perf_counter() - t0))
     sim_time = a.cycles * r.kinematics.period  # the flown trim (the model's own)
     cmd = [sys.executable, "-m", "hawksim.cli", "fly", "--speed", str(a.speed), "--cycles", str(a.cycles),

@@ -17,10 +17,11 @@ import time
 import numpy as np
 import torch
 
-from hawksim.evaluate import DEFAULT, TRAINING, evaluate
+from hawksim.backends.held import evaluate
+from hawksim.backends.network import load, shipped_path
+from hawksim.backends.resolution import DEFAULT, TRAINING
+from hawksim.insect.kinematics import bounds_si, table3_kinematics
 from hawksim.jsonout import emit
-from hawksim.kinematics import bounds_si, table3_kinematics
-from hawksim.surrogate import load, shipped_path
 
 
 def best_time(fn, reps):

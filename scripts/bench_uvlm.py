@@ -30,8 +30,6 @@ import subprocess
 import sys
 import time
 
-from aero.vector_width import vector_bits  # noqa: I001  (first: importing aero applies HAWKSIM_VECTOR_WIDTH before numba)
-
 import numpy as np
 from numba import njit, prange
 
@@ -40,8 +38,10 @@ from aero.lattice import lattice_velocity, ring_lattice
 from aero.mesh import wing_mesh
 from aero.uvlm import UVLMConfig, run_prescribed
 from aero.uvlm_kinematics import two_wing_motion
-from hawksim.evaluate import DEFAULT, run
-from hawksim.kinematics import TABLE3_DEG, table3_kinematics
+from aero.vector_width import vector_bits  # noqa: I001  (first: importing aero applies HAWKSIM_VECTOR_WIDTH before numba)
+from hawksim.backends.held import run
+from hawksim.backends.resolution import DEFAULT
+from hawksim.insect.kinematics import TABLE3_DEG, table3_kinematics
 
 TARGETS = {"lattice_kernel_geval_s": 1.5, "reference_case_s": 6.0, "aero_wall_time_s": 1.0,
            "speedup_vs_ptera": 25.0}

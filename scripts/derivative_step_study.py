@@ -16,11 +16,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from hawksim.derivatives import DERIVATIVE_RESOLUTION, dimensional_derivatives
+from hawksim.insect.kinematics import ROUND_OFF_STEP, realization
 from hawksim.jsonout import emit
-from hawksim.kinematics import ROUND_OFF_STEP, realization
-from hawksim.stability import Scales
-from hawksim.trim_table import trim_kinematics
+from hawksim.stability.derivatives import DERIVATIVE_RESOLUTION, dimensional_derivatives
+from hawksim.stability.system import Scales
+from hawksim.trim.tables import trim_kinematics
 
 
 def main():

@@ -1,6 +1,6 @@
 """Label noise of the training data: how much a sample's cycle averages change from one wingbeat to the next.
 
-The data set stores the averages of wingbeat 3 of 3 at the training resolution (`hawksim.evaluate.TRAINING`).
+The data set stores the averages of wingbeat 3 of 3 at the training resolution (`hawksim.backends.resolution.TRAINING`).
 Here the same samples (seed 0, indices 0..n-1: the shipped set's first samples) are run for one more wingbeat; the
 RMS of (wingbeat 4 - wingbeat 3) / sqrt(2) estimates the noise of one stored label (and 1.4826 MAD / sqrt(2)
 the same without the weight of a few near-blow-up runs) (the wake's cycle-to-cycle
@@ -18,10 +18,12 @@ import argparse
 
 import numpy as np
 
-from hawksim.dataset import sample_kinematics
-from hawksim.evaluate import OUTPUTS, TRAINING, beat_averages
+from hawksim.backends.averages import OUTPUTS
+from hawksim.backends.held import beat_averages
+from hawksim.backends.resolution import TRAINING
+from hawksim.insect.kinematics import realization
 from hawksim.jsonout import emit
-from hawksim.kinematics import realization
+from hawksim.surrogate.dataset import sample_kinematics
 
 
 def main():

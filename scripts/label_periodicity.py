@@ -8,7 +8,7 @@ wingbeat 3 is the stored label, checked equal to the rerun). Reported per speed:
 * quantiles of |beat 3 - beat 2| and |beat 4 - beat 3| of L+, and of the largest of the four outputs' changes,
   and the correlation of the two changes (does a run that still changes at beat 3 keep changing?);
 * for thresholds ``--tols``: how many samples have every output's beat 2 -> 3 change within the threshold
-  (the criterion of `hawksim.dataset.SETTLE_TOL`, which a layout-2 data set applies when it is made), and the
+  (the criterion of `hawksim.surrogate.dataset.SETTLE_TOL`, which a layout-2 data set applies when it is made), and the
   R^2 of L+ and P+ of the per-speed and speed-input networks on those samples alone, beside all of them.
 
 ``--data`` must be the file the shipped networks were trained on (their recorded data hash is checked).
@@ -26,15 +26,16 @@ import sys
 
 import numpy as np
 
-from hawksim.dataset import sample_kinematics
+from hawksim.backends.network import load, shipped_path
 from hawksim.jsonout import emit
-from hawksim.surrogate import load, shipped_path
-from hawksim.train import scores, shipped_held_out
+from hawksim.surrogate.dataset import sample_kinematics
+from hawksim.surrogate.train import scores, shipped_held_out
 
 
 def _beats(args):
     """Per-wingbeat averages (4, 4) of sample (seed, speed, i), or None if the UVLM diverges."""
-    from hawksim.evaluate import TRAINING, beat_averages
+    from hawksim.backends.held import beat_averages
+    from hawksim.backends.resolution import TRAINING
 
     seed, v, i = args
     try:

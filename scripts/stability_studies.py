@@ -9,7 +9,7 @@ import argparse
 import json
 from pathlib import Path
 
-from hawksim.reproduce import stability_all
+from hawksim.paper.reproduce import stability_all
 
 
 def main():

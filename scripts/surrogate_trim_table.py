@@ -12,10 +12,10 @@ import math
 import sys
 
 from hawksim import __version__
+from hawksim.backends.network import load, shipped_path
+from hawksim.insect.kinematics import TABLE3_SPEEDS
 from hawksim.jsonout import emit
-from hawksim.kinematics import TABLE3_SPEEDS
-from hawksim.surrogate import load, shipped_path
-from hawksim.trim import GAConfig, trim_on_surrogate
+from hawksim.trim.search import GAConfig, trim_on_surrogate
 
 
 def main():

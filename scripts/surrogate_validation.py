@@ -30,9 +30,9 @@ import sys
 
 import numpy as np
 
+from hawksim.backends.network import OUTPUTS, load, shipped_path
 from hawksim.jsonout import emit
-from hawksim.surrogate import OUTPUTS, load, shipped_path
-from hawksim.train import scores, shipped_held_out
+from hawksim.surrogate.train import scores, shipped_held_out
 
 R2_TARGET = {"L_plus": 0.99, "P_plus": 0.99}
 """Issue 4's accuracy target on held-out UVLM data."""
@@ -87,9 +87,10 @@ WELL_CONDITIONED_TOL = 0.01
 
 
 def _conditioning(data_seed, v, idx, y, beats, preds) -> dict:
-    from hawksim.dataset import sample_kinematics
-    from hawksim.evaluate import TRAINING, beat_averages
-    from hawksim.kinematics import realization
+    from hawksim.backends.held import beat_averages
+    from hawksim.backends.resolution import TRAINING
+    from hawksim.insect.kinematics import realization
+    from hawksim.surrogate.dataset import sample_kinematics
 
     nan = [np.nan] * len(OUTPUTS)
     again, other, multi = [], [], []

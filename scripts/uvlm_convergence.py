@@ -11,8 +11,9 @@ import argparse
 import json
 import time
 
-from hawksim.evaluate import Resolution, run
-from hawksim.kinematics import table3_kinematics
+from hawksim.backends.held import run
+from hawksim.backends.resolution import Resolution
+from hawksim.insect.kinematics import table3_kinematics
 from hawksim.jsonout import emit
 
 LADDER = [(4, 8, 30), (6, 12, 40), (8, 16, 60), (12, 24, 80), (16, 32, 120)]

@@ -6,8 +6,8 @@ Prints one JSON object and writes it to --out (also part of `hawksim reproduce`)
 
 import argparse
 
-from hawksim.reproduce import table4_comparison
 from hawksim.jsonout import emit
+from hawksim.paper.reproduce import table4_comparison
 
 
 def main():

@@ -2,7 +2,7 @@
 
 For each ascent speed the starting point is the paper's Table 3 (until the surrogate's GA + Nelder-Mead
 optimum is available, issue 5), and f, beta, phi0, alpha0 are adjusted until |L+ - 1|, |D+|, |M+| <= 0.01 by the UVLM
-(`hawksim.trim_uvlm`). Deterministic (no random numbers). Prints one JSON object.
+(`hawksim.trim.balance`). Deterministic (no random numbers). Prints one JSON object.
 
     python scripts/uvlm_trim_table.py --out hawksim/data/trim_table.json
     python scripts/uvlm_trim_table.py --aero quasi-steady --out hawksim/data/trim_table_quasi_steady.json
@@ -15,9 +15,9 @@ import sys
 import time
 
 from hawksim import __version__
-from hawksim.kinematics import TABLE3_SPEEDS, table3_kinematics
-from hawksim.evaluate import Resolution
-from hawksim.trim_uvlm import FREE, TRIM_RESOLUTION, balance_on_uvlm
+from hawksim.backends.resolution import Resolution
+from hawksim.insect.kinematics import TABLE3_SPEEDS, table3_kinematics
+from hawksim.trim.balance import FREE, TRIM_RESOLUTION, balance_on_uvlm
 
 QS_RESOLUTION = Resolution(aero="quasi-steady", steps_per_cycle=200, cycles=2)
 
@@ -32,10 +32,10 @@ def main():
     rows = []
     for v in a.speeds:
         r = balance_on_uvlm(table3_kinematics(v), v, res)
-        av, st = r.averages, r.start_averages
+        av, st = r.averages, r.start.averages
         rows.append({"speed": v, "kinematics": r.kinematics.to_edge(), "chi": math.degrees(r.kinematics.chi),
                      "uvlm": {k: getattr(av, k) for k in ("L_plus", "D_plus", "M_plus", "P_plus")},
-                     "start": {"source": "Nguyen et al. (2020) Table 3", "kinematics": r.start.to_edge(),
+                     "start": {"source": "Nguyen et al. (2020) Table 3", "kinematics": r.start.kinematics.to_edge(),
                                "uvlm": {k: getattr(st, k) for k in ("L_plus", "D_plus", "M_plus", "P_plus")}},
                      "converged": r.converged, "evaluations": r.evaluations, "wall_time_s": r.wall_time_s})
         print(json.dumps(rows[-1]), file=sys.stderr, flush=True)

@@ -1,6 +1,6 @@
 """Periodicity and round-off sensitivity of the free wake at the trim, and what wake regularisations do to it.
 
-For each ascent speed (the shipped trim kinematics, `hawksim.trim_table`) and each wake variant, the held-body
+For each ascent speed (the shipped trim kinematics, `hawksim.trim.tables`) and each wake variant, the held-body
 UVLM runs ``--beats`` wingbeats at `hawksim aero`'s resolution (6 x 12 rings, 40 steps per beat) twice: as is,
 and with the flapping frequency changed by a relative 1e-10 (round-off level). Reported per run: L+, D+, M+, P+
 of every wingbeat; per (speed, variant): the mean and standard deviation of L+ over beats 2..N (the wake's
@@ -22,12 +22,12 @@ import time
 import numpy as np
 
 from aero.uvlm import ROTOR_A_PRIME, UVLMConfig
-from hawksim.evaluate import DEFAULT
-from hawksim.held import held_flight
+from hawksim.backends.held import held_flight
+from hawksim.backends.resolution import DEFAULT
+from hawksim.backends.uvlm import RHO_AIR, UVLMBackend
+from hawksim.insect.kinematics import ROUND_OFF_STEP, Kinematics, realization
 from hawksim.jsonout import emit
-from hawksim.kinematics import ROUND_OFF_STEP, Kinematics, realization
-from hawksim.trim_table import trim_kinematics
-from hawksim.uvlm_backend import RHO_AIR, UVLMBackend
+from hawksim.trim.tables import trim_kinematics
 
 VARIANTS = {
     "rotor_a_prime": {"a_prime": ROTOR_A_PRIME},

@@ -13,12 +13,24 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from hawksim.backends.resolution import Resolution
 from hawksim.cli import main
-from hawksim.dataset import (APPLICATION_ID, OUTPUTS, PEAK_FORCE_CEILING, SETTLE_TOL, DatasetError, Sample,
-                             file_sha256, generate, insert_sample, open_dataset, read_samples, sample_kinematics,
-                             speeds_in)
-from hawksim.evaluate import Resolution
-from hawksim.kinematics import bounds_si
+from hawksim.insect.kinematics import bounds_si
+from hawksim.surrogate.dataset import (
+    APPLICATION_ID,
+    OUTPUTS,
+    PEAK_FORCE_CEILING,
+    SETTLE_TOL,
+    DatasetError,
+    Sample,
+    file_sha256,
+    generate,
+    insert_sample,
+    open_dataset,
+    read_samples,
+    sample_kinematics,
+    speeds_in,
+)
 
 TINY = Resolution(n_chord=2, n_span=3, steps_per_cycle=20, cycles=1)
 """A coarse UVLM (~10 ms per sample): the pipeline's logic, not its accuracy, is under test here."""
@@ -169,7 +181,7 @@ def test_status_marks_labels_that_still_change_between_wingbeats():
 
 
 def test_rows_hold_the_previous_wingbeat_and_unsettled_samples_are_left_out(tmp_path):
-    from hawksim.evaluate import beat_averages
+    from hawksim.backends.held import beat_averages
 
     res = Resolution(n_chord=2, n_span=3, steps_per_cycle=20, cycles=2)
     path = tmp_path / "d.sqlite"
@@ -191,12 +203,6 @@ def test_rows_hold_the_previous_wingbeat_and_unsettled_samples_are_left_out(tmp_
     t = read_samples(path)
     assert len(t.y) == n_ok and 99 not in t.idx and t.n_left_out == 3 - n_ok + 1
     assert t.n_unsettled == before.n_unsettled + 1 and t.n_diverged == before.n_diverged
-
-
-def test_the_surrogate_spells_the_same_outputs():
-    from hawksim import surrogate
-
-    assert surrogate.OUTPUTS == OUTPUTS
 
 
 def test_layout_1_files_are_read_but_not_continued(tmp_path, capsys):

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from hawksim.derivatives import S_WORLD, _loads_stability, dimensional_derivatives
-from hawksim.evaluate import Resolution
-from hawksim.kinematics import table3_kinematics
-from hawksim.stability import a_long
-from hawksim.studies import nr_sweep, w_e_sweep
+from hawksim.backends.resolution import Resolution
+from hawksim.insect.kinematics import table3_kinematics
+from hawksim.paper.studies import nr_sweep, w_e_sweep
+from hawksim.stability.derivatives import S_WORLD, _loads_stability, dimensional_derivatives
+from hawksim.stability.system import a_long
 
 COARSE = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=1)
 

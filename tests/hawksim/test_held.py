@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from hawksim.backend import NoAero
-from hawksim.held import held_flight
-from hawksim.kinematics import table3_kinematics
-from hawksim.morphology import HAWKMOTH
-from hawksim.qs_backend import QuasiSteadyBackend
+from hawksim.backends.base import NoAero
+from hawksim.backends.held import held_flight
+from hawksim.backends.quasi_steady import QuasiSteadyBackend
+from hawksim.insect.kinematics import table3_kinematics
+from hawksim.insect.morphology import HAWKMOTH
 
 
 def test_inertial_power_is_periodic_and_aero_power_positive():
@@ -49,9 +49,9 @@ def test_quasi_steady_trim_holds_over_three_wingbeats():
     |L+ - 1|, |D+|, |M+| <= 0.01) the free flight keeps its ascent speed within 0.1 m/s and its cycle-mean body
     angle within 2 deg of chi for 3 beats. (The free body's recoil costs lift: the speed falls ~0.04 m/s per
     beat, see README.)"""
-    from hawksim.flight import fly
+    from hawksim.cli.fly import fly_named
 
-    r = fly(1.0, 3)
+    r = fly_named(1.0, 3)
     assert "quasi-steady balance" in r.trim_source
     n = r.steps_per_cycle
     z, pitch = r.body_pos[:, 2], np.degrees(r.pitch())

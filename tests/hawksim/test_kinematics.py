@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from hawksim.kinematics import (
+from hawksim.insect.kinematics import (
     MIRROR,
     PARAM_NAMES,
     R_BODY_STROKE,
@@ -34,7 +34,7 @@ def test_eq1_sweep_and_rotation_phases():
 
 def _geometric_aoa(t):
     """Angle between the chord (toward the leading edge) and the velocity of the span axis, stroke frame."""
-    from hawksim.rotations import cross
+    from hawksim.frames import cross
 
     phi, theta, alpha = KIN.angles(t)
     R = wing_rotation_stroke(phi, theta, alpha, side="left")
@@ -62,7 +62,7 @@ def test_rates_and_accelerations_are_derivatives():
 def test_body_angle_and_stroke_plane():
     assert np.degrees(KIN.chi) == pytest.approx(58.5)  # Table 3: chi = 58.5 deg at beta = 1.5 deg
     # with the body pitched nose-up by chi, the stroke plane normal is tilted forward by beta
-    from hawksim.rotations import rot_y
+    from hawksim.frames import rot_y
 
     normal_world = rot_y(-KIN.chi) @ R_BODY_STROKE[:, 2]
     assert np.degrees(np.arctan2(normal_world[0], normal_world[2])) == pytest.approx(np.degrees(KIN.beta))

@@ -4,16 +4,16 @@ import mujoco
 import numpy as np
 import pytest
 
-from hawksim.kinematics import MIRROR, table3_kinematics, wing_rotation_body
-from hawksim.model import REPO_MODEL_PATH, load_model, mjcf
-from hawksim.morphology import HAWKMOTH
-from hawksim.rotations import quat_to_matrix
+from hawksim.frames import quat_to_matrix
+from hawksim.insect.kinematics import MIRROR, table3_kinematics, wing_rotation_body
+from hawksim.insect.model import REPO_MODEL_PATH, load_model, mjcf
+from hawksim.insect.morphology import HAWKMOTH
 
 TOL = 1e-8  # relative: the XML stores 9 significant digits
 
 
 def test_committed_xml_is_the_generated_one():
-    assert REPO_MODEL_PATH.read_text() == mjcf(), "regenerate with: python -m hawksim.model"
+    assert REPO_MODEL_PATH.read_text() == mjcf(), "regenerate with: python -m hawksim.insect.model"
     m = mujoco.MjModel.from_xml_path(str(REPO_MODEL_PATH))  # plain MuJoCo loads it
     assert m.nbody == 4
 
@@ -50,7 +50,7 @@ def test_mass_and_inertia_equal_the_morphology():
 
 
 def test_joint_axes_reproduce_the_kinematics_frames():
-    """MuJoCo's wing frames (xmat) equal hawksim.kinematics' for both wings: joint angles = (phi, theta, alpha)."""
+    """MuJoCo's wing frames (xmat) equal hawksim.insect.kinematics' for both wings: joint angles = (phi, theta, alpha)."""
     m = load_model()
     d = mujoco.MjData(m)
     kin = table3_kinematics(1.0)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from hawksim.morphology import HAWKMOTH, beta_planform
+from hawksim.insect.morphology import HAWKMOTH, beta_planform
 
 
 def test_table1_planform_matches():
@@ -52,7 +52,7 @@ def test_beta_function_matches_scipy():
     every UVLM result, is unchanged), and to 1e-14 relative over the planforms' range 1 < p, q < 6."""
     from scipy.special import beta
 
-    from hawksim.morphology import _beta_fn
+    from hawksim.insect.morphology import _beta_fn
 
     p, q = HAWKMOTH.planform.p, HAWKMOTH.planform.q
     assert _beta_fn(p, q) == beta(p, q)

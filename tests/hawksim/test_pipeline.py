@@ -6,9 +6,9 @@ import json
 import numpy as np
 import pytest
 
+from hawksim.backends.network import load
 from hawksim.cli import main
-from hawksim.dataset import read_samples
-from hawksim.surrogate import load
+from hawksim.surrogate.dataset import read_samples
 
 TINY_ARGS = ["--n-chord", "2", "--n-span", "3", "--steps-per-cycle", "20", "--cycles", "1"]
 
@@ -35,7 +35,7 @@ def test_dataset_train_predict_trim(tmp_path, capsys):
     assert sur.inputs.speed == 1.0 and sur.hidden == 6 and "--seed 0" in sur.meta["command"]
     kin = "f=30,beta=5,phi0=0,theta0=10,alpha0=0,phi_a=55,alpha_a=45"
     pred = _run(capsys, ["predict", "--speed", "1", "--kinematics", kin, "--model", str(model), "--json"])
-    from hawksim.cli import parse_kinematics
+    from hawksim.cli.args import parse_kinematics
 
     assert pred["P_plus"] == pytest.approx(sur.predict(parse_kinematics(kin).as_array()[None], 1.0)[0, 3])
     trim = _run(capsys, ["trim", "--speed", "1", "--model", str(model), "--population", "2000", "--no-progress",

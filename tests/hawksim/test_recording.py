@@ -1,4 +1,4 @@
-"""`hawksim.recording.write_rrd`: the .rrd file is complete, readable and holds the flight's data."""
+"""`hawksim.flight.recording.write_rrd`: the .rrd file is complete, readable and holds the flight's data."""
 
 from __future__ import annotations
 
@@ -12,15 +12,15 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
-from hawksim import recording
-from hawksim.flight import fly
-from hawksim.morphology import HAWKMOTH
-from hawksim.recording import write_rrd
+from hawksim.flight import recording
+from hawksim.cli.fly import fly_named
+from hawksim.flight.recording import write_rrd
+from hawksim.insect.morphology import HAWKMOTH
 
 
 @pytest.fixture(scope="module")
 def result():
-    return fly(1.0, 2)
+    return fly_named(1.0, 2)
 
 
 def read_chunks(path: Path) -> dict[str, list]:

@@ -4,10 +4,10 @@ import mujoco
 import numpy as np
 import pytest
 
-from hawksim.backend import FlightState, NoAero, WingLoads
-from hawksim.kinematics import MIRROR, table3_kinematics
-from hawksim.model import load_model
-from hawksim.simulation import Simulator
+from hawksim.backends.base import FlightState, NoAero, WingLoads
+from hawksim.flight.simulator import Simulator
+from hawksim.insect.kinematics import MIRROR, table3_kinematics
+from hawksim.insect.model import load_model
 
 KIN = table3_kinematics(1.0)
 TRACK_TOL_DEG = 0.01  # issue 2: joint angles track Eq. 1 to < 0.01 deg
@@ -125,7 +125,7 @@ def test_gravity_alone_accelerates_the_system_at_g():
 
 
 def test_symmetric_flapping_stays_in_the_sagittal_plane():
-    from hawksim.qs_backend import QuasiSteadyBackend
+    from hawksim.backends.quasi_steady import QuasiSteadyBackend
 
     sim = Simulator(load_model(), KIN, QuasiSteadyBackend())
     sim.reset()

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from hawksim.derivatives import mass_properties
-from hawksim.kinematics import table3_kinematics
-from hawksim.morphology import HAWKMOTH
-from hawksim.stability import Scales, a_lat, a_long, classify, modes, nondimensional_system
+from hawksim.insect.kinematics import table3_kinematics
+from hawksim.insect.morphology import HAWKMOTH
+from hawksim.stability.derivatives import mass_properties
+from hawksim.stability.system import Scales, a_lat, a_long, classify, modes, nondimensional_system
 
 D = {"Xu": -1.0, "Xw": 0.1, "Xq": 0.2, "Zu": 0.05, "Zw": -2.0, "Zq": 0.3, "Mu": 0.4, "Mw": -0.02, "Mq": -0.5,
      "Yv": -1.1, "Yp": 0.15, "Yr": 0.05, "Lv": -0.3, "Lp": -0.6, "Lr": 0.02, "Nv": 0.04, "Np": 0.03, "Nr": -0.7}

@@ -8,12 +8,20 @@ import numpy as np
 import pytest
 from safetensors.numpy import save_file
 
+from hawksim.backends.network import (
+    FORMAT,
+    SHIPPED_SPEEDS,
+    InputDefinition,
+    Surrogate,
+    SurrogateFileError,
+    load,
+    load_for_speed,
+    shipped_path,
+)
 from hawksim.cli import main
-from hawksim.dataset import file_sha256
-from hawksim.kinematics import bounds_si
-from hawksim.surrogate import (FORMAT, SHIPPED_SPEEDS, InputDefinition, Surrogate, SurrogateFileError, load,
-                               load_for_speed, shipped_path)
-from hawksim.train import held_out_samples, scores
+from hawksim.insect.kinematics import bounds_si
+from hawksim.surrogate.dataset import file_sha256
+from hawksim.surrogate.train import held_out_samples, scores
 
 FLOAT32_ATOL = 1e-4
 """predict_torch (float32) vs predict (float64) for outputs of order 1 through 500 hidden units."""
@@ -109,7 +117,7 @@ def test_predict_cli_with_model_file(tmp_path, capsys):
     p = s.save(tmp_path / "m.safetensors")
     assert main(["predict", "--speed", "0.5", "--kinematics", KIN, "--model", str(p), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    from hawksim.cli import parse_kinematics
+    from hawksim.cli.args import parse_kinematics
 
     ref = s.predict(parse_kinematics(KIN).as_array()[None], 0.5)[0]
     assert [out[k] for k in ("L_plus", "D_plus", "M_plus", "P_plus")] == pytest.approx(ref, rel=1e-12)
@@ -163,8 +171,8 @@ def test_shipped_surrogates_meet_the_accuracy_target_on_held_out_data(speed):
 @pytest.mark.skipif(not shipped_path(1.0).is_file(), reason="the trained surrogates are not in this checkout")
 def test_a_split_of_other_data_is_refused(tmp_path):
     """A network's held-out split only means something on the rows it was trained on: another file is refused."""
-    from hawksim.dataset import generate
-    from hawksim.evaluate import Resolution
+    from hawksim.backends.resolution import Resolution
+    from hawksim.surrogate.dataset import generate
 
     other = tmp_path / "other.sqlite"
     generate(other, 1.0, 2, seed=0, resolution=Resolution(n_chord=2, n_span=2, steps_per_cycle=12, cycles=1),

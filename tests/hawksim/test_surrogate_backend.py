@@ -4,11 +4,11 @@ insect at V holds V over several wingbeats."""
 import numpy as np
 import pytest
 
-from hawksim.backend import FlightState
-from hawksim.kinematics import table3_kinematics
-from hawksim.morphology import HAWKMOTH, P0_W
-from hawksim.surrogate import SPEED_BOUNDS, InputDefinition, Surrogate
-from hawksim.surrogate_backend import SurrogateBackend
+from hawksim.backends.base import FlightState
+from hawksim.backends.network import SPEED_BOUNDS, InputDefinition, Surrogate
+from hawksim.backends.surrogate import SurrogateBackend
+from hawksim.insect.kinematics import table3_kinematics
+from hawksim.insect.morphology import HAWKMOTH, P0_W
 
 
 def _speed_net(L0=1.0, dLdV=-0.3, D=0.02, M=-0.01, P=0.9, v0=1.0) -> Surrogate:
@@ -56,12 +56,12 @@ def test_per_speed_network_is_refused():
 
 
 def test_flight_on_a_balancing_surrogate_holds_its_speed(monkeypatch):
-    from hawksim import surrogate_backend
-    from hawksim.flight import fly
+    from hawksim.backends import surrogate as surrogate_backend
+    from hawksim.cli.fly import fly_named
 
     net = _speed_net(L0=1.0, dLdV=-0.5, D=0.0, M=0.0, v0=1.0)
     monkeypatch.setattr(surrogate_backend, "load", lambda path: net)
-    r = fly(1.0, 6, aero="surrogate", kinematics=table3_kinematics(1.0), steps_per_cycle=100)
+    r = fly_named(1.0, 6, aero="surrogate", kinematics=table3_kinematics(1.0), steps_per_cycle=100)
     s = r.summary()
     # lift balances the weight at 1 m/s and falls with speed: the ascent holds 1 m/s within 2 % (the body's
     # in-cycle heave from the wings' inertia is averaged out by the last-cycle mean)
@@ -69,18 +69,18 @@ def test_flight_on_a_balancing_surrogate_holds_its_speed(monkeypatch):
     assert abs(s["horizontal_drift"]) < 0.01
 
 
-@pytest.mark.skipif(not __import__("hawksim.surrogate", fromlist=["x"]).shipped_path(None).is_file(),
+@pytest.mark.skipif(not __import__("hawksim.backends.network", fromlist=["x"]).shipped_path(None).is_file(),
                     reason="the speed-input surrogate is not in this checkout")
 @pytest.mark.parametrize("speed", [0.5, 1.0, 2.0])
 def test_shipped_surrogate_trim_holds_over_ten_wingbeats(speed):
     """From the shipped surrogate trim (hawksim/data/trim_table_surrogate.json: the speed-input network's own
     minimum of Eq. 3), the free flight on that network's loads keeps its ascent speed within 0.05 m/s over 10
     beats: the trim balances the network (|L+ - 1| < 1e-3 there) and lift falls as the ascent speeds up."""
-    from hawksim.flight import fly
-    from hawksim.trim_table import trim_source
+    from hawksim.cli.fly import fly_named
+    from hawksim.trim.tables import trim_source
 
     assert "surrogate" in trim_source("surrogate")
-    r = fly(speed, 10, "surrogate", steps_per_cycle=100)
+    r = fly_named(speed, 10, "surrogate", steps_per_cycle=100)
     n = r.steps_per_cycle
     z = r.body_pos[:, 2]
     for c in range(10):

@@ -6,9 +6,9 @@ import pytest
 import torch
 from torch.func import jacrev, vmap
 
-from hawksim.kinematics import bounds_si
-from hawksim.surrogate import InputDefinition
-from hawksim.train import TrainConfig, _net_batch, gauss_newton, scores, split, train
+from hawksim.backends.network import InputDefinition
+from hawksim.insect.kinematics import bounds_si
+from hawksim.surrogate.train import TrainConfig, _net_batch, gauss_newton, scores, split, train
 
 GN_RTOL = 1e-12
 """J^T J by blocks vs the full Jacobian's: the same sums in another order (float64 rounding)."""
@@ -80,7 +80,7 @@ def test_speed_input_network_and_bad_data():
 
 
 def test_grouped_split_holds_out_what_each_group_alone_holds_out():
-    from hawksim.train import split_groups
+    from hawksim.surrogate.train import split_groups
 
     cfg = TrainConfig()
     sizes = (57, 80, 64)

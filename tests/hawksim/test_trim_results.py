@@ -3,9 +3,8 @@
 import numpy as np
 import pytest
 
-from hawksim.kinematics import PARAM_NAMES, TABLE3_DEG, TABLE3_SPEEDS
-from hawksim.trim_results import (PAPER_POWER_FIT_W, figures, power_fit, table3_markdown, table4_markdown,
-                                  trim_table)
+from hawksim.insect.kinematics import PARAM_NAMES, TABLE3_DEG, TABLE3_SPEEDS
+from hawksim.paper.trims import PAPER_POWER_FIT_W, figures, power_fit, table3_markdown, table4_markdown, trim_table
 
 
 def test_power_fit_recovers_a_line():
@@ -43,7 +42,7 @@ def test_tables_figures_and_trim_table_layout(tmp_path):
                                        "fig14_energy.png"]
     assert all(p.stat().st_size > 10_000 for p in paths)
     table = trim_table(res, "hawksim reproduce --out results")
-    # the layout hawksim.trim_table reads
+    # the layout hawksim.trim.tables reads
     path = tmp_path / "trim_table.json"
     import json
 

@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from hawksim import __version__
-from hawksim.evaluate import Resolution, evaluate
-from hawksim.kinematics import Kinematics
+from hawksim.backends.held import evaluate
+from hawksim.backends.resolution import Resolution
+from hawksim.insect.kinematics import Kinematics
 
 TABLE = json.loads(resources.files("hawksim").joinpath("data/trim_table.json").read_text())
 REPRODUCE_TOL = 1e-6

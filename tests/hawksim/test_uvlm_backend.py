@@ -5,12 +5,12 @@ import json
 import numpy as np
 import pytest
 
+from hawksim.backends.held import held_flight, run
+from hawksim.backends.resolution import Resolution
+from hawksim.backends.uvlm import UVLMBackend, hawkmoth_meshes
 from hawksim.cli import main
-from hawksim.evaluate import Resolution, run
-from hawksim.held import held_flight
-from hawksim.kinematics import table3_kinematics
-from hawksim.uvlm_backend import UVLMBackend, hawkmoth_meshes
-from hawksim.morphology import HAWKMOTH
+from hawksim.insect.kinematics import table3_kinematics
+from hawksim.insect.morphology import HAWKMOTH
 
 COARSE = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=3)
 
@@ -66,9 +66,9 @@ def test_aero_cli_contract(capsys):
 
 
 def test_uvlm_flight_stays_symmetric():
-    from hawksim.flight import fly
+    from hawksim.cli.fly import fly_named
 
-    r = fly(1.0, 1, "uvlm", steps_per_cycle=80, periodic_start=False)
+    r = fly_named(1.0, 1, "uvlm", steps_per_cycle=80, periodic_start=False)
     s = r.summary()
     assert s["max_abs_roll_deg"] < 1e-6 and abs(r.body_pos[:, 1]).max() < 1e-9
     assert 0.5 < s["mean_vertical_speed"] < 1.5
@@ -80,11 +80,11 @@ def test_uvlm_trim_holds_over_two_wingbeats():
     2 deg of chi for 2 beats (measured with hawksim 0.2: 1.007, 0.954 m/s; 0.1: 1.007, 0.950). It then keeps
     slowing, 0.89 m/s in beat 3: the held-body balance credits the wings with ~15 % more lift than the recoiling
     free body gets (README), and the longitudinal mode is unstable (docs/stability.md)."""
-    from hawksim.flight import fly
-    from hawksim.trim_table import trim_source
+    from hawksim.cli.fly import fly_named
+    from hawksim.trim.tables import trim_source
 
     assert "uvlm balance" in trim_source().lower()
-    r = fly(1.0, 2, "uvlm")
+    r = fly_named(1.0, 2, "uvlm")
     n = r.steps_per_cycle
     z, pitch = r.body_pos[:, 2], np.degrees(r.pitch())
     for c in range(2):
@@ -98,10 +98,10 @@ def test_uvlm_flight_recording_has_pressure_panels_and_wake(tmp_path):
     """`hawksim fly --aero uvlm --rrd` records panels coloured by pressure and wake lines for both wings."""
     from rerun.chunk import RrdReader
 
-    from hawksim.flight import fly
-    from hawksim.recording import write_rrd
+    from hawksim.cli.fly import fly_named
+    from hawksim.flight.recording import write_rrd
 
-    r = fly(1.0, 1, "uvlm", steps_per_cycle=80, keep_extras_every=8, periodic_start=False)
+    r = fly_named(1.0, 1, "uvlm", steps_per_cycle=80, keep_extras_every=8, periodic_start=False)
     assert r.extras and r.extras[0][1]["panels"].shape[0] == 2  # left + mirrored right
     path = write_rrd(tmp_path / "u.rrd", r)
     entities = {ch.entity_path for ch in RrdReader(path).stream().to_chunks()}

@@ -8,9 +8,9 @@ Leishman's rotor value a' = 6.5e-5 (hawksim 0.1) the same change moved L+ by up 
 import numpy as np
 
 from aero.uvlm import ROTOR_A_PRIME, UVLMConfig
-from hawksim.held import held_flight
-from hawksim.kinematics import Kinematics, realization, table3_kinematics
-from hawksim.uvlm_backend import RHO_AIR, UVLMBackend
+from hawksim.backends.held import held_flight
+from hawksim.backends.uvlm import RHO_AIR, UVLMBackend
+from hawksim.insect.kinematics import Kinematics, realization, table3_kinematics
 
 ROUND_OFF_TOL = 1e-6
 """Largest change of L+, M+, P+ (beats 2-4) allowed for a 1e-10 relative change of f."""

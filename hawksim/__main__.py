@@ -1,0 +1,7 @@
+"""`python -m hawksim`: the hawksim command."""
+
+import sys
+
+from hawksim.cli import main
+
+sys.exit(main())

@@ -1,0 +1,65 @@
+"""Aerodynamic models of the hawkmoth's wings, behind one protocol (:class:`hawksim.backends.base.AeroBackend`:
+flight state in, wing loads out, world frame, SI).
+
+Modules: ``base`` (the protocol, :class:`FlightState`, :class:`WingLoads`, vacuum), ``averages`` (the paper's
+Eq. 2 cycle averages every model is compared in), ``resolution`` (lattices and time steps), ``quasi_steady``,
+``uvlm``, ``network`` (the ANN surrogate's files and inference) and ``surrogate`` (the network as a flight backend).
+:func:`make_backend` builds any of them by the name the CLI uses.
+"""
+
+from __future__ import annotations
+
+from hawksim.backends.resolution import DEFAULT, FLY_UVLM, FLY_WAKE_CYCLES, Resolution
+
+FLIGHT_BACKENDS = ("quasi-steady", "uvlm", "surrogate")
+"""Names of the backends `hawksim fly` accepts (``--aero``); "none" (vacuum) is for tests."""
+
+
+def make_backend(name: str, *, resolution: Resolution | None = None, symmetric: bool = True, freestream=None,
+                 keep_panels: bool = False, max_wake_rows: int | None = None, kinematics=None):
+    """The backend called ``name`` ("quasi-steady", "uvlm", "surrogate" or "none"). ValueError for an unknown one.
+
+    Args:
+        resolution: the UVLM lattice (n_chord x n_span rings per wing; default :data:`DEFAULT`).
+        symmetric: the motion stays left/right symmetric, so the UVLM may solve one wing and mirror it.
+        freestream: an ``aero.uvlm.FreeStream`` disturbance field (UVLM only).
+        keep_panels: keep panel pressure and the wake for recordings (UVLM only).
+        max_wake_rows: truncate the UVLM wake to this many newest rows (None: keep all).
+        kinematics: the flight's kinematics (the surrogate backend's network input).
+    """
+    if name == "quasi-steady":
+        from hawksim.backends.quasi_steady import QuasiSteadyBackend
+
+        return QuasiSteadyBackend()
+    if name == "none":
+        from hawksim.backends.base import NoAero
+
+        return NoAero()
+    if name == "uvlm":
+        from hawksim.backends.uvlm import UVLMBackend
+
+        res = resolution if resolution is not None else DEFAULT
+        return UVLMBackend(n_chord=res.n_chord, n_span=res.n_span, symmetric=symmetric, freestream=freestream,
+                           keep_panels=keep_panels, max_wake_rows=max_wake_rows)
+    if name == "surrogate":
+        from hawksim.backends.surrogate import SurrogateBackend
+
+        if kinematics is None:
+            raise ValueError("the surrogate backend needs the flight's kinematics")
+        return SurrogateBackend(kinematics)
+    raise ValueError(f"unknown --aero {name!r}; choose {', '.join(FLIGHT_BACKENDS)}")
+
+
+def backend_for(res: Resolution, *, symmetric: bool = True, freestream=None):
+    """The backend of a held-body resolution (``res.aero`` at ``res``'s lattice)."""
+    return make_backend(res.aero, resolution=res, symmetric=symmetric, freestream=freestream)
+
+
+def flight_backend(name: str, *, kinematics=None, symmetric: bool = True, keep_panels: bool = False):
+    """The backend of `hawksim fly --aero NAME`: the UVLM at :data:`FLY_UVLM` keeping the last
+    :data:`FLY_WAKE_CYCLES` wingbeats of wake."""
+    return make_backend(name, resolution=FLY_UVLM, symmetric=symmetric, keep_panels=keep_panels,
+                        max_wake_rows=FLY_WAKE_CYCLES * FLY_UVLM.steps_per_cycle, kinematics=kinematics)
+
+
+__all__ = ["FLIGHT_BACKENDS", "make_backend", "backend_for", "flight_backend", "Resolution", "DEFAULT"]

@@ -1,0 +1,151 @@
+"""Cycle-averaged loads and power with the body held on its equilibrium path (the paper's setting).
+
+The body translates straight up at the ascent speed V with the constant attitude chi (nose up) and no
+rotation; the wings follow Eq. 1. The computation runs in the body-carried frame (an inertial frame, since
+the body's velocity is constant): the body stays at the origin and the air streams down at V
+(``FlightState.air_v`` = (0, 0, -V)), so wakes and disturbance fields stay near the insect.
+This is how the paper evaluates L+, D+, M+ and P+ for the training data,
+the trim and the stability derivatives. The wing poses and velocities come from the same MuJoCo model and
+the same :func:`hawksim.backends.base.read_state` as the free flights, so a backend sees identical inputs.
+
+Power (DESIGN.md): P(t) = P_aero(t) + P_inertial(t), the mechanical power of the six wing joints; P_aero is the
+backend's power relative to the body, P_inertial = tau_in . qdot with tau_in the joint torques that drive the
+wings' inertia (MuJoCo inverse dynamics, gravity off: the wings' weight is left out, as in the paper);
+required power = cycle mean of max(0, P) (no elastic storage, negative power dissipated).
+
+Nondimensional outputs (paper Eq. 2): L+ = L/W, D+ = D/W, M+ = M/(W cbar), P+ = P/P0, with lift along world z,
+drag along minus the body's horizontal heading (world -x), and M the nose-up pitching moment about the body's
+centre of mass.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, replace
+
+import mujoco
+import numpy as np
+
+from hawksim.backends import backend_for
+from hawksim.backends.averages import OUTPUTS, CycleAverages, cycle_averages
+from hawksim.backends.base import AeroBackend, read_state
+from hawksim.backends.resolution import DEFAULT, Resolution
+from hawksim.frames import quat_from_matrix, rot_y
+from hawksim.insect.accessors import ModelIndex
+from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.model import load_model
+from hawksim.insect.morphology import HAWKMOTH, Morphology
+
+
+@dataclass(frozen=True)
+class HeldResult:
+    """Time series (n steps) and the cycle averages of the last ``average_cycles`` wingbeats.
+
+    t (n,) [s]; lift, drag (n,) [N]; moment (n,) nose-up pitching moment about the centre of mass [N m];
+    power_aero, power_inertial (n,) [W]; per_cycle: averages of every wingbeat (periodic convergence);
+    force_world, moment_world (n, 3): total aerodynamic force [N] and moment about the centre of mass [N m].
+    """
+
+    kinematics: Kinematics
+    speed: float
+    steps_per_cycle: int
+    t: np.ndarray
+    lift: np.ndarray
+    drag: np.ndarray
+    moment: np.ndarray
+    power_aero: np.ndarray
+    power_inertial: np.ndarray
+    averages: CycleAverages
+    per_cycle: tuple[CycleAverages, ...]
+    wall_time_s: float
+    force_world: np.ndarray
+    moment_world: np.ndarray
+
+    def mean_loads(self, average_cycles: int = 1) -> tuple[np.ndarray, np.ndarray]:
+        """Mean force (3,) [N] and moment (3,) [N m] (world) over the last ``average_cycles`` wingbeats."""
+        last = slice(len(self.t) - average_cycles * self.steps_per_cycle, len(self.t))
+        return self.force_world[last].mean(0), self.moment_world[last].mean(0)
+
+
+def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: int = 3,
+                average_cycles: int = 1, steps_per_cycle: int = 40, model: mujoco.MjModel | None = None,
+                morph: Morphology = HAWKMOTH, progress=None, start_cycle: int = 0) -> HeldResult:
+    """Run ``backend`` for ``cycles`` wingbeats with the body held at ascent ``speed`` [m/s].
+
+    The averages are over the last ``average_cycles`` wingbeats (the earlier ones carry the start-up transient).
+    start_cycle > 0 continues a backend that has already run that many wingbeats (its state, e.g. a wake, is
+    kept: no reset), starting at t = start_cycle T.
+    """
+    if not (np.isfinite(speed) and speed >= 0):
+        raise ValueError(f"speed must be a finite ascent speed >= 0 m/s, got {speed}")
+    if not 1 <= average_cycles <= cycles:
+        raise ValueError(f"average_cycles must be in [1, cycles={cycles}], got {average_cycles}")
+    m = model if model is not None else load_model()
+    m.opt.gravity[:] = 0.0
+    d = mujoco.MjData(m)
+    ix = ModelIndex.of(m)
+    body, wings, qadr, vadr = ix.body, ix.wings, ix.wing_qpos, ix.wing_dof
+    R_body = rot_y(-kin.chi)
+    quat = quat_from_matrix(R_body)
+    dt = kin.period / steps_per_cycle
+    air = np.array([0.0, 0.0, -speed])
+    n = cycles * steps_per_cycle
+    out = np.zeros((5, n))
+    FM = np.zeros((n, 6))
+    times = (start_cycle * steps_per_cycle + np.arange(n)) * dt
+    t0 = time.perf_counter()
+    for i, t in enumerate(times):
+        d.time = t
+        d.qpos[:3] = 0.0
+        d.qpos[3:7] = quat
+        d.qpos[qadr] = np.tile(kin.angles(t), 2)
+        d.qvel[:] = 0.0
+        d.qvel[vadr] = np.tile(kin.rates(t), 2)
+        d.qacc[:] = 0.0
+        d.qacc[vadr] = np.tile(kin.accelerations(t), 2)
+        mujoco.mj_inverse(m, d)  # also brings kinematics and com velocities up to date
+        st = replace(read_state(m, d, body, wings, dt), air_v=air)
+        if i == 0 and start_cycle == 0:
+            backend.reset(st)
+        loads = backend.loads(st)
+        F = loads.force.sum(0)
+        M = loads.moment_about(st, st.body_pos)
+        out[:, i] = (F[2], -F[0], -(M @ R_body[:, 1]), loads.power, d.qfrc_inverse[vadr] @ d.qvel[vadr])
+        FM[i, :3], FM[i, 3:] = F, M
+        if progress is not None:
+            progress(i + 1, n)
+    wall = time.perf_counter() - t0
+    per_cycle = tuple(
+        cycle_averages(*out[:3, c * steps_per_cycle:(c + 1) * steps_per_cycle],
+                       out[3, c * steps_per_cycle:(c + 1) * steps_per_cycle]
+                       + out[4, c * steps_per_cycle:(c + 1) * steps_per_cycle], morph)
+        for c in range(cycles)
+    )
+    last = slice(n - average_cycles * steps_per_cycle, n)
+    avg = cycle_averages(*out[:3, last], out[3, last] + out[4, last], morph)
+    return HeldResult(kinematics=kin, speed=float(speed), steps_per_cycle=steps_per_cycle, t=times,
+                      lift=out[0], drag=out[1], moment=out[2], power_aero=out[3], power_inertial=out[4],
+                      averages=avg, per_cycle=per_cycle, wall_time_s=wall, force_world=FM[:, :3],
+                      moment_world=FM[:, 3:])
+
+
+# ---- one evaluation: the unit of work of data sets, trim checks and `hawksim aero` ----------------------
+
+def run(kin: Kinematics, speed: float, res: Resolution = DEFAULT, progress=None) -> HeldResult:
+    """The held-body run of one evaluation (time series and averages)."""
+    return held_flight(kin, speed, backend_for(res), cycles=res.cycles, average_cycles=res.average_cycles,
+                       steps_per_cycle=res.steps_per_cycle, progress=progress)
+
+
+def evaluate(kin: Kinematics, speed: float, res: Resolution = DEFAULT) -> CycleAverages:
+    """Cycle averages of one evaluation."""
+    return run(kin, speed, res).averages
+
+
+def beat_averages(kin: Kinematics, speed: float, res: Resolution, beats: int) -> np.ndarray:
+    """Each wingbeat's L+, D+, M+, P+ of a run of ``beats`` wingbeats at ``res``'s lattice: shape (beats, 4),
+    columns :data:`OUTPUTS`. Row ``res.cycles - 1`` is the label ``evaluate(kin, speed, res)`` gives when
+    ``res.average_cycles`` is 1 (the run is deterministic and does not depend on later beats).
+    Raises FloatingPointError when the UVLM diverges."""
+    r = run(kin, speed, replace(res, cycles=int(beats), average_cycles=1))
+    return np.array([[getattr(c, n) for n in OUTPUTS] for c in r.per_cycle])

@@ -1,0 +1,44 @@
+"""`hawksim dataset`: resumable, Dask-parallel generation of UVLM samples into a SQLite file."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+from hawksim.backends.resolution import TRAINING
+from hawksim.cli.args import positive_int_arg, seed_arg, speed_arg, writable_file
+from hawksim.cli.progress import progress_for
+
+
+def cmd_dataset(args) -> dict:
+    from hawksim.surrogate.dataset import generate
+
+    res = replace(TRAINING, **{k: v for k, v in (("n_chord", args.n_chord), ("n_span", args.n_span),
+                                                 ("steps_per_cycle", args.steps_per_cycle),
+                                                 ("cycles", args.cycles)) if v})
+    progress = progress_for(args, f"dataset V={args.speed:g}", "sample", mininterval=1.0, smoothing=0.05)
+    r = generate(args.out, args.speed, args.samples, seed=args.seed, resolution=res, scheduler=args.scheduler,
+                 workers=args.workers, progress=progress)
+    return {"path": str(Path(r.path)), "samples": r.samples, "new": r.new, "diverged_new": r.diverged,
+            "unsettled_new": r.unsettled, "speed": args.speed, "seed": args.seed, "resolution": res.to_dict(),
+            "wall_time_s": r.wall_time_s, "samples_per_s": r.samples_per_s}
+
+
+def register(sub) -> None:
+    p = sub.add_parser("dataset", help="resumable generation of UVLM training samples (SQLite, Dask)")
+    p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
+    p.add_argument("--samples", type=positive_int_arg("samples"), required=True,
+                   help="samples 0..N-1 of (seed, speed) present in the file when done")
+    p.add_argument("--out", type=writable_file, required=True, help="SQLite file (created or continued)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed of the kinematics draw (0)")
+    p.add_argument("--scheduler", help="address of a running Dask scheduler (default: a LocalCluster)")
+    p.add_argument("--workers", type=positive_int_arg("workers"),
+                   help="LocalCluster worker processes (default: the machine's cores)")
+    p.add_argument("--n-chord", type=positive_int_arg("n-chord"), help=f"chordwise rings per wing (training: {TRAINING.n_chord})")
+    p.add_argument("--n-span", type=positive_int_arg("n-span"), help=f"spanwise rings per wing (training: {TRAINING.n_span})")
+    p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"),
+                   help=f"time steps per wingbeat (training: {TRAINING.steps_per_cycle})")
+    p.add_argument("--cycles", type=positive_int_arg("cycles"), help=f"wingbeats, the last averaged (training: {TRAINING.cycles})")
+    p.add_argument("--no-progress", action="store_true")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_dataset)

@@ -1,0 +1,58 @@
+"""`hawksim trim`: minimum-power trim on the surrogate (GA + Nelder-Mead), optionally checked by the UVLM."""
+
+from __future__ import annotations
+
+import math
+
+from hawksim.cli.args import positive_int_arg, seed_arg, speed_arg
+from hawksim.cli.progress import progress_for
+
+
+def cmd_trim(args) -> dict:
+    from dataclasses import replace
+
+    from hawksim.backends.network import load_for_speed
+    from hawksim.trim.search import GAConfig, trim_on_surrogate
+
+    sur = load_for_speed(args.model, args.speed)
+    cfg = replace(GAConfig(), population=args.population)
+    bar = progress_for(args, "trim (GA)", "gen")
+    progress = None if bar is None else (lambda g, n, best: bar(g, n, best=f"{best:.6f}"))
+    r = trim_on_surrogate(sur, args.speed, seed=args.seed, cfg=cfg, progress=progress)
+    if bar is not None:
+        bar.close()
+    out = {"kinematics": r.kinematics.to_edge(), "chi": math.degrees(r.kinematics.chi), **r.outputs,
+           "fitness": r.fitness, "speed": args.speed, "seed": args.seed, "generations": r.search.generations,
+           "nm_evaluations": r.evaluations, "wall_time_s": r.wall_time_s,
+           "model": sur.meta.get("command", args.model or "shipped")}
+    if args.verify:
+        from hawksim.backends.held import evaluate
+        from hawksim.backends.resolution import DEFAULT
+
+        a = evaluate(r.kinematics, args.speed, DEFAULT)
+        out["uvlm"] = {"L_plus": a.L_plus, "D_plus": a.D_plus, "M_plus": a.M_plus, "P_plus": a.P_plus,
+                       "power_W": a.power_W, "resolution": DEFAULT.to_dict()}
+    if args.balance:
+        from hawksim.trim.balance import balance_on_uvlm
+
+        b = balance_on_uvlm(r.kinematics, args.speed)
+        av = b.averages
+        out["uvlm_balanced"] = {"kinematics": b.kinematics.to_edge(), "chi": math.degrees(b.kinematics.chi),
+                                "L_plus": av.L_plus, "D_plus": av.D_plus, "M_plus": av.M_plus, "P_plus": av.P_plus,
+                                "converged": b.converged, "evaluations": b.evaluations}
+    return out
+
+
+def register(sub) -> None:
+    p = sub.add_parser("trim", help="minimum-power trim on the surrogate (GA + Nelder-Mead, paper Eq. 3)")
+    p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
+    p.add_argument("--model", help="surrogate file (.safetensors; default: the shipped network for V)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed of the GA (0)")
+    p.add_argument("--population", type=positive_int_arg("population"), default=100_000,
+                   help="GA population (1e5, as in the paper)")
+    p.add_argument("--verify", action="store_true", help="evaluate the optimum with the UVLM")
+    p.add_argument("--balance", action="store_true",
+                   help="then balance the optimum on the UVLM itself (f, beta, phi0, alpha0; |residuals| <= 0.01)")
+    p.add_argument("--no-progress", action="store_true")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_trim)

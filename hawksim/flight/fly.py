@@ -1,0 +1,106 @@
+"""A free flight from an operating point: ``fly(trim, backend, cycles)``.
+
+The insect starts at the origin, pitched nose-up so that its cycle-mean body angle is chi, moving straight up
+at the trim's ascent speed (world z), wings on their prescribed motion; perturbations (stability axes, DESIGN.md:
+x forward horizontal, y right, z down) are added to that start (:mod:`hawksim.flight.start`). Results are
+world-frame time series (SI, :class:`hawksim.flight.result.FlightResult`).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import mujoco
+import numpy as np
+
+from hawksim.backends.base import AeroBackend
+from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, FLY_UVLM
+from hawksim.flight.result import FlightResult
+from hawksim.flight.simulator import Simulator
+from hawksim.flight.start import inertial_pitch_offset, parse_perturbations, start_on_orbit
+from hawksim.frames import STABILITY_TO_WORLD, quat_from_matrices, quat_from_matrix, rot_x, rot_y
+from hawksim.insect.model import load_model
+from hawksim.trim.point import Trim
+
+
+def aero_every_for(backend: AeroBackend, steps_per_cycle: int) -> int:
+    """Integrator steps per backend update: the UVLM updates :data:`FLY_UVLM`'s steps per wingbeat (the largest
+    divisor of ``steps_per_cycle`` not above ``steps_per_cycle // FLY_UVLM.steps_per_cycle``), the others every step."""
+    if backend.name != "uvlm":
+        return 1
+    every = max(1, steps_per_cycle // FLY_UVLM.steps_per_cycle)
+    while steps_per_cycle % every:
+        every -= 1
+    return every
+
+
+def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, float] | None = None,
+        model: mujoco.MjModel | None = None, steps_per_cycle: int = FLY_STEPS_PER_CYCLE, gravity: bool = True,
+        keep_extras_every: int = 0, periodic_start: bool = True,
+        progress: Callable[[int, int], None] | None = None) -> FlightResult:
+    """Fly for ``cycles`` wingbeats from ``trim`` (its kinematics and ascent speed) with ``backend``'s loads.
+
+    Args:
+        perturb: stability-axes disturbances of the initial state (see :data:`hawksim.flight.start.PERTURBATIONS`).
+        model: the MuJoCo model (default: generated from the morphology, :func:`hawksim.insect.model.load_model`).
+        keep_extras_every: keep the backend's extras every this many steps (0: never).
+        periodic_start: start on the periodic orbit (one calibration wingbeat, see ``start_on_orbit``).
+        progress: called as progress(step, n_steps).
+    """
+    speed, kin = trim.speed, trim.kinematics
+    if not (np.isfinite(speed) and speed >= 0):
+        raise ValueError(f"--speed must be a finite ascent speed >= 0 m/s, got {speed}")
+    if int(cycles) != cycles or cycles < 1:
+        raise ValueError(f"--cycles must be a positive integer, got {cycles}")
+    perturb = parse_perturbations(perturb or {})
+    model = model if model is not None else load_model()
+    sim = Simulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity,
+                    aero_every=aero_every_for(backend, steps_per_cycle))
+
+    deg = np.pi / 180
+    S = STABILITY_TO_WORLD
+    v0 = np.array([0.0, 0.0, speed]) + S @ [perturb.get("u", 0.0), perturb.get("v", 0.0), perturb.get("w", 0.0)]
+    omega_world = S @ (np.array([perturb.get("p", 0.0), perturb.get("q", 0.0), perturb.get("r", 0.0)]) * deg)
+    pitch0 = kin.chi - inertial_pitch_offset(sim, kin)
+    if periodic_start:
+        pitch0, v_start, q_start = start_on_orbit(sim, kin, speed, pitch0)
+        v0 = v0 + v_start - np.array([0.0, 0.0, speed])
+        omega_world = omega_world + np.array([0.0, -q_start, 0.0])
+    pitch0 += perturb.get("theta", 0.0) * deg
+    R0 = rot_x(-perturb.get("phi", 0.0) * deg) @ rot_y(-pitch0)
+    sim.reset(velocity=v0, quat=quat_from_matrix(R0), omega_body=R0.T @ omega_world)
+
+    n = int(cycles) * steps_per_cycle
+    rec = {k: [] for k in ("t", "pos", "quat", "v", "w", "wR", "wo", "F", "M", "Pa", "Pj")}
+    extras = []
+    t0 = time.perf_counter()
+    for i in range(n):
+        r = sim.step()
+        st, ld = r.state, r.loads
+        rec["t"].append(st.t)
+        rec["pos"].append(st.body_pos)
+        rec["quat"].append(st.body_R)
+        rec["v"].append(st.body_v)
+        rec["w"].append(st.body_omega)
+        rec["wR"].append(st.wing_R)
+        rec["wo"].append(st.wing_origin)
+        rec["F"].append(ld.force)
+        rec["M"].append(ld.moment_about(st, st.body_pos))
+        rec["Pa"].append(ld.power)
+        rec["Pj"].append(r.joint_power)
+        if keep_extras_every and i % keep_extras_every == 0 and ld.extras:
+            extras.append((i, ld.extras))
+        if progress is not None:
+            progress(i + 1, n)
+        if not np.all(np.isfinite(sim.d.qpos)):
+            raise FloatingPointError(f"flight diverged at step {i} (t = {st.t:.5f} s): non-finite state")
+    wall = time.perf_counter() - t0
+    a = {k: np.asarray(v) for k, v in rec.items()}
+    a["quat"] = quat_from_matrices(a["quat"])
+    return FlightResult(
+        speed_target=float(speed), cycles=int(cycles), aero=backend.name, kinematics=kin,
+        steps_per_cycle=steps_per_cycle, t=a["t"], body_pos=a["pos"], body_quat=a["quat"], body_v=a["v"],
+        body_omega=a["w"], wing_R=a["wR"], wing_origin=a["wo"], force=a["F"], moment=a["M"], power_aero=a["Pa"],
+        power_joint=a["Pj"], wall_time_s=wall, extras=extras, trim_source=trim.source,
+    )

@@ -1,0 +1,226 @@
+"""Rerun recording of a flight: `write_rrd` writes an offline ``.rrd`` file (open it with ``rerun FILE``).
+
+Timelines: ``time`` (duration [s], the step start time ``FlightResult.t``) and ``step`` (sequence, the row
+index). World frame: z up, SI (m, s, N, W). Entity paths:
+
+* ``world/moth`` - body pose per step (Transform3D: translation [m], quaternion xyzw, body -> world);
+  ``world/moth/body`` - head, thorax, abdomen as Ellipsoids3D in the body frame (static).
+* ``world/wings/{left,right}`` - wing pose per step (Transform3D, wing frame -> world, origin at the hinge);
+  ``world/wings/{left,right}/mesh`` - triangulated planform in the wing frame (Mesh3D, static).
+* ``world/forces/{left,right}`` - aerodynamic force of each wing (Arrows3D) drawn from the wing's mid-span
+  point on the feathering axis, scaled by ``FORCE_SCALE_M_PER_WEIGHT`` = 2 cm per body weight W.
+* ``world/trajectory`` - body centre-of-mass path (LineStrips3D, static).
+* ``plots/...`` - Scalars: forces/{lift,drag} [N], forces_nd/{L_plus,D_plus} (/W), moment/pitching [N m],
+  moment_nd/M_plus (/(W cbar)), power/{aero,joint} [W], velocity/{vx,vy,vz} [m/s] world,
+  attitude/{pitch,roll} [deg].
+* ``world/uvlm/...`` - only when ``result.extras`` holds UVLM data (see `_log_extras`): ``panels`` (pressure-
+  coloured Mesh3D), ``wake/{left,right}`` (LineStrips3D coloured by circulation), ``legend`` (colour scales).
+
+A default blueprint (3D view + time-series views) is stored in the file.
+"""
+
+from __future__ import annotations
+
+import os
+import uuid
+from pathlib import Path
+
+import numpy as np
+import rerun as rr
+import rerun.blueprint as rrb
+
+from hawksim.flight.result import FlightResult
+from hawksim.frames import quat_from_matrices
+from hawksim.insect.accessors import WING_SIDES as SIDES
+from hawksim.insect.morphology import HAWKMOTH, Morphology
+
+FORCE_SCALE_M_PER_WEIGHT = 0.02
+"""Force arrows: an arrow of length 2 cm is a force equal to the body weight W = m g."""
+
+N_SPAN, N_CHORD = 21, 4
+"""Wing mesh resolution: spanwise stations (cosine spaced, tips included) and chordwise divisions."""
+
+_SIDE_COLORS = {"left": (230, 120, 40), "right": (40, 140, 230)}
+_DIVERGING = np.array([[59, 76, 192], [221, 221, 221], [180, 4, 38]], dtype=float)  # blue-white-red
+
+
+def _xyzw(q_wxyz: np.ndarray) -> np.ndarray:
+    """MuJoCo (w, x, y, z) quaternions (..., 4) -> Rerun (x, y, z, w)."""
+    return np.concatenate([q_wxyz[..., 1:], q_wxyz[..., :1]], axis=-1)
+
+
+def diverging_colors(value: np.ndarray, limit: float) -> np.ndarray:
+    """RGB uint8 (..., 3) of ``value`` on a blue (-limit) - white (0) - red (+limit) scale, clipped."""
+    s = np.clip(np.asarray(value, dtype=float) / (limit if limit > 0 else 1.0), -1.0, 1.0) + 1.0  # in [0, 2]
+    i = np.minimum(s.astype(int), 1)
+    f = (s - i)[..., None]
+    return np.round(_DIVERGING[i] * (1 - f) + _DIVERGING[i + 1] * f).astype(np.uint8)
+
+
+def wing_mesh(morph: Morphology = HAWKMOTH, side: str = "left") -> tuple[np.ndarray, np.ndarray]:
+    """Triangulated planform in the wing frame: vertices (N_SPAN (N_CHORD+1), 3) [m], triangles (m, 3).
+
+    Stations r = R (1 - cos(pi k / (N_SPAN-1))) / 2, each from the leading to the trailing edge in N_CHORD
+    equal steps; the right wing is the left one with y -> -y (winding reversed to keep normals along +z).
+    """
+    pl = morph.planform
+    r = morph.R * 0.5 * (1 - np.cos(np.pi * np.arange(N_SPAN) / (N_SPAN - 1)))
+    s = np.linspace(0.0, 1.0, N_CHORD + 1)
+    x = pl.leading_edge(r)[:, None] + s[None, :] * (pl.trailing_edge(r) - pl.leading_edge(r))[:, None]
+    y = np.broadcast_to(r[:, None], x.shape) * (1.0 if side == "left" else -1.0)
+    verts = np.stack([x, y, np.zeros_like(x)], -1).reshape(-1, 3)
+    k, j = np.meshgrid(np.arange(N_SPAN - 1), np.arange(N_CHORD), indexing="ij")
+    a = (k * (N_CHORD + 1) + j).ravel()
+    b, c, d = a + 1, a + N_CHORD + 1, a + N_CHORD + 2
+    tris = np.concatenate([np.stack([a, c, b], 1), np.stack([b, c, d], 1)])
+    if side == "right":
+        tris = tris[:, ::-1]
+    return verts, tris.astype(np.uint32)
+
+
+def _check_target(path: Path) -> None:
+    if path.is_dir():
+        raise ValueError(f"cannot write recording {path}: it is a directory")
+    if not path.parent.is_dir():
+        raise ValueError(f"cannot write recording {path}: directory {path.parent} does not exist")
+
+
+def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, application_id: str = "hawksim") -> Path:
+    """Write ``result`` as a Rerun recording (with its default blueprint) to ``path``; return the Path.
+
+    Writes to a temporary file in the same directory and renames it at the end, so a failure leaves nothing
+    half-written. Raises ValueError (one line, naming the path) when the path cannot be written.
+    """
+    path = Path(path)
+    _check_target(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
+    try:
+        with open(tmp, "xb"):  # probes writability; created with the usual umask permissions
+            pass
+    except OSError as exc:
+        raise ValueError(f"cannot write recording {path}: {exc.strerror or exc}") from None
+    rec = rr.RecordingStream(application_id)
+    try:
+        rec.save(tmp, default_blueprint=default_blueprint())
+        _log_flight(rec, result, morph)
+        _log_extras(rec, result)
+        rec.flush()
+        rec.disconnect()  # closes the file sink (writes the footer)
+        os.replace(tmp, path)
+    except OSError as exc:
+        raise ValueError(f"cannot write recording {path}: {exc.strerror or exc}") from None
+    finally:
+        rec.disconnect()
+        tmp.unlink(missing_ok=True)
+    return path
+
+
+def default_blueprint() -> rrb.Blueprint:
+    """3D view of the insect beside time-series views of forces, moment, power, velocity and attitude."""
+    ts = [rrb.TimeSeriesView(origin=f"plots/{k}", name=n) for k, n in (
+        ("forces", "Lift, drag [N]"), ("forces_nd", "L+, D+ [W]"), ("moment", "Pitching moment [N m]"),
+        ("power", "Power [W]"), ("velocity", "Velocity [m/s]"), ("attitude", "Pitch, roll [deg]"))]
+    return rrb.Blueprint(
+        rrb.Horizontal(
+            rrb.Spatial3DView(origin="world", name="Hawkmoth"),
+            rrb.Grid(*ts),
+            column_shares=[3, 2],
+        ),
+        collapse_panels=True,
+    )
+
+
+def _log_flight(rec: rr.RecordingStream, res: FlightResult, morph: Morphology) -> None:
+    n = len(res.t)
+    idx = [rr.TimeColumn("time", duration=np.asarray(res.t, dtype=float)),
+           rr.TimeColumn("step", sequence=np.arange(n))]
+    rec.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+    rec.log("world/trajectory", rr.LineStrips3D([res.body_pos], colors=[(120, 120, 120)]), static=True)
+
+    # body
+    rec.send_columns("world/moth", idx, rr.Transform3D.columns(
+        translation=res.body_pos, quaternion=_xyzw(res.body_quat)))
+    centres = morph.segment_centres()
+    rec.log("world/moth/body", rr.Ellipsoids3D(
+        centers=[centres[s.name] for s in morph.segments], half_sizes=[s.semi_axes for s in morph.segments],
+        colors=[(110, 90, 70)], fill_mode="solid", labels=[s.name for s in morph.segments]), static=True)
+
+    # wings and force arrows
+    scale = FORCE_SCALE_M_PER_WEIGHT / morph.weight
+    for i, side in enumerate(SIDES):
+        R = res.wing_R[:, i]
+        rec.send_columns(f"world/wings/{side}", idx, rr.Transform3D.columns(
+            translation=res.wing_origin[:, i], quaternion=_xyzw(quat_from_matrices(R))))
+        verts, tris = wing_mesh(morph, side)
+        rec.log(f"world/wings/{side}/mesh", rr.Mesh3D(
+            vertex_positions=verts, triangle_indices=tris, vertex_normals=np.tile([0.0, 0.0, 1.0], (len(verts), 1)),
+            albedo_factor=(*_SIDE_COLORS[side], 180)), static=True)
+        span = R[:, :, 1] * (0.5 * morph.R * (1.0 if side == "left" else -1.0))
+        rec.log(f"world/forces/{side}", rr.Arrows3D.from_fields(
+            colors=[_SIDE_COLORS[side]], radii=[2e-4]), static=True)
+        rec.send_columns(f"world/forces/{side}", idx, rr.Arrows3D.columns(
+            vectors=res.force[:, i] * scale, origins=res.wing_origin[:, i] + span))
+
+    # time series
+    W, cbar = morph.weight, morph.cbar
+    lift, drag = res.lift_drag()
+    M = res.pitching_moment()
+    series = {
+        "forces/lift": lift, "forces/drag": drag, "forces_nd/L_plus": lift / W, "forces_nd/D_plus": drag / W,
+        "moment/pitching": M, "moment_nd/M_plus": M / (W * cbar),
+        "power/aero": res.power_aero, "power/joint": res.power_joint,
+        "velocity/vx": res.body_v[:, 0], "velocity/vy": res.body_v[:, 1], "velocity/vz": res.body_v[:, 2],
+        "attitude/pitch": np.rad2deg(res.pitch()), "attitude/roll": np.rad2deg(res.roll()),
+    }
+    for name, values in series.items():
+        rec.log(f"plots/{name}", rr.SeriesLines(names=name.split("/")[1]), static=True)
+        rec.send_columns(f"plots/{name}", idx, rr.Scalars.columns(scalars=np.asarray(values, dtype=float)))
+
+
+def _panel_mesh(vertices: np.ndarray, pressure: np.ndarray, limit: float) -> rr.Mesh3D:
+    """Mesh3D of a panel lattice (nc+1, ns+1, 3), one flat-coloured quad (4 own vertices) per panel."""
+    quads = np.stack([vertices[:-1, :-1], vertices[:-1, 1:], vertices[1:, 1:], vertices[1:, :-1]], 2)  # nc,ns,4,3
+    verts = quads.reshape(-1, 3)
+    base = 4 * np.arange(pressure.size)[:, None]
+    tris = np.concatenate([base + [0, 1, 2], base + [0, 2, 3]])
+    colors = np.repeat(diverging_colors(pressure.reshape(-1), limit), 4, axis=0)
+    return rr.Mesh3D(vertex_positions=verts, triangle_indices=tris.astype(np.uint32), vertex_colors=colors,
+                     face_rendering="DoubleSided")
+
+
+def _wake_strips(vertices: np.ndarray, gamma: np.ndarray, limit: float) -> rr.LineStrips3D:
+    """The wake lattice (rows+1, ns+1, 3) as LineStrips3D: each ring's upstream spanwise segment coloured by
+    its circulation gamma (rows, ns); the streamwise lines (ns+1 strips) in grey."""
+    seg = np.stack([vertices[:-1, :-1], vertices[:-1, 1:]], 2).reshape(-1, 2, 3)
+    strips = list(seg) + list(np.swapaxes(vertices, 0, 1))
+    colors = np.concatenate([diverging_colors(gamma.reshape(-1), limit),
+                             np.full((vertices.shape[1], 3), 150, dtype=np.uint8)])
+    return rr.LineStrips3D(strips, colors=colors, radii=5e-5)
+
+
+def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
+    """UVLM extras (step, dict): ``panels`` (2, nc+1, ns+1, 3) world [m] with ``pressure`` (2, nc, ns) [Pa]
+    (pressure jump across the wing), and ``wake``: per wing (vertices (rows+1, ns+1, 3) [m], gamma (rows, ns)
+    [m^2/s]). Colour scales are symmetric, blue (negative) - white - red (positive), with limits the largest
+    |pressure| and |gamma| over all kept steps; they are written to ``world/uvlm/legend``."""
+    kept = [(int(i), e) for i, e in res.extras if isinstance(e, dict) and ("panels" in e or "wake" in e)]
+    if not kept:
+        return
+    p_lim = max([float(np.abs(e["pressure"]).max()) for _, e in kept if "pressure" in e] + [0.0])
+    g_lim = max([float(np.abs(g).max()) for _, e in kept for _, g in e.get("wake", []) if np.size(g)] + [0.0])
+    rec.log("world/uvlm/legend", rr.TextDocument(
+        f"Panel colour: pressure jump, blue -{p_lim:.4g} Pa .. white 0 .. red +{p_lim:.4g} Pa.\n"
+        f"Wake colour: ring circulation, blue -{g_lim:.4g} m^2/s .. white 0 .. red +{g_lim:.4g} m^2/s."),
+        static=True)
+    for i, e in kept:
+        rec.set_time("step", sequence=i)
+        rec.set_time("time", duration=float(res.t[i]))
+        if "panels" in e and "pressure" in e:
+            P, p = np.asarray(e["panels"], dtype=float), np.asarray(e["pressure"], dtype=float)
+            for w, side in enumerate(SIDES):
+                rec.log(f"world/uvlm/panels/{side}", _panel_mesh(P[w], p[w], p_lim))
+        for w, (V, g) in enumerate(e.get("wake", [])):
+            V, g = np.asarray(V, dtype=float), np.asarray(g, dtype=float)
+            if g.size:
+                rec.log(f"world/uvlm/wake/{SIDES[w]}", _wake_strips(V, g, g_lim))
+    rec.reset_time()

@@ -1,0 +1,96 @@
+"""The result of a free flight: world-frame time series, one row per step, and the CLI contract's summary."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hawksim.frames import pitch_of, quat_to_matrix, roll_of
+from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.morphology import HAWKMOTH, P0_W
+
+
+@dataclass(frozen=True)
+class FlightResult:
+    """Time series of a flight, one row per step (state at the step start, loads held over the step).
+
+    Shapes: n steps. t (n,) [s]; body_pos (n, 3) [m]; body_quat (n, 4) (w, x, y, z); body_v (n, 3) [m/s];
+    body_omega (n, 3) [rad/s] world; wing_R (n, 2, 3, 3); wing_origin (n, 2, 3) [m]; force (n, 2, 3) [N] per
+    wing; moment (n, 3) total aerodynamic moment about the body centre of mass [N m]; power_aero (n,) [W];
+    power_joint (n,) [W] (aerodynamic + inertial power of the wings, relative to the body).
+    """
+
+    speed_target: float
+    cycles: int
+    aero: str
+    kinematics: Kinematics
+    steps_per_cycle: int
+    t: np.ndarray
+    body_pos: np.ndarray
+    body_quat: np.ndarray
+    body_v: np.ndarray
+    body_omega: np.ndarray
+    wing_R: np.ndarray
+    wing_origin: np.ndarray
+    force: np.ndarray
+    moment: np.ndarray
+    power_aero: np.ndarray
+    power_joint: np.ndarray
+    wall_time_s: float
+    trim_source: str = "given"
+    extras: list = field(default_factory=list, repr=False)
+    """Backend extras (e.g. UVLM pressure and wake) for the steps where they were kept, as (step, dict)."""
+
+    @property
+    def body_R(self) -> np.ndarray:
+        """(n, 3, 3) body frame -> world."""
+        return quat_to_matrix(self.body_quat)
+
+    def pitch(self) -> np.ndarray:
+        """Body pitch (n,) [rad]: elevation of the body x axis above the horizontal (nose up positive)."""
+        return pitch_of(self.body_R)
+
+    def roll(self) -> np.ndarray:
+        """Body roll (n,) [rad], Z-Y-X Euler angles, right wing down positive (stability-axes sense)."""
+        return roll_of(self.body_R)
+
+    def lift_drag(self) -> tuple[np.ndarray, np.ndarray]:
+        """Total lift (world z) and drag (along minus the initial horizontal heading) [N], each (n,)."""
+        F = self.force.sum(1)
+        return F[:, 2], -F[:, 0]
+
+    def pitching_moment(self) -> np.ndarray:
+        """Nose-up pitching moment about the body centre of mass (n,) [N m] (about minus body y)."""
+        y_body = self.body_R[:, :, 1]
+        return -(self.moment * y_body).sum(1)
+
+    def summary(self) -> dict:
+        """The CLI contract's `fly` keys plus cycle-averaged coefficients of the last cycle."""
+        n = self.steps_per_cycle
+        first, last = slice(0, n), slice(len(self.t) - n, len(self.t))
+        T = n * (self.t[1] - self.t[0])
+        vz = (self.body_pos[-1, 2] - self.body_pos[-n, 2]) / (T * (n - 1) / n)
+        pitch = self.pitch()
+        horiz = self.body_pos[-1, :2] - self.body_pos[0, :2]
+        L, D = self.lift_drag()
+        W = HAWKMOTH.weight
+        return {
+            "speed_target": self.speed_target,
+            "cycles": self.cycles,
+            "aero": self.aero,
+            "mean_vertical_speed": float(vz),
+            "pitch_change_deg": float(np.rad2deg(pitch[last].mean() - pitch[first].mean())),
+            "max_abs_roll_deg": float(np.rad2deg(np.abs(self.roll()).max())),
+            "horizontal_drift": float(np.hypot(*horiz)),
+            "wall_time_s": self.wall_time_s,
+            "kinematics": self.kinematics.to_edge(),
+            "trim_source": self.trim_source,
+            "steps_per_cycle": n,
+            "last_cycle": {
+                "L_plus": float(L[last].mean() / W),
+                "D_plus": float(D[last].mean() / W),
+                "M_plus": float(self.pitching_moment()[last].mean() / (W * HAWKMOTH.cbar)),
+                "P_plus": float(np.maximum(self.power_joint[last], 0).mean() / P0_W),
+            },
+        }

@@ -1,0 +1,218 @@
+"""The MuJoCo flight loop: prescribed wing kinematics on a free body, aerodynamic loads each step.
+
+Method (DESIGN.md, "MuJoCo: what is already known here"). The integrator is RK4. Inside ``mjcb_control``,
+called by MuJoCo at every RK4 stage, the six wing-joint torques are solved by computed torque so that the wing
+joint accelerations equal the prescribed ones (plus a stiff PD term that only removes round-off drift):
+with zero wing torque, ``mj_fwdActuation`` + ``mj_fwdAcceleration`` give the free acceleration a0 of the wing
+dofs; a torque tau changes it by [M^-1]_ww tau, so tau = ([M^-1]_ww)^-1 (a_des - a0). The torques are
+internal, so the body responds to the wings' inertia exactly and the system's momentum is conserved (tested).
+Wing qpos/qvel are never overwritten.
+
+Aerodynamic loads come from an :class:`hawksim.backends.base.AeroBackend` once per step (zero-order hold over the
+step) and enter through ``data.xfrc_applied`` of the wing bodies (world-frame force and torque at the wing
+body's centre of mass ``xipos``), overwritten every step.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from numba import njit
+
+from hawksim.backends.base import AeroBackend, FlightState, NoAero, WingLoads, read_state
+from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, MIN_STEPS_PER_CYCLE
+from hawksim.frames import cross
+from hawksim.insect.accessors import ModelIndex
+from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.morphology import G
+
+FEEDBACK_BANDWIDTH = 5.0
+"""PD correction bandwidth in units of the flapping angular frequency 2 pi f (critically damped)."""
+
+
+@njit(cache=True)
+def _solve6(A, b):
+    """Solve the small SPD system A x = b (Cholesky); A is [M^-1]_ww, symmetric positive definite."""
+    return np.linalg.solve(A, b)
+
+
+@dataclass(frozen=True)
+class StepRecord:
+    """What one step produced (world frame, SI)."""
+
+    state: FlightState
+    loads: WingLoads
+    joint_power: float
+    """Mechanical power delivered by the six wing joints, sum of tau_j qdot_j at the step start [W]."""
+
+
+@contextlib.contextmanager
+def _control_callback(fn):
+    previous = mujoco.get_mjcb_control()
+    mujoco.set_mjcb_control(fn)
+    try:
+        yield
+    finally:
+        mujoco.set_mjcb_control(previous)
+
+
+class Simulator:
+    """A hawkmoth flight in MuJoCo with prescribed wing kinematics.
+
+    Args:
+        model: the MjModel (see :func:`hawksim.insect.model.load_model`); its options are overwritten: RK4 and a time
+            step of one ``steps_per_cycle``-th of the wingbeat period.
+        kin: wing kinematics (Eq. 1) for both wings (symmetric flapping).
+        backend: aerodynamic model.
+        steps_per_cycle: integration steps per wingbeat.
+        gravity: whether gravity acts.
+        aero_every: call the backend every this many steps (its dt is then aero_every steps); in between the
+            loads are held fixed in each wing's frame (they turn with the wing), so a costly backend (the UVLM)
+            can run at a coarser rate than the integrator.
+    """
+
+    def __init__(self, model: mujoco.MjModel, kin: Kinematics, backend: AeroBackend, *,
+                 steps_per_cycle: int = FLY_STEPS_PER_CYCLE, gravity: bool = True, aero_every: int = 1):
+        if steps_per_cycle < MIN_STEPS_PER_CYCLE:
+            raise ValueError(f"steps_per_cycle must be >= {MIN_STEPS_PER_CYCLE}, got {steps_per_cycle}")
+        self.m = model
+        self.kin = kin
+        self.backend = backend
+        self.dt = kin.period / steps_per_cycle
+        self.steps_per_cycle = steps_per_cycle
+        if aero_every < 1 or steps_per_cycle % aero_every:
+            raise ValueError(f"aero_every={aero_every} must be >= 1 and divide steps_per_cycle={steps_per_cycle}")
+        self.aero_every = aero_every
+        self._i = 0
+        self._held: tuple | None = None
+        model.opt.timestep = self.dt
+        model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+        model.opt.gravity[:] = (0.0, 0.0, -G) if gravity else (0.0, 0.0, 0.0)
+        self.d = mujoco.MjData(model)
+        ix = ModelIndex.of(model)
+        self.body_id, self.wing_ids, self.wing_qpos, self.wing_dof = ix.body, ix.wings, ix.wing_qpos, ix.wing_dof
+        self._unit = np.zeros((6, model.nv))
+        self._unit[np.arange(6), self.wing_dof] = 1.0
+        self._minv = np.zeros((6, model.nv))
+        wc = FEEDBACK_BANDWIDTH * 2 * np.pi * kin.f
+        self._kp, self._kd = wc * wc, 2 * wc
+        self._capture = False
+        self._tau = np.zeros(6)
+
+    # ---- prescribed motion -------------------------------------------------------------------------
+    def desired(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Prescribed (q, qdot, qddot) of the six wing joints at time t, order left (sweep, elev, rot), right.
+
+        Scalar path of :meth:`Kinematics.eq1` (math.cos, no arrays), since this runs at every RK4 stage.
+        """
+        wt = 2 * math.pi * self.kin.f * t
+        q, qd, qdd = self.kin.eq1(math.cos(wt), math.sin(wt))
+        return np.array(q + q), np.array(qd + qd), np.array(qdd + qdd)
+
+    def _control(self, m, d):
+        q, qd, qdd = self.desired(d.time)
+        a_des = qdd + self._kp * (q - d.qpos[self.wing_qpos]) + self._kd * (qd - d.qvel[self.wing_dof])
+        d.qfrc_applied[self.wing_dof] = 0.0
+        mujoco.mj_fwdActuation(m, d)
+        mujoco.mj_fwdAcceleration(m, d)
+        a0 = d.qacc_smooth[self.wing_dof]
+        mujoco.mj_solveM(m, d, self._minv, self._unit)
+        tau = _solve6(self._minv[:, self.wing_dof], a_des - a0)
+        d.qfrc_applied[self.wing_dof] = tau
+        if self._capture:
+            self._tau[:] = tau
+            self._capture = False
+
+    @contextlib.contextmanager
+    def vacuum(self):
+        """Within the block the flight has no aerodynamic loads and no gravity (the wings' inertia alone); the
+        backend and gravity are restored after it. Call :meth:`reset` inside before stepping."""
+        backend, gravity = self.backend, self.m.opt.gravity.copy()
+        self.backend = NoAero()
+        self.m.opt.gravity[:] = 0.0
+        try:
+            yield self
+        finally:
+            self.backend = backend
+            self.m.opt.gravity[:] = gravity
+
+    # ---- state ---------------------------------------------------------------------------------------
+    def reset(self, *, velocity: np.ndarray = (0.0, 0.0, 0.0), quat: np.ndarray | None = None,
+              omega_body: np.ndarray = (0.0, 0.0, 0.0), position: np.ndarray = (0.0, 0.0, 0.0)) -> None:
+        """Start at t = 0 with the wings on their prescribed motion.
+
+        The body's initial velocity is chosen so that the whole insect's linear and angular momentum equal
+        those of a rigid motion at ``velocity`` (world, m/s) and ``omega_body`` (body frame, rad/s): the
+        wings' own momentum at t = 0 is cancelled by the body (an insect "at rest" has zero total momentum).
+        ``quat`` (w, x, y, z) is the body attitude; default: pitched nose-up by the body angle chi.
+        """
+        m, d = self.m, self.d
+        mujoco.mj_resetData(m, d)
+        if quat is None:
+            quat = np.array([np.cos(-self.kin.chi / 2), 0.0, np.sin(-self.kin.chi / 2), 0.0])
+        d.qpos[:3] = position
+        d.qpos[3:7] = quat / np.linalg.norm(quat)
+        q, qd, _ = self.desired(0.0)
+        d.qpos[self.wing_qpos] = q
+        d.qvel[:] = 0.0
+        d.qvel[:3] = velocity
+        d.qvel[3:6] = omega_body
+        d.qvel[self.wing_dof] = qd
+        mujoco.mj_forward(m, d)
+        M = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, M)
+        b = np.arange(6)
+        # generalized momentum of the free dofs must equal that of the rigid motion with still wings
+        p_target = M[np.ix_(b, b)] @ d.qvel[b]
+        d.qvel[b] = np.linalg.solve(M[np.ix_(b, b)], p_target - M[np.ix_(b, self.wing_dof)] @ qd)
+        mujoco.mj_forward(m, d)
+        self._i = 0
+        self.backend.reset(self.state())
+
+    def state(self) -> FlightState:
+        """The current state (kinematics must be up to date: call after reset/step); its dt is the interval
+        the backend's loads are held over."""
+        return read_state(self.m, self.d, self.body_id, self.wing_ids, self.dt * self.aero_every)
+
+    def step(self) -> StepRecord:
+        """Advance one time step: loads from the backend (or held), then one RK4 step."""
+        m, d = self.m, self.d
+        st = self.state()
+        if self._i % self.aero_every == 0:
+            loads = self.backend.loads(st)
+            # hold in the wing frames: local force and moment about the hinge
+            self._held = (loads, np.einsum("wji,wj->wi", st.wing_R, loads.force),
+                          np.einsum("wji,wj->wi", st.wing_R, loads.moment))
+        else:
+            base, F_loc, M_loc = self._held
+            loads = WingLoads(np.einsum("wij,wj->wi", st.wing_R, F_loc), np.einsum("wij,wj->wi", st.wing_R, M_loc),
+                              base.power, base.extras)
+        self._i += 1
+        com = d.xipos[self.wing_ids]
+        d.xfrc_applied[self.wing_ids, :3] = loads.force
+        d.xfrc_applied[self.wing_ids, 3:] = loads.moment + cross(st.wing_origin - com, loads.force)
+        qd = d.qvel[self.wing_dof].copy()
+        self._capture = True
+        with _control_callback(self._control):
+            mujoco.mj_step(m, d)
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        mujoco.mj_comVel(m, d)
+        return StepRecord(st, loads, float(self._tau @ qd))
+
+    # ---- diagnostics -------------------------------------------------------------------------------
+    def wing_angles(self) -> np.ndarray:
+        """Current (6,) wing joint angles [rad]."""
+        return self.d.qpos[self.wing_qpos].copy()
+
+    def momentum(self) -> tuple[np.ndarray, np.ndarray]:
+        """Total linear momentum [kg m/s] and angular momentum about the system's centre of mass [kg m^2/s],
+        world frame."""
+        m, d = self.m, self.d
+        mujoco.mj_subtreeVel(m, d)
+        mass = m.body_subtreemass[self.body_id]
+        return mass * d.subtree_linvel[self.body_id].copy(), d.subtree_angmom[self.body_id].copy()

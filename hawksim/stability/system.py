@@ -1,0 +1,158 @@
+"""Cycle-averaged flight dynamics: nondimensionalisation (paper Eq. 8), A matrices (Eqs. 11-12) and modes.
+
+Axes: stability axes (DESIGN.md; Etkin 1972): x forward horizontal, y right, z down at equilibrium; the ascent
+at speed V has w_e = -V. Nondimensional variables follow Eq. 8 literally: U = 2 phi_a f r2 (r2 dimensional),
+T = 1/f, S_t = 2 S, cbar the mean chord, rho the air density:
+
+    m+ = m / (0.5 rho U S_t T),   g+ = g T / U,   I+ = I / (0.5 rho U^2 S_t cbar T^2),   w_e+ = w_e / U,
+    X+ = X / (0.5 rho U^2 S_t),   M+ = M / (0.5 rho U^2 S_t cbar),   u+ = u / U,   q+ = q T,   t+ = t / T.
+
+Longitudinal state (du+, dw+, dq+, dTheta), Eq. 11. Lateral state (dv+, dp+, dr+, dPhi): the printed Eq. 12 has
+typos (a misplaced w_e in the denominator of Y_p / m, I_z for I_xz, a missing N_r); we use Etkin's standard
+lateral form for Theta_e = 0 and U_e = 0:
+
+    dv'  = Y_v/m dv + (Y_p/m + w_e) dp + Y_r/m dr + g dPhi
+    dp'  = (I_z L' + I_xz N') / (I_x I_z - I_xz^2),   dr' = (I_xz L' + I_x N') / (I_x I_z - I_xz^2)
+    dPhi' = dp,     with L' = L_v dv + L_p dp + L_r dr and N' likewise,
+
+the paper's last state (written dPsi) being the bank angle that gravity acts through.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.morphology import HAWKMOTH, RHO_AIR, G, Morphology
+
+LONG_DERIVATIVES = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
+LAT_DERIVATIVES = ("Yv", "Yp", "Yr", "Lv", "Lp", "Lr", "Nv", "Np", "Nr")
+MODE_KINDS = ("oscillatory", "subsidence", "divergence")
+REAL_TOL = 1e-9
+"""|Im| below this (relative to |lambda|) counts as a real eigenvalue."""
+
+
+@dataclass(frozen=True)
+class Scales:
+    """Reference quantities of Eq. 8 (SI): U [m/s], T [s], S_t [m^2], cbar [m], rho [kg/m^3]."""
+
+    U: float
+    T: float
+    S_t: float
+    cbar: float
+    rho: float
+
+    @classmethod
+    def of(cls, kin: Kinematics, morph: Morphology = HAWKMOTH, rho: float = RHO_AIR) -> Scales:
+        return cls(U=2 * kin.phi_a * kin.f * morph.r2, T=kin.period, S_t=2 * morph.wing_area, cbar=morph.cbar, rho=rho)
+
+    @property
+    def force(self) -> float:
+        """0.5 rho U^2 S_t [N]."""
+        return 0.5 * self.rho * self.U**2 * self.S_t
+
+    @property
+    def moment(self) -> float:
+        """0.5 rho U^2 S_t cbar [N m]."""
+        return self.force * self.cbar
+
+    def mass(self, m: float) -> float:
+        return m / (0.5 * self.rho * self.U * self.S_t * self.T)
+
+    def inertia(self, I: float) -> float:
+        return I / (0.5 * self.rho * self.U**2 * self.S_t * self.cbar * self.T**2)
+
+    def derivative(self, name: str, value: float) -> float:
+        """Nondimensionalise a dimensional derivative d(force or moment)/d(velocity or rate), e.g. 'Mq'."""
+        num = self.moment if name[0] in "LMN" else self.force
+        den = 1.0 / self.U if name[1] in "uvw" else self.T
+        return value / (num * den)
+
+
+@dataclass(frozen=True)
+class MassProperties:
+    """Mass [kg] and inertia about the centre of mass in stability axes [kg m^2] (Ix, Iy, Iz, Ixz = +int xz dm,
+    Etkin's sign)."""
+
+    m: float
+    Ix: float
+    Iy: float
+    Iz: float
+    Ixz: float
+
+
+def a_long(d: dict[str, float], m: float, Iy: float, g: float, w_e: float) -> np.ndarray:
+    """A_long+ of Eq. 11 from nondimensional derivatives d, m+, Iy+, g+ and w_e+ (4, 4)."""
+    return np.array([
+        [d["Xu"] / m, d["Xw"] / m, d["Xq"] / m - w_e, -g],
+        [d["Zu"] / m, d["Zw"] / m, d["Zq"] / m, 0.0],
+        [d["Mu"] / Iy, d["Mw"] / Iy, d["Mq"] / Iy, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+    ])
+
+
+def a_lat(d: dict[str, float], m: float, Ix: float, Iz: float, Ixz: float, g: float, w_e: float) -> np.ndarray:
+    """A_lat+ (Etkin's form, see the module docstring) from nondimensional quantities (4, 4)."""
+    den = Ix * Iz - Ixz**2
+    L = np.array([d["Lv"], d["Lp"], d["Lr"]])
+    N = np.array([d["Nv"], d["Np"], d["Nr"]])
+    return np.array([
+        [d["Yv"] / m, d["Yp"] / m + w_e, d["Yr"] / m, g],
+        [*((Iz * L + Ixz * N) / den), 0.0],
+        [*((Ixz * L + Ix * N) / den), 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+    ])
+
+
+@dataclass(frozen=True)
+class Mode:
+    eigenvalue: complex
+    kind: str
+    stable: bool
+    eigenvector: np.ndarray
+
+
+def classify(eigenvalue: complex) -> tuple[str, bool]:
+    """('oscillatory' | 'subsidence' | 'divergence', stable) of one eigenvalue."""
+    lam = complex(eigenvalue)
+    if abs(lam.imag) > REAL_TOL * max(abs(lam), 1e-300):
+        return "oscillatory", lam.real < 0
+    return ("subsidence", True) if lam.real < 0 else ("divergence", False)
+
+
+def modes(A: np.ndarray) -> list[Mode]:
+    """Eigen-decomposition of A: one Mode per eigenvalue, sorted by real part (complex pairs adjacent)."""
+    w, V = np.linalg.eig(A)
+    order = np.lexsort((-w.imag, w.real))
+    out = []
+    for i in order:
+        kind, stable = classify(w[i])
+        out.append(Mode(complex(w[i]), kind, stable, V[:, i]))
+    return out
+
+
+def modes_json(A: np.ndarray) -> dict:
+    """The CLI contract's block for one A matrix (without derivatives)."""
+    ms = modes(A)
+    return {
+        "matrix": A.tolist(),
+        "eigenvalues": [[m.eigenvalue.real, m.eigenvalue.imag] for m in ms],
+        "modes": [{"eigenvalue": [m.eigenvalue.real, m.eigenvalue.imag], "kind": m.kind, "stable": m.stable,
+                   "eigenvector_abs": np.abs(m.eigenvector).tolist()} for m in ms],
+    }
+
+
+def nondimensional_system(kin: Kinematics, speed: float, derivs_dim: dict[str, float], mp: MassProperties,
+                          morph: Morphology = HAWKMOTH, g: float = G) -> tuple[dict, np.ndarray, np.ndarray, dict]:
+    """(nondimensional derivatives, A_long+, A_lat+, scalars) from dimensional derivatives in stability axes."""
+    sc = Scales.of(kin, morph)
+    d = {k: sc.derivative(k, v) for k, v in derivs_dim.items()}
+    m = sc.mass(mp.m)
+    Ix, Iy, Iz, Ixz = (sc.inertia(v) for v in (mp.Ix, mp.Iy, mp.Iz, mp.Ixz))
+    g_p = g * sc.T / sc.U
+    w_e = -speed / sc.U
+    scalars = {"m_plus": m, "Ix_plus": Ix, "Iy_plus": Iy, "Iz_plus": Iz, "Ixz_plus": Ixz, "g_plus": g_p,
+               "w_e_plus": w_e, "U": sc.U, "T": sc.T}
+    return d, a_long(d, m, Iy, g_p, w_e), a_lat(d, m, Ix, Iz, Ixz, g_p, w_e), scalars

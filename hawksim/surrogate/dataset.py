@@ -1,0 +1,377 @@
+"""UVLM training samples for the surrogate: resumable, parallel, in one SQLite file.
+
+Sample ``i`` of a data set is a pure function of ``(seed, speed, i)``: its kinematics are drawn uniformly within
+Table 2's bounds (Nguyen et al. 2020) by ``numpy.random.default_rng([seed, speed_mm_s, i])``
+(:func:`sample_kinematics`), so any subset of indices can be computed in any order, on any machine, and the
+result is the same file.
+
+The file (SQLite, WAL journal) holds one row per sample, keyed by (speed, seed, idx) so a sample can never be
+stored twice. Only the process that owns the file writes it; workers only compute. Each sample is committed as
+soon as it arrives, so a run killed at any moment (SIGKILL included) loses at most the samples in flight, and
+the same command continues with the missing indices.
+
+Row contents: the speed [m/s], seed, index; the seven kinematic parameters in SI (f [Hz], angles [rad], in the
+order of :data:`hawksim.insect.kinematics.PARAM_NAMES`); L+, D+, M+, P+ (paper Eq. 2) and the power [W] averaged over
+the last wingbeat(s); the peak force coefficient (see :data:`PEAK_FORCE_CEILING`); from layout 2 on, the same
+four averages one wingbeat earlier (``*_prev``: the window of averaged wingbeats moved back by one); ``status``
+'ok', 'diverged' (the UVLM blew up, or its peak force exceeds the ceiling; its loads are NULL if non-finite) or
+'unsettled' (a cycle average still changes by more than :data:`SETTLE_TOL` from one wingbeat to the next: the
+label is not yet periodic); only 'ok' samples are used for training; the resolution as JSON; the hawksim
+version; the evaluation's wall time [s]. Layout 1 files (hawksim 0.2's data sets, no ``*_prev``, no
+'unsettled') are read as they are, not written.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import sqlite3
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from hawksim import __version__
+from hawksim.backends.averages import OUTPUTS
+from hawksim.backends.resolution import Resolution
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+
+APPLICATION_ID = 0x48574B53
+"""``PRAGMA application_id`` of a hawksim data set ('HWKS'): tells our files from other SQLite files."""
+
+SCHEMA_VERSION = 2
+"""``PRAGMA user_version`` of the layout written (2: adds the ``*_prev`` averages and the 'unsettled' status)."""
+
+READABLE_VERSIONS = (1, 2)
+"""Layouts read (layout 1: hawksim 0.2.0's data sets, on which the shipped 0.2 networks were trained)."""
+
+PEAK_FORCE_CEILING = 4.0
+"""Largest credible peak force coefficient: the peak of |total aerodynamic force| over the run divided by the
+tip dynamic pressure 0.5 rho (2 pi f phi_a R)^2 and the two wings' area. Across 100 hover samples (the worst
+case: the wings meet their own wake) healthy runs peak at 0.6-2.9 (translational + rotational + added-mass
+loads of a revolving wing stay below C_F ~ 3, Dickinson et al. 1999, Sane & Dickinson 2002) while runs in which
+a wake vortex crossing the lattice sets off a numerical blow-up reach 5 to 2000; those are stored as
+'diverged' and left out of training."""
+
+SETTLE_TOL = 0.1
+"""Largest change of any of L+, D+, M+, P+ between the averaged wingbeat and the one before it for a label to
+count as periodic ('ok'; otherwise 'unsettled'). Measured on the 1451 held-out samples of the 0.2 data set
+(results/surrogate/label_periodicity.json): the beat 2 -> 3 change of L+ has median 0.004-0.012 and 99th
+percentile 0.06-0.13 per speed, it is correlated with the beat 3 -> 4 change (r = 0.39-0.78: the same runs keep
+changing), and 0.1 leaves out 0-10 % of the samples (most at hover, where the wake stays under the wings)."""
+
+_SCHEMA = f"""
+CREATE TABLE samples (
+    speed REAL NOT NULL,
+    seed INTEGER NOT NULL,
+    idx INTEGER NOT NULL,
+    {", ".join(f"{n} REAL NOT NULL" for n in PARAM_NAMES)},
+    {", ".join(f"{n} REAL" for n in OUTPUTS)},
+    power_W REAL,
+    peak_cf REAL,
+    {", ".join(f"{n}_prev REAL" for n in OUTPUTS)},
+    status TEXT NOT NULL,
+    resolution TEXT NOT NULL,
+    version TEXT NOT NULL,
+    wall_s REAL NOT NULL,
+    PRIMARY KEY (speed, seed, idx)
+);
+"""
+
+
+class DatasetError(ValueError):
+    """A data-set file that cannot be used (not SQLite, not ours, another layout, another resolution)."""
+
+
+@dataclass(frozen=True)
+class Sample:
+    """One evaluated sample. x: the seven parameters (SI, PARAM_NAMES order); y: (L+, D+, M+, P+) or None when
+    the UVLM diverged; power_W [W] or None; wall_s: evaluation time [s]; y_prev: the averages one wingbeat
+    earlier (None if the run has no earlier window or diverged)."""
+
+    speed: float
+    seed: int
+    idx: int
+    x: tuple[float, ...]
+    y: tuple[float, float, float, float] | None
+    power_W: float | None
+    wall_s: float
+    peak_cf: float | None = None
+    y_prev: tuple[float, float, float, float] | None = None
+
+    @property
+    def status(self) -> str:
+        """'diverged', 'unsettled' or 'ok' (module docstring)."""
+        if self.y is None or self.peak_cf is None or self.peak_cf > PEAK_FORCE_CEILING:
+            return "diverged"
+        if self.y_prev is not None and max(abs(a - b) for a, b in zip(self.y, self.y_prev)) > SETTLE_TOL:
+            return "unsettled"
+        return "ok"
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+
+def speed_key(speed: float) -> int:
+    """The speed in integer mm/s: the seed component and the exact-match key of a speed."""
+    return int(round(float(speed) * 1000.0))
+
+
+def sample_kinematics(seed: int, speed: float, i: int) -> Kinematics:
+    """Kinematics of sample i: uniform within Table 2's bounds, a pure function of (seed, speed, i)."""
+    if seed < 0 or i < 0:
+        raise ValueError(f"seed and sample index must be >= 0, got seed={seed}, i={i}")
+    lo, hi = bounds_si()
+    u = np.random.default_rng([int(seed), speed_key(speed), int(i)]).random(len(PARAM_NAMES))
+    return Kinematics.from_array(lo + u * (hi - lo))
+
+
+def evaluate_sample(seed: int, speed: float, i: int, resolution: Resolution) -> Sample:
+    """Evaluate sample i by the UVLM (body held at ascent speed ``speed``). Runs on a worker."""
+    from hawksim.backends.held import run
+    from hawksim.insect.morphology import HAWKMOTH, RHO_AIR
+
+    kin = sample_kinematics(seed, speed, i)
+    t0 = time.perf_counter()
+    peak = prev = None
+    try:
+        r = run(kin, speed, resolution)
+        a = r.averages
+        y = (a.L_plus, a.D_plus, a.M_plus, a.P_plus)
+        k = resolution.average_cycles
+        if len(r.per_cycle) > k:  # the averaged window moved back by one wingbeat (equal-length beats: mean)
+            prev = tuple(float(np.mean([getattr(c, n) for c in r.per_cycle[-k - 1:-1]])) for n in OUTPUTS)
+        power = a.power_W
+        u_tip = 2.0 * math.pi * kin.f * kin.phi_a * HAWKMOTH.R
+        peak = float(np.linalg.norm(r.force_world, axis=1).max()
+                     / (0.5 * RHO_AIR * u_tip**2 * 2.0 * HAWKMOTH.wing_area))
+        if not all(math.isfinite(v) for v in (*y, power, peak, *(prev or ()))):
+            y, power, peak, prev = None, None, None, None
+    except FloatingPointError:
+        y, power = None, None
+    return Sample(float(speed), int(seed), int(i), tuple(float(v) for v in kin.as_array()), y, power,
+                  time.perf_counter() - t0, peak, prev)
+
+
+# --------------------------------------------------------------------------------------------- the file
+
+
+def open_dataset(path: str | Path, *, create: bool = False) -> sqlite3.Connection:
+    """Open (or with ``create`` make) a data-set file; DatasetError for a file that is not one of ours."""
+    path = Path(path)
+    exists = path.exists() and path.stat().st_size > 0
+    if not exists and not create:
+        raise DatasetError(f"data set {str(path)!r} does not exist")
+    if exists:
+        with open(path, "rb") as fh:
+            if fh.read(16) != b"SQLite format 3\x00":
+                raise DatasetError(f"{str(path)!r} is not a SQLite file (corrupt or another format)")
+    try:
+        conn = sqlite3.connect(path, timeout=30.0)
+        app_id = conn.execute("PRAGMA application_id").fetchone()[0]
+        version = conn.execute("PRAGMA user_version").fetchone()[0]
+        n_tables = conn.execute("SELECT count(*) FROM sqlite_master").fetchone()[0]
+    except sqlite3.DatabaseError as exc:
+        raise DatasetError(f"{str(path)!r} is not a readable SQLite file: {exc}") from None
+    if app_id == 0 and version == 0 and n_tables == 0:
+        if not create:
+            conn.close()
+            raise DatasetError(f"{str(path)!r} is an empty SQLite file, not a hawksim data set")
+        conn.execute("PRAGMA journal_mode=WAL")
+        with conn:
+            conn.executescript(_SCHEMA)
+            conn.execute(f"PRAGMA application_id={APPLICATION_ID}")
+            conn.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
+    elif app_id != APPLICATION_ID:
+        conn.close()
+        raise DatasetError(f"{str(path)!r} is a SQLite file but not a hawksim data set (application_id {app_id:#x})")
+    elif version not in READABLE_VERSIONS:
+        conn.close()
+        raise DatasetError(f"data set {str(path)!r} has layout version {version}; this hawksim reads "
+                           f"{', '.join(map(str, READABLE_VERSIONS))}")
+    conn.execute("PRAGMA journal_mode=WAL")
+    conn.execute("PRAGMA synchronous=NORMAL")
+    return conn
+
+
+def _where(speed: float | None = None, seed: int | None = None) -> tuple[str, list]:
+    """SQL condition and arguments selecting one speed (matched in integer mm/s) and/or seed; '1' for all."""
+    where, args = ["1"], []
+    if speed is not None:
+        where.append("CAST(round(speed*1000) AS INTEGER)=?")
+        args.append(speed_key(speed))
+    if seed is not None:
+        where.append("seed=?")
+        args.append(int(seed))
+    return " AND ".join(where), args
+
+
+def stored_indices(conn: sqlite3.Connection, speed: float, seed: int) -> set[int]:
+    w, args = _where(speed, seed)
+    return {r[0] for r in conn.execute(f"SELECT idx FROM samples WHERE {w}", args)}
+
+
+def stored_resolution(conn: sqlite3.Connection, speed: float, seed: int) -> Resolution | None:
+    w, args = _where(speed, seed)
+    row = conn.execute(f"SELECT resolution FROM samples WHERE {w} LIMIT 1", args).fetchone()
+    return None if row is None else Resolution(**json.loads(row[0]))
+
+
+def stored_versions(conn: sqlite3.Connection, speed: float, seed: int) -> set[str]:
+    """hawksim versions that computed the stored samples of (speed, seed)."""
+    w, args = _where(speed, seed)
+    return {r[0] for r in conn.execute(f"SELECT DISTINCT version FROM samples WHERE {w}", args)}
+
+
+def insert_sample(conn: sqlite3.Connection, s: Sample, resolution: Resolution) -> None:
+    """Store one sample and commit (INSERT OR IGNORE: a sample already stored is kept, never duplicated)."""
+    y = s.y if s.y is not None else (None,) * len(OUTPUTS)
+    y_prev = s.y_prev if s.y_prev is not None else (None,) * len(OUTPUTS)
+    cols = ("speed", "seed", "idx", *PARAM_NAMES, *OUTPUTS, "power_W", "peak_cf", *(f"{n}_prev" for n in OUTPUTS),
+            "status", "resolution", "version", "wall_s")
+    vals = (s.speed, s.seed, s.idx, *s.x, *y, s.power_W, s.peak_cf, *y_prev, s.status,
+            json.dumps(resolution.to_dict(), sort_keys=True), __version__, s.wall_s)
+    with conn:
+        conn.execute(f"INSERT OR IGNORE INTO samples ({', '.join(cols)}) VALUES ({', '.join('?' * len(cols))})",
+                     vals)
+
+
+@dataclass(frozen=True)
+class Table:
+    """Samples read back for training. x (n, 7) SI kinematics; y (n, 4) L+, D+, M+, P+; speed (n,) [m/s];
+    idx (n,) sample indices; rows left out: n_diverged with status 'diverged', n_unsettled with 'unsettled'."""
+
+    x: np.ndarray
+    y: np.ndarray
+    speed: np.ndarray
+    idx: np.ndarray
+    n_diverged: int
+    n_unsettled: int = 0
+
+    @property
+    def n_left_out(self) -> int:
+        """Rows of the file (that speed / seed) not used for training: diverged + unsettled."""
+        return self.n_diverged + self.n_unsettled
+
+
+def read_samples(path: str | Path, speed: float | None = None, seed: int | None = None) -> Table:
+    """The 'ok' samples of a data set (optionally one speed and/or seed), ordered by (speed, seed, idx)."""
+    conn = open_dataset(path)
+    try:
+        w, args = _where(speed, seed)
+        rows = conn.execute(f"SELECT speed, idx, {', '.join(PARAM_NAMES)}, {', '.join(OUTPUTS)} FROM samples "
+                            f"WHERE {w} AND status='ok' ORDER BY speed, seed, idx", args).fetchall()
+        count = dict(conn.execute(f"SELECT status, count(*) FROM samples WHERE {w} GROUP BY status", args))
+    finally:
+        conn.close()
+    a = np.asarray(rows, dtype=float).reshape(-1, 2 + len(PARAM_NAMES) + len(OUTPUTS))
+    return Table(x=a[:, 2:9], y=a[:, 9:], speed=a[:, 0], idx=a[:, 1].astype(int),
+                 n_diverged=count.get("diverged", 0), n_unsettled=count.get("unsettled", 0))
+
+
+def speeds_in(path: str | Path) -> list[float]:
+    conn = open_dataset(path)
+    try:
+        return [r[0] / 1000.0 for r in conn.execute(
+            "SELECT DISTINCT CAST(round(speed*1000) AS INTEGER) FROM samples WHERE status='ok' ORDER BY 1")]
+    finally:
+        conn.close()
+
+
+# --------------------------------------------------------------------------------------------- generation
+
+
+@dataclass(frozen=True)
+class GenerationResult:
+    path: str
+    samples: int
+    new: int
+    diverged: int
+    wall_time_s: float
+    samples_per_s: float
+    unsettled: int = 0
+
+
+def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolution: Resolution,
+             scheduler: str | None = None, workers: int | None = None, progress=None) -> GenerationResult:
+    """Make samples 0..n-1 of (seed, speed) present in the file, computing only the missing ones.
+
+    scheduler: address of a running Dask scheduler (e.g. dask-jobqueue on SLURM); otherwise a LocalCluster of
+    ``workers`` single-threaded processes (default: the machine's cores), each with numba limited to one thread
+    so the cores are not oversubscribed. progress(done, total) is called as samples arrive.
+    """
+    conn = open_dataset(path, create=True)
+    t0 = time.perf_counter()
+    try:
+        layout = conn.execute("PRAGMA user_version").fetchone()[0]
+        if layout != SCHEMA_VERSION:
+            raise DatasetError(f"data set {str(path)!r} has layout {layout} (hawksim 0.2.0, without the wingbeat "
+                               f"before the label); this hawksim writes layout {SCHEMA_VERSION}: start a new file")
+        have_res = stored_resolution(conn, speed, seed)
+        if have_res is not None and have_res != resolution:
+            raise DatasetError(f"data set {str(path)!r} holds speed {speed} seed {seed} at resolution "
+                               f"{have_res.to_dict()}, not {resolution.to_dict()}")
+        other = stored_versions(conn, speed, seed) - {__version__}
+        if other:  # another version may have another UVLM (e.g. 0.1 -> 0.2 changed the wake's core growth)
+            raise DatasetError(f"data set {str(path)!r} holds speed {speed} seed {seed} computed by hawksim "
+                               f"{', '.join(sorted(other))}, not {__version__}: continue it with that version or "
+                               "start a new file")
+        todo = [i for i in range(n) if i not in stored_indices(conn, speed, seed)]
+        done0 = n - len(todo)
+        if progress:
+            progress(done0, n)
+        new = diverged = unsettled = 0
+        if todo:
+            for s in _compute(todo, speed, seed, resolution, scheduler, workers):
+                insert_sample(conn, s, resolution)
+                new += 1
+                diverged += s.status == "diverged"
+                unsettled += s.status == "unsettled"
+                if progress:
+                    progress(done0 + new, n)
+        samples = len(stored_indices(conn, speed, seed))
+    finally:
+        conn.close()
+    wall = time.perf_counter() - t0
+    return GenerationResult(str(path), samples, new, diverged, wall, new / wall if wall > 0 else 0.0, unsettled)
+
+
+def _compute(todo, speed, seed, resolution, scheduler, workers):
+    """Yield evaluated samples as they finish (any order)."""
+    from dask.distributed import as_completed
+
+    from hawksim.cluster import dask_client
+
+    with dask_client(scheduler, workers) as client:
+        # Submit in a bounded window: results stream back and are committed one by one.
+        window = 4 * max(1, len(client.scheduler_info()["workers"]))
+        it = iter(todo)
+        futures = [client.submit(evaluate_sample, seed, speed, i, resolution, pure=False)
+                   for i in itertools.islice(it, window)]
+        ac = as_completed(futures)
+        for fut in ac:
+            yield fut.result()
+            fut.release()
+            nxt = next(it, None)
+            if nxt is not None:
+                ac.add(client.submit(evaluate_sample, seed, speed, nxt, resolution, pure=False))
+
+
+def file_sha256(path: str | Path, speed: float | None = None, seed: int | None = None) -> str:
+    """SHA-256 of the data-set rows' content (speed, seed, idx, inputs, outputs, status), optionally of one speed
+    and/or seed, independent of the SQLite page layout: the identity of the data a network was trained on."""
+    import hashlib
+
+    w, args = _where(speed, seed)
+    conn = open_dataset(path)
+    h = hashlib.sha256()
+    try:
+        for row in conn.execute(f"SELECT speed, seed, idx, {', '.join(PARAM_NAMES)}, {', '.join(OUTPUTS)}, status "
+                                f"FROM samples WHERE {w} ORDER BY speed, seed, idx", args):
+            h.update(repr(row).encode())
+    finally:
+        conn.close()
+    return h.hexdigest()

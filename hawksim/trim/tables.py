@@ -1,0 +1,55 @@
+"""The trim kinematics used by default at each ascent speed.
+
+Each aerodynamic model has its own trim, since each balances the insect differently: ``trim_table.json``
+(balanced on the UVLM; also used by the surrogate and by vacuum runs) and ``trim_table_quasi_steady.json``
+(balanced on the quasi-steady model), both in ``hawksim/data`` and produced by
+``scripts/uvlm_trim_table.py`` (the command is recorded in each file). Without a shipped table: the paper's
+Table 3 (Nguyen et al. 2020). Between tabulated speeds the parameters are interpolated linearly.
+"""
+
+from __future__ import annotations
+
+import json
+from functools import lru_cache
+from importlib import resources
+
+import numpy as np
+
+from hawksim.insect.kinematics import PARAM_NAMES, TABLE3_DEG, TABLE3_SPEEDS, Kinematics
+from hawksim.trim.point import Trim
+
+TABLE_FILES = {"uvlm": "trim_table.json", "quasi-steady": "trim_table_quasi_steady.json",
+               "surrogate": "trim_table_surrogate.json"}
+
+
+@lru_cache(maxsize=4)
+def _table(aero: str = "uvlm") -> tuple[str, tuple[float, ...], dict[str, tuple[float, ...]]]:
+    name = TABLE_FILES.get(aero, TABLE_FILES["uvlm"])
+    path = resources.files("hawksim") / "data" / name
+    if path.is_file():
+        data = json.loads(path.read_text())
+        rows = sorted(data["rows"], key=lambda r: r["speed"])
+        speeds = tuple(float(r["speed"]) for r in rows)
+        return "hawksim trim table (" + data.get("source", name) + ")", speeds, {
+            k: tuple(float(r["kinematics"][k]) for r in rows) for k in PARAM_NAMES}
+    return "Nguyen et al. (2020) Table 3", TABLE3_SPEEDS, TABLE3_DEG
+
+
+def trim_source(aero: str = "uvlm") -> str:
+    """Where the default trim for the aerodynamic model ``aero`` comes from."""
+    return _table(aero)[0]
+
+
+def shipped_trim(speed: float, aero: str = "uvlm") -> Trim:
+    """The default trim at ascent speed [m/s] for the aerodynamic model ``aero`` (ValueError outside the table's
+    speed range); between tabulated speeds the parameters are interpolated linearly (averages not recorded)."""
+    source, speeds, table = _table(aero)
+    if not (speeds[0] <= speed <= speeds[-1]):
+        raise ValueError(f"speed {speed:g} m/s is outside the trim table's range [{speeds[0]:g}, {speeds[-1]:g}] m/s")
+    kin = Kinematics.from_edge({k: float(np.interp(speed, speeds, v)) for k, v in table.items()})
+    return Trim(float(speed), kin, model=aero if aero in TABLE_FILES else "uvlm", source=source)
+
+
+def trim_kinematics(speed: float, aero: str = "uvlm") -> Kinematics:
+    """The kinematics of :func:`shipped_trim`."""
+    return shipped_trim(speed, aero).kinematics
