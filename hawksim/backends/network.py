@@ -23,10 +23,10 @@ from pathlib import Path
 import numpy as np
 
 from hawksim.backends.averages import OUTPUTS
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+from hawksim.insect.kinematics import PARAM_NAMES, SPEED_RANGE, Kinematics, bounds_si
 
-SPEED_BOUNDS = (0.0, 2.0)
-"""Ascent-speed range of the study [m/s] (Nguyen et al. 2020: 0 to 2 m/s), the speed input's bounds."""
+SPEED_BOUNDS = SPEED_RANGE
+"""Bounds of the speed input [m/s]: the study's range."""
 FORMAT = "hawksim-surrogate-1"
 SPEED_TOL = 1e-6
 """A per-speed network answers only at its own speed (to this tolerance, m/s)."""

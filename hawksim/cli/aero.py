@@ -36,11 +36,15 @@ def register(sub) -> None:
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
     p.add_argument("--kinematics", type=parse_kinematics, required=True,
                    help=KINEMATICS_HELP)
-    p.add_argument("--cycles", type=cycles_arg, help=f"wingbeats (default {DEFAULT.cycles}; the last {DEFAULT.average_cycles} averaged)")
+    p.add_argument("--cycles", type=cycles_arg,
+                   help=f"wingbeats (default {DEFAULT.cycles}; the last {DEFAULT.average_cycles} averaged)")
     p.add_argument("--aero", choices=AERO_MODELS, default=DEFAULT.aero)
-    p.add_argument("--n-chord", type=positive_int_arg("n-chord"), help=f"chordwise vortex rings per wing ({DEFAULT.n_chord})")
-    p.add_argument("--n-span", type=positive_int_arg("n-span"), help=f"spanwise vortex rings per wing ({DEFAULT.n_span})")
-    p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"), help=f"time steps per wingbeat ({DEFAULT.steps_per_cycle})")
+    p.add_argument("--n-chord", type=positive_int_arg("n-chord"),
+                   help=f"chordwise vortex rings per wing ({DEFAULT.n_chord})")
+    p.add_argument("--n-span", type=positive_int_arg("n-span"),
+                   help=f"spanwise vortex rings per wing ({DEFAULT.n_span})")
+    p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"),
+                   help=f"time steps per wingbeat ({DEFAULT.steps_per_cycle})")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_aero)

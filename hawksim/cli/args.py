@@ -8,7 +8,7 @@ import math
 import os
 from pathlib import Path
 
-from hawksim.insect.kinematics import PARAM_NAMES, TABLE2_BOUNDS_DEG, Kinematics
+from hawksim.insect.kinematics import PARAM_NAMES, SPEED_RANGE, TABLE2_BOUNDS_DEG, Kinematics
 
 KINEMATICS_HELP = (",".join(f"{k}=.." for k in PARAM_NAMES) + " (Hz, deg; Table 2 bounds: "
                    + ", ".join(f"{k} {lo:g}..{hi:g}" for k, (lo, hi) in TABLE2_BOUNDS_DEG.items()) + ")")
@@ -24,25 +24,28 @@ class Parser(argparse.ArgumentParser):
         raise UsageError(f"{self.prog}: {message}")
 
 
-def speed_arg(text: str) -> float:
+def _number(option: str, text: str, convert, what: str):
+    """``convert(text)`` or argparse.ArgumentTypeError "--option 'text' is not <what>"."""
     try:
-        v = float(text)
+        return convert(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"--speed {text!r} is not a number") from None
-    if not math.isfinite(v) or v < 0:
-        raise argparse.ArgumentTypeError(f"--speed {text} must be a finite ascent speed >= 0 m/s")
-    if v > 2.0:
-        raise argparse.ArgumentTypeError(f"--speed {text} is outside the study's range [0, 2] m/s")
+        raise argparse.ArgumentTypeError(f"--{option} {text!r} is not {what}") from None
+
+
+def speed_arg(text: str) -> float:
+    v = _number("speed", text, float, "a number")
+    lo, hi = SPEED_RANGE
+    if not math.isfinite(v) or v < lo:
+        raise argparse.ArgumentTypeError(f"--speed {text} must be a finite ascent speed >= {lo:g} m/s")
+    if v > hi:
+        raise argparse.ArgumentTypeError(f"--speed {text} is outside the study's range [{lo:g}, {hi:g}] m/s")
     return v
 
 
 def positive_int_arg(name: str):
     """argparse type for a positive integer option --name."""
     def parse(text: str) -> int:
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"--{name} {text!r} is not an integer") from None
+        v = _number(name, text, int, "an integer")
         if v < 1:
             raise argparse.ArgumentTypeError(f"--{name} {text} must be >= 1")
         return v
@@ -108,20 +111,14 @@ def writable_file(text: str) -> Path:
 
 
 def seed_arg(text: str) -> int:
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"--seed {text!r} is not an integer") from None
+    v = _number("seed", text, int, "an integer")
     if v < 0:
         raise argparse.ArgumentTypeError(f"--seed {text} must be >= 0")
     return v
 
 
 def seconds_arg(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"--time-limit {text!r} is not a number of seconds") from None
+    v = _number("time-limit", text, float, "a number of seconds")
     if not math.isfinite(v) or v <= 0:
         raise argparse.ArgumentTypeError(f"--time-limit {text} must be a positive number of seconds")
     return v

@@ -34,11 +34,14 @@ def register(sub) -> None:
     p.add_argument("--scheduler", help="address of a running Dask scheduler (default: a LocalCluster)")
     p.add_argument("--workers", type=positive_int_arg("workers"),
                    help="LocalCluster worker processes (default: the machine's cores)")
-    p.add_argument("--n-chord", type=positive_int_arg("n-chord"), help=f"chordwise rings per wing (training: {TRAINING.n_chord})")
-    p.add_argument("--n-span", type=positive_int_arg("n-span"), help=f"spanwise rings per wing (training: {TRAINING.n_span})")
+    p.add_argument("--n-chord", type=positive_int_arg("n-chord"),
+                   help=f"chordwise rings per wing (training: {TRAINING.n_chord})")
+    p.add_argument("--n-span", type=positive_int_arg("n-span"),
+                   help=f"spanwise rings per wing (training: {TRAINING.n_span})")
     p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"),
                    help=f"time steps per wingbeat (training: {TRAINING.steps_per_cycle})")
-    p.add_argument("--cycles", type=positive_int_arg("cycles"), help=f"wingbeats, the last averaged (training: {TRAINING.cycles})")
+    p.add_argument("--cycles", type=positive_int_arg("cycles"),
+                   help=f"wingbeats, the last averaged (training: {TRAINING.cycles})")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_dataset)

@@ -54,6 +54,9 @@ TABLE2_BOUNDS_DEG = {
 TABLE3_SPEEDS = (0.0, 0.5, 1.0, 1.5, 2.0)
 """Ascent speeds [m/s] of Table 3 of Nguyen et al. (2020)."""
 
+SPEED_RANGE = (TABLE3_SPEEDS[0], TABLE3_SPEEDS[-1])
+"""Ascent-speed range of the study [m/s] (Nguyen et al. 2020: 0 to 2 m/s)."""
+
 TABLE3_DEG = {
     "f": (26.5, 27.9, 29.4, 30.2, 31.0),
     "beta": (1.5, 2.2, 2.8, 0.6, 2.9),

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 def stability_report(speed: float, *, kinematics=None, client=None) -> dict:
     """The CLI contract's JSON for one ascent speed (also used by the studies of `hawksim reproduce`); client: a
-    dask.distributed client whose workers run the UVLM cases (`hawksim.stability.derivatives.dimensional_derivatives`)."""
+    dask.distributed client whose workers run the UVLM cases
+    (:func:`hawksim.stability.derivatives.dimensional_derivatives`)."""
     from hawksim.stability.derivatives import dimensional_derivatives, mass_properties
     from hawksim.stability.system import LAT_DERIVATIVES, LONG_DERIVATIVES, modes_json, nondimensional_system
     from hawksim.trim.tables import shipped_trim

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from aero.mesh import wing_mesh
-from aero.steady_vlm import steady_lift_coefficient
+from steady_vlm_reference import steady_lift_coefficient
 from aero.uvlm import UVLM, FreeStream, UVLMConfig
 
 PLAIN = UVLMConfig(le_suction=False, core_growth=False, free_wake=False)

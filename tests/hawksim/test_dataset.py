@@ -15,7 +15,7 @@ import pytest
 
 from hawksim.backends.resolution import Resolution
 from hawksim.cli import main
-from hawksim.insect.kinematics import bounds_si
+from hawksim.insect.kinematics import PARAM_NAMES, bounds_si
 from hawksim.surrogate.dataset import (
     APPLICATION_ID,
     OUTPUTS,
@@ -205,15 +205,37 @@ def test_rows_hold_the_previous_wingbeat_and_unsettled_samples_are_left_out(tmp_
     assert t.n_unsettled == before.n_unsettled + 1 and t.n_diverged == before.n_diverged
 
 
-def test_layout_1_files_are_read_but_not_continued(tmp_path, capsys):
-    """hawksim 0.2.0's data set (layout 1, the shipped networks' training data) is read as it is; continuing it
-    would mix rows with and without the previous wingbeat: refused, the file untouched."""
-    import shutil
+LAYOUT_1_ROWS = 50
+"""Rows of the generated layout-1 fixture (the first samples of the shipped 0.3 set at 1 m/s)."""
 
-    src = Path(__file__).resolve().parents[2] / "data" / "uvlm_training_0.2.sqlite"
-    old = tmp_path / "old.sqlite"
-    shutil.copy(src, old)
-    assert len(read_samples(old, speed=1.0).y) > 2800
+
+def layout_1_file(path: Path) -> Path:
+    """A layout-1 data set (hawksim 0.2.0's: no ``*_prev`` columns, ``user_version`` 1) of LAYOUT_1_ROWS rows
+    copied from the shipped 0.3 set: the small generated fixture that replaces the superseded 0.2 file."""
+    import sqlite3
+
+    src = sqlite3.connect(Path(__file__).resolve().parents[2] / "data" / "uvlm_training_0.3.sqlite")
+    cols = ["speed", "seed", "idx", *PARAM_NAMES, *OUTPUTS, "power_W", "peak_cf", "status", "resolution", "version",
+            "wall_s"]
+    rows = src.execute(f"SELECT {', '.join(cols)} FROM samples WHERE speed = 1.0 AND status = 'ok' ORDER BY idx "
+                       f"LIMIT {LAYOUT_1_ROWS}").fetchall()
+    src.close()
+    schema = ", ".join(f"{c} {'TEXT' if c in ('status', 'resolution', 'version') else 'REAL'}" for c in cols)
+    conn = sqlite3.connect(path)
+    with conn:
+        conn.execute(f"CREATE TABLE samples ({schema}, PRIMARY KEY (speed, seed, idx))")
+        conn.executemany(f"INSERT INTO samples VALUES ({', '.join('?' * len(cols))})", rows)
+        conn.execute(f"PRAGMA application_id={APPLICATION_ID}")
+        conn.execute("PRAGMA user_version=1")
+    conn.close()
+    return path
+
+
+def test_layout_1_files_are_read_but_not_continued(tmp_path, capsys):
+    """hawksim 0.2.0's data sets (layout 1) are read as they are; continuing one would mix rows with and without
+    the previous wingbeat: refused, the file untouched."""
+    old = layout_1_file(tmp_path / "old.sqlite")
+    assert len(read_samples(old, speed=1.0).y) == LAYOUT_1_ROWS
     before = old.read_bytes()
     with pytest.raises(DatasetError, match="layout 1"):
         generate(old, 1.0, 3001, seed=0, resolution=TINY, workers=1)

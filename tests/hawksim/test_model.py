@@ -50,7 +50,8 @@ def test_mass_and_inertia_equal_the_morphology():
 
 
 def test_joint_axes_reproduce_the_kinematics_frames():
-    """MuJoCo's wing frames (xmat) equal hawksim.insect.kinematics' for both wings: joint angles = (phi, theta, alpha)."""
+    """MuJoCo's wing frames (xmat) equal hawksim.insect.kinematics' for both wings: joint angles = (phi, theta,
+    alpha)."""
     m = load_model()
     d = mujoco.MjData(m)
     kin = table3_kinematics(1.0)
