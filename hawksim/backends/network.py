@@ -126,7 +126,7 @@ class Surrogate:
                       batch: int = 4096) -> np.ndarray:
         """As ``predict`` but evaluated by torch in float32: the batched-inference path. Normalisation and output
         scaling are folded into the weights; batches of ``batch`` samples keep the hidden layer in cache (4096:
-        8 MB; ~1.8e6 samples/s on 2 cores against ~0.9e6 at 65536, scripts/bench_predict.py)."""
+        8 MB; ~1.8e6 samples/s on 2 cores against ~0.9e6 at 65536, scripts/benchmarks/bench_predict.py)."""
         import torch
 
         xs = torch.from_numpy(np.ascontiguousarray(self.features(x, speed), dtype=np.float32))

@@ -46,7 +46,7 @@ def stability_all(out_dir: Path, *, table3: bool = False) -> dict:
     return {"speeds": studies["speeds"], "modes": studies["fig15"]["modes"]}
 
 
-STEPS = ("uvlm_table4", "stability", "trim")
+STEPS = ("uvlm_table4", "stability", "stability_table3", "trim")
 """Parts of `hawksim reproduce`, in the order they run."""
 
 
@@ -61,6 +61,9 @@ def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
     if "stability" in only:
         log("stability ...")
         done["stability"] = stability_all(out_dir / "stability")
+    if "stability_table3" in only:
+        log("stability_table3 ...")
+        done["stability_table3"] = stability_all(out_dir / "stability_table3", table3=True)
     if "trim" not in only:
         return done
     from hawksim.backends.network import SHIPPED_SPEEDS, shipped_path

@@ -3,7 +3,7 @@
 Each aerodynamic model has its own trim, since each balances the insect differently: ``trim_table.json``
 (balanced on the UVLM; also used by the surrogate and by vacuum runs) and ``trim_table_quasi_steady.json``
 (balanced on the quasi-steady model), both in ``hawksim/data`` and produced by
-``scripts/uvlm_trim_table.py`` (the command is recorded in each file). Without a shipped table: the paper's
+``scripts/studies/uvlm_trim_table.py`` (the command is recorded in each file). Without a shipped table: the paper's
 Table 3 (Nguyen et al. 2020). Between tabulated speeds the parameters are interpolated linearly.
 """
 

@@ -17,7 +17,8 @@ samples of the layout-1 data set (no criterion), so it measures the effect of th
 only; run on the layout-2 data set of the current networks, the criterion is already applied to every sample.
 
     git show a4a9b6b:data/uvlm_training_0.2.sqlite > old.sqlite     # the layout-1 0.2 set (left the tree)
-    python scripts/label_periodicity.py --data old.sqlite --out results/surrogate/label_periodicity.json  # at be22a4c
+    python scripts/studies/label_periodicity.py --data old.sqlite \
+        --out results/surrogate/label_periodicity.json      # at commit be22a4c
 """
 
 import argparse

@@ -11,7 +11,7 @@ A second estimate ("realization"): each sample is run again with its flapping fr
 sensitivity to round-off alone puts on one stored label (docs/uvlm.md, "Hover is not periodic"). No network can
 predict the labels better than these; compare with the surrogates' held-out RMSE. Prints ONE JSON object.
 
-    python scripts/label_noise.py [--n 40] [--speeds 0 0.5 1 1.5 2] [--out results/surrogate/label_noise.json]
+    python scripts/studies/label_noise.py [--n 40] [--speeds 0 0.5 1 1.5 2] [--out results/surrogate/label_noise.json]
 """
 
 import argparse

@@ -6,8 +6,8 @@ hover and 0.5 m/s the free wake amplifies such changes into several per cent of 
 (docs/uvlm.md, "Hover is not periodic"), so the spread over realizations is the uncertainty of each derivative;
 "determined" marks those whose mean exceeds twice that spread. Prints one JSON object.
 
-    python scripts/derivative_step_study.py --speed 1.0 --out results/stability/step_study_v1.json
-    python scripts/derivative_step_study.py --speed 0 --sizes 0.05 --realizations 3 \
+    python scripts/studies/derivative_step_study.py --speed 1.0 --out results/stability/step_study_v1.json
+    python scripts/studies/derivative_step_study.py --speed 0 --sizes 0.05 --realizations 3 \
         --out results/stability/scatter_v0.json
 """
 

@@ -4,8 +4,8 @@ For each ascent speed the starting point is the paper's Table 3 (until the surro
 optimum is available, issue 5), and f, beta, phi0, alpha0 are adjusted until |L+ - 1|, |D+|, |M+| <= 0.01 by the UVLM
 (`hawksim.trim.balance`). Deterministic (no random numbers). Prints one JSON object.
 
-    python scripts/uvlm_trim_table.py --out hawksim/data/trim_table.json
-    python scripts/uvlm_trim_table.py --aero quasi-steady --out hawksim/data/trim_table_quasi_steady.json
+    python scripts/studies/uvlm_trim_table.py --out hawksim/data/trim_table.json
+    python scripts/studies/uvlm_trim_table.py --aero quasi-steady --out hawksim/data/trim_table_quasi_steady.json
 """
 
 import argparse
@@ -40,7 +40,7 @@ def main():
                      "converged": r.converged, "evaluations": r.evaluations, "wall_time_s": r.wall_time_s})
         print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
     out = {"source": f"{a.aero} balance of Table 3 (f, beta, phi0, alpha0 adjusted)",
-           "command": " ".join(["python scripts/uvlm_trim_table.py", *sys.argv[1:]]),
+           "command": " ".join(["python scripts/studies/uvlm_trim_table.py", *sys.argv[1:]]),
            "seed": None, "hawksim_version": __version__, "free_parameters": list(FREE),
            "resolution": res.to_dict(), "tolerance": 0.01,
            "created": time.strftime("%Y-%m-%d"), "rows": rows}

@@ -4,8 +4,8 @@ For each study speed: the held-out test samples of that speed's network (the sam
 same data order, seed and fractions), scored by the per-speed network and by the speed-input network (whose
 grouped split holds out exactly these samples too, so neither has seen them); RMSE and R^2 per output on all of
 them and on 50 drawn at random (the paper's Fig. 5 shows 50 cases); the label noise of the data (from
-``--noise-json``, the output of scripts/label_noise.py) beside them. Writes one PNG grid (speeds x outputs) of the
-50 cases, ANN vs UVLM.
+``--noise-json``, the output of scripts/studies/label_noise.py) beside them. Writes one PNG grid (speeds x
+outputs) of the 50 cases, ANN vs UVLM.
 
 ``--conditioning``: the 50 cases are run again by the UVLM (the data set's resolution), as stored and with the
 flapping frequency changed by a relative 1e-10 (round-off level). At low ascent speeds the free wake amplifies
@@ -19,7 +19,7 @@ wingbeat 3's average alone, which at hover fluctuates from beat to beat (the wak
 networks are also scored against the mean of wingbeats 3..K (``multi_beat``), a better estimate of the UVLM's
 cycle average for the same held-out kinematics, and the RMS of the single-beat labels about that mean is given.
 
-    python scripts/surrogate_validation.py --data data/uvlm_training_0.3.sqlite --conditioning --beats 6 \
+    python scripts/studies/surrogate_validation.py --data data/uvlm_training_0.3.sqlite --conditioning --beats 6 \
         --noise-json results/surrogate/label_noise.json --out results/surrogate/validation.json \
         --png results/surrogate/validation.png
 """

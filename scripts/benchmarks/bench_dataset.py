@@ -7,7 +7,7 @@ steady-state rate (samples arriving after the first one on each worker); the sta
 cache loading in each worker: once per `hawksim dataset` command, i.e. 5 times for the data set) is reported
 and added to the projection.
 
-    python scripts/bench_dataset.py [--n 200] [--speeds 0 2] [--out results/bench_dataset.json]
+    python scripts/benchmarks/bench_dataset.py [--n 200] [--speeds 0 2] [--out results/bench_dataset.json]
 """
 
 import argparse
@@ -51,7 +51,7 @@ def main():
     hours = (PAPER_SAMPLES / rate + 5 * startup) / 3600
     emit({"cpu_count": os.cpu_count(), "resolution": TRAINING.to_dict(), "per_speed": per_speed,
           "samples_per_s": rate, "startup_s": startup, "paper_dataset_samples": PAPER_SAMPLES, "projected_hours": hours,
-          "target_hours": TARGET_H, "ratio_to_target": hours / TARGET_H}, a.out)
+          "target_hours": TARGET_H, "ratio_to_target": hours / TARGET_H}, a.out, host=True)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@ Prints one JSON object: the simulated flight time, the flight loop's wall time (
 after a warm-up that compiles/loads the numba kernels), the whole command's wall time (subprocess, including
 Python start-up and imports), and the real-time factors (simulated time / wall time; >= 1 is real time).
 
-    python scripts/bench_fly.py [--speed 1] [--cycles 20] [--aero quasi-steady] [--repeat 3]
+    python scripts/benchmarks/bench_fly.py [--speed 1] [--cycles 20] [--aero quasi-steady] [--repeat 3]
 """
 
 import argparse
@@ -14,6 +14,8 @@ import platform
 import subprocess
 import sys
 import time
+
+from hawksim.jsonout import host_info
 
 
 def main():
@@ -43,6 +45,7 @@ def main():
     best_loop = min(x[0] for x in loop)
     best_fly = min(x[1] for x in loop)
     print(json.dumps({
+        "host": host_info(),
         "benchmark": "hawksim fly",
         "speed": a.speed, "cycles": a.cycles, "aero": a.aero, "steps": a.cycles * r.steps_per_cycle,
         "simulated_time_s": sim_time,

@@ -4,7 +4,7 @@ The surrogate flight's loads come from the shipped speed-input network, so its t
 GA + Nelder-Mead minimum of Eq. 3 at each study speed (seed 0, population 1e5), in the layout of the other trim
 tables. Prints ONE JSON object.
 
-    python scripts/surrogate_trim_table.py --out hawksim/data/trim_table_surrogate.json
+    python scripts/studies/surrogate_trim_table.py --out hawksim/data/trim_table_surrogate.json
 """
 
 import argparse
@@ -31,7 +31,7 @@ def main():
                      "surrogate": r.outputs, "fitness": r.fitness, "wall_time_s": r.wall_time_s})
         print(f"{v:g} m/s: {r.outputs}", file=sys.stderr, flush=True)
     out = {"source": "GA + Nelder-Mead minimum of Eq. 3 on the shipped speed-input surrogate",
-           "command": " ".join(["python scripts/surrogate_trim_table.py", *sys.argv[1:]]), "seed": a.seed,
+           "command": " ".join(["python scripts/studies/surrogate_trim_table.py", *sys.argv[1:]]), "seed": a.seed,
            "hawksim_version": __version__, "model": net.meta.get("command"), "rows": rows}
     emit(out, a.out)
 

@@ -12,7 +12,7 @@ with it, larger initial wake cores (``wake_core_chords``, a Krasny-type blob reg
 to 2 beats (``max_wake_rows``, as `hawksim fly` keeps 3); faster core growth (``a_prime`` 15, 50 and 150 times
 the rotor value; 150 times, 1e-2, is the default since). Prints ONE JSON object.
 
-    python scripts/wake_sensitivity.py --out results/uvlm_wake_sensitivity.json
+    python scripts/studies/wake_sensitivity.py --out results/uvlm_wake_sensitivity.json
 """
 
 import argparse

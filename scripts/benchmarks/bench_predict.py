@@ -7,7 +7,7 @@
   network learned and at the default resolution, best of 3 after a warm-up (numba compiled);
 * speedup_per_sample: UVLM seconds per evaluation x predictions per second (the paper: "thousands of times").
 
-    python scripts/bench_predict.py [--model FILE] [--n 2000000] [--out results/bench_predict.json]
+    python scripts/benchmarks/bench_predict.py [--model FILE] [--n 2000000] [--out results/bench_predict.json]
 """
 
 import argparse
@@ -59,7 +59,7 @@ def main():
           "resolutions": {"training": TRAINING.to_dict(), "default": DEFAULT.to_dict()},
           "speedup_per_sample": {k: v * rate for k, v in uvlm.items()},
           "speedup_single_call": {k: v / best_time(lambda: sur.predict(kin.as_array()[None], a.speed), 20)
-                                  for k, v in uvlm.items()}}, a.out)
+                                  for k, v in uvlm.items()}}, a.out, host=True)
 
 
 if __name__ == "__main__":

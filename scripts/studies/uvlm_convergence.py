@@ -4,7 +4,7 @@ For each resolution (chordwise x spanwise rings per wing, steps per wingbeat) th
 `hawksim aero` (3 wingbeats, last one averaged; per-cycle values show the periodic convergence). Prints one
 JSON object and writes it to --out.
 
-    python scripts/uvlm_convergence.py --speed 1.0 --out results/uvlm_convergence.json
+    python scripts/studies/uvlm_convergence.py --speed 1.0 --out results/uvlm_convergence.json
 """
 
 import argparse

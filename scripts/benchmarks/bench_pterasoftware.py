@@ -1,4 +1,5 @@
-"""Time PteraSoftware 5.1.0's unsteady free-wake solver on the reference flapping case of scripts/bench_uvlm.py:
+"""Time PteraSoftware 5.1.0's unsteady free-wake solver on the reference flapping case of
+scripts/benchmarks/bench_uvlm.py:
 one wing and its mirror image (8 x 16 panels each, the same planform), 3 wingbeats at 25 Hz in 220 steps, free
 wake, no wake truncation. Creates/reuses a venv under /tmp; prints ONE JSON object {"ptera_wall_s": ..., ...}.
 
@@ -28,7 +29,7 @@ UnsteadyProblem, UnsteadyRingVortexLatticeMethodSolver):
   or compiles PteraSoftware's numba kernels (warmup_s), as bench_uvlm excludes its compilation. Numba's
   threading is left at its defaults (NUMBA_NUM_THREADS is removed from the environment).
 
-Usage: python scripts/bench_pterasoftware.py [--steps N] > ptera.json   (takes a few minutes at 220 steps)
+Usage: python scripts/benchmarks/bench_pterasoftware.py [--steps N] > ptera.json   (takes a few minutes at 220 steps)
 """
 
 import argparse
@@ -37,6 +38,8 @@ import os
 import subprocess
 import sys
 import textwrap
+
+from hawksim.jsonout import host_info
 
 VENV = "/tmp/ptera-venv"
 VERSION = "5.1.0"
@@ -158,7 +161,7 @@ def main():
     if out.returncode or not lines:
         print(json.dumps({"error": (out.stderr or out.stdout)[-2000:]}))
         sys.exit(1)
-    print(lines[-1])
+    print(json.dumps({**json.loads(lines[-1]), "host": host_info()}))
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@
   ceiling, since each of its evaluations needs two square roots and one division (measured, so the kernel's rate
   can be compared with what the machine allows on the day: the rates here vary by up to 2x between days). The
   lattice kernel needs one division per evaluation and no square root: its ceiling is div_g_s.
-* ptera_wall_s / speedup: when --ptera-json FILE (output of scripts/bench_pterasoftware.py) is given.
+* ptera_wall_s / speedup: when --ptera-json FILE (output of scripts/benchmarks/bench_pterasoftware.py) is given.
 * aero_command_s, aero_wall_time_s: `hawksim aero` at the default resolution (Table 3's hover kinematics, a
   fresh process): the whole command's wall time and the solve time it reports (``wall_time_s``, which includes
   numba's one-time start in that process, ~0.35 s here); aero_warm_s: the same solve in this process, numba
@@ -42,6 +42,7 @@ from aero.vector_width import vector_bits  # noqa: I001  (first: importing aero 
 from hawksim.backends.held import run
 from hawksim.backends.resolution import DEFAULT
 from hawksim.insect.kinematics import TABLE3_DEG, table3_kinematics
+from hawksim.jsonout import host_info
 
 TARGETS = {"lattice_kernel_geval_s": 1.5, "reference_case_s": 6.0, "aero_wall_time_s": 1.0,
            "speedup_vs_ptera": 25.0}
@@ -139,7 +140,7 @@ def aero_timings() -> dict:
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--ptera-json", help="JSON file written by scripts/bench_pterasoftware.py")
+    ap.add_argument("--ptera-json", help="JSON file written by scripts/benchmarks/bench_pterasoftware.py")
     ap.add_argument("--steps", type=int, default=220)
     args = ap.parse_args()
     t0 = time.perf_counter()
@@ -168,6 +169,7 @@ def main():
         if out["ptera_wall_s"]:
             out["speedup_vs_ptera"] = round(out["ptera_wall_s"] / wall, 1)
     out["targets"] = TARGETS
+    out["host"] = host_info()
     print(json.dumps(out))
 
 
