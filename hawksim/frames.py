@@ -91,6 +91,21 @@ def pitch_of(R) -> np.ndarray:
 
 
 def roll_of(R) -> np.ndarray:
-    """Roll [rad] of body frames R (..., 3, 3), Z-Y-X Euler angles, right wing down positive (stability-axes sense)."""
+    """Roll [rad] of body frames R (..., 3, 3), Z-Y-X Euler angles, right wing down positive (stability-axes sense:
+    the body's left (+y) axis tilts up, a positive rotation about the heading +x)."""
     R = np.asarray(R)
-    return -np.arctan2(R[..., 2, 1], R[..., 2, 2])
+    return np.arctan2(R[..., 2, 1], R[..., 2, 2])
+
+
+def attitude_of(R) -> np.ndarray:
+    """(pitch, roll, yaw) [rad] of body frames R (n, 3, 3) (body -> world, heading +x), pitch unwrapped along n.
+
+    Pitch-first angles, R = Ry(-pitch) Rx(roll) Rz(-yaw): pitch nose up positive, roll right wing down positive,
+    yaw nose right positive. Unlike Z-Y-X Euler angles (:func:`pitch_of`, :func:`roll_of`), a pitch-over stays a
+    pitch past 90 deg instead of becoming a 180 deg roll; singular only with the wings' axis vertical (roll 90 deg),
+    which an ascending hawkmoth never reaches. Returns shape (n, 3)."""
+    R = np.asarray(R)
+    pitch = np.unwrap(-np.arctan2(R[:, 0, 2], R[:, 2, 2]))
+    roll = -np.arcsin(np.clip(R[:, 1, 2], -1.0, 1.0))
+    yaw = np.unwrap(-np.arctan2(R[:, 1, 0], R[:, 1, 1]))
+    return np.stack([pitch, roll, yaw], axis=1)

@@ -9,10 +9,18 @@ from hawksim.cli.args import KINEMATICS_HELP, cycles_arg, parse_kinematics, pert
 from hawksim.cli.progress import progress_for
 
 
+START_CHOICES = ("orbit", "trim")
+"""Where `hawksim fly` starts: the periodic orbit of the free body (solved at the start, quasi-steady only) or the
+held-body trim with one calibration wingbeat (the other backends, or on request)."""
+
+
 def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinematics=None, perturb=None,
-              model_path=None, steps_per_cycle: int = STEPS_PER_CYCLE, keep_extras_every: int = 0, **kw):
-    """`hawksim fly`'s flight: the shipped trim of ``aero`` at ``speed`` (or ``kinematics``), the backend of that
-    name, then :func:`hawksim.flight.fly.fly`."""
+              model_path=None, steps_per_cycle: int = STEPS_PER_CYCLE, keep_extras_every: int = 0,
+              start: str | None = None, log=None, **kw):
+    """`hawksim fly`'s flight: from the free body's periodic orbit (``start='orbit'``, default for the quasi-steady
+    backend without given kinematics at the orbit solver's 200 steps per beat) or from the shipped held-body trim of ``aero`` at ``speed`` (or
+    ``kinematics``) with a calibration beat (``start='trim'``), with the backend of that name, then
+    :func:`hawksim.flight.fly.fly`."""
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
     from hawksim.flight.start import is_lateral, parse_perturbations
@@ -21,20 +29,49 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
     from hawksim.trim.tables import shipped_trim
 
     perturb = parse_perturbations(perturb or {})
-    trim = (Trim(float(speed), kinematics, model=aero, source="given") if kinematics is not None
-            else shipped_trim(speed, aero))
+    if start is None:
+        start = ("orbit" if aero == "quasi-steady" and steps_per_cycle == STEPS_PER_CYCLE and kinematics is None
+                 else "trim")
+    if start not in START_CHOICES:
+        raise ValueError(f"--start {start!r}: choose {', '.join(START_CHOICES)}")
+    if start == "orbit" and (aero != "quasi-steady" or steps_per_cycle != STEPS_PER_CYCLE):
+        raise ValueError(f"--start orbit needs --aero quasi-steady at {STEPS_PER_CYCLE} steps per cycle (the UVLM's "
+                         "orbit takes ~1 min: `hawksim trim --free-flight --aero uvlm`)")
+    start_state = None
+    if start == "orbit":
+        from hawksim.flight.orbit import periodic_orbit
+
+        orbit = periodic_orbit(speed, aero, kinematics=kinematics, log=log)
+        if not orbit.converged:
+            raise FloatingPointError(f"the periodic orbit at {speed:g} m/s did not converge "
+                                     f"(residual {orbit.residual:.2e}); fly with --start trim")
+        trim = Trim(float(speed), orbit.kinematics, model=aero, source=(
+            f"periodic orbit of the free body ({orbit.iterations} Newton iterations, residual {orbit.residual:.1e}) "
+            f"from the {'given kinematics' if kinematics is not None else 'held-body trim'}"))
+        start_state = (orbit.launch_state.as_array(), orbit.chi_ref)
+    else:
+        trim = (Trim(float(speed), kinematics, model=aero, source="given") if kinematics is not None
+                else shipped_trim(speed, aero))
     backend = flight_backend(aero, kinematics=trim.kinematics, symmetric=not is_lateral(perturb),
                              keep_panels=keep_extras_every > 0)
     return fly(trim, backend, cycles, perturb=perturb, model=load_model(model_path), steps_per_cycle=steps_per_cycle,
-               keep_extras_every=keep_extras_every, **kw)
+               keep_extras_every=keep_extras_every, start_state=start_state, **kw)
 
 
 def cmd_fly(args) -> dict:
     progress = progress_for(args, "fly")
     result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
                        kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
-                       keep_extras_every=args.steps_per_cycle // 10 if args.rrd else 0, progress=progress)
+                       keep_extras_every=args.steps_per_cycle // 10 if args.rrd else 0, progress=progress,
+                       start=args.start)
     out = result.summary()
+    if out["departed_at_beat"] is not None:
+        import sys
+
+        b = out["beats"][out["departed_at_beat"] - 1]
+        print(f"fly: departed at beat {out['departed_at_beat']} of {args.cycles} (mean vertical speed "
+              f"{b['mean_vertical_speed']:.3f} m/s against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): "
+              "an open-loop flight of this unstable model leaves its trim", file=sys.stderr)
     out["rrd"] = None
     if args.rrd:
         from hawksim.flight.recording import write_rrd
@@ -56,6 +93,9 @@ def register(sub) -> None:
     f.add_argument("--model", help="MJCF file (default: the model generated from hawksim.insect.morphology)")
     f.add_argument("--steps-per-cycle", type=int, default=STEPS_PER_CYCLE,
                    help=f"integration steps per wingbeat ({STEPS_PER_CYCLE}; at least {MIN_STEPS_PER_CYCLE})")
+    f.add_argument("--start", choices=START_CHOICES, default=None,
+                   help="orbit: the free body's periodic orbit (default for quasi-steady); trim: the held-body trim "
+                        "with a calibration wingbeat (default for uvlm and surrogate)")
     f.add_argument("--no-progress", action="store_true", help="no progress bar")
     f.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     f.set_defaults(func=cmd_fly)

@@ -1,29 +1,87 @@
-"""`hawksim stability`: UVLM stability derivatives at the trim, A_long and A_lat, eigen-analysis."""
+"""`hawksim stability`: stability derivatives at the trim, A_long and A_lat, eigen-analysis; with ``--floquet``
+also the periodic orbit of the free body and the Floquet multipliers of its one-wingbeat map, beside the
+cycle-averaged A matrices of the same aerodynamic model at the orbit's kinematics."""
 
 from __future__ import annotations
 
+import math
+import sys
+
 from hawksim.cli.args import parse_kinematics, positive_int_arg, speed_arg
+
+ORBIT_MODELS = ("uvlm", "quasi-steady")
+"""Aerodynamic models the free-flight orbit and its Floquet analysis support."""
+
+
+def _averaged(args, kin, client=None) -> dict:
+    if args.aero == "quasi-steady":
+        from hawksim.stability.floquet import quasi_steady_system
+        from hawksim.stability.report import averaged_json
+
+        return {"speed": args.speed, "aero": args.aero, "trim": {"kinematics": kin.to_edge()},
+                **averaged_json(quasi_steady_system(kin, args.speed))}
+    from hawksim.stability.report import stability_report
+
+    return stability_report(args.speed, kinematics=kin, client=client)
 
 
 def cmd_stability(args) -> dict:
     from hawksim.cluster import dask_client
-    from hawksim.insect.kinematics import Kinematics
-    from hawksim.stability.report import stability_report
+    from hawksim.trim.tables import shipped_trim
 
-    kin = args.kinematics if isinstance(args.kinematics, Kinematics) else None
-    if args.workers == 1 and not args.scheduler:
-        return stability_report(args.speed, kinematics=kin)
-    with dask_client(args.scheduler, args.workers) as client:
-        return stability_report(args.speed, kinematics=kin, client=client)
+    kin = args.kinematics
+    out_orbit = None
+    if args.floquet:
+        from hawksim.flight.orbit import periodic_orbit
+        from hawksim.stability.floquet import monodromy
+        from hawksim.stability.report import floquet_json
+
+        orbit = periodic_orbit(args.speed, args.aero, kinematics=kin,
+                               log=None if args.no_progress else (lambda m: print(f"orbit: {m}", file=sys.stderr)))
+        if not orbit.converged:
+            print(f"hawksim stability: the periodic orbit did not converge (residual {orbit.residual:.2e}); "
+                  "the multipliers are of the nearest state found", file=sys.stderr)
+        fl = monodromy(orbit)
+        kin = orbit.kinematics
+        out_orbit = {"orbit": orbit_json(orbit), "floquet": floquet_json(fl)}
+    elif kin is None and args.aero == "quasi-steady":
+        kin = shipped_trim(args.speed, "quasi-steady").kinematics
+    if args.aero == "quasi-steady" or (args.workers == 1 and not args.scheduler):
+        out = _averaged(args, kin)
+    else:
+        with dask_client(args.scheduler, args.workers) as client:
+            out = _averaged(args, kin, client)
+    return {**out, **(out_orbit or {})}
+
+
+def orbit_json(orbit) -> dict:
+    """The CLI contract's orbit keys (edge units: Hz, deg, deg/s, m/s)."""
+    s = orbit.initial_state
+    deg = 180 / math.pi
+    return {"speed": orbit.speed, "aero": orbit.aero, "kinematics": orbit.kinematics.to_edge(),
+            "chi_deg": orbit.kinematics.chi * deg,
+            "initial_state": {"u": s.u, "v": s.v, "w": s.w, "p_deg_s": s.p * deg, "q_deg_s": s.q * deg,
+                              "r_deg_s": s.r * deg, "phi_deg": s.phi * deg, "theta_deg": s.theta * deg,
+                              "psi_deg": s.psi * deg},
+            "residual": orbit.residual, "residuals": list(map(float, orbit.residuals)),
+            "mean_velocity": list(map(float, orbit.mean_velocity)), "mean_pitch_deg": orbit.mean_pitch * deg,
+            "P_plus": orbit.P_plus, "iterations": orbit.iterations, "converged": orbit.converged,
+            "floor": orbit.floor, "warm_beats": orbit.warm_beats, "wall_time_s": orbit.wall_time_s}
 
 
 def register(sub) -> None:
-    p = sub.add_parser("stability", help="stability derivatives, A matrices and modes at the trim (UVLM)")
+    p = sub.add_parser("stability", help="stability derivatives, A matrices and modes at the trim; --floquet: "
+                                         "free-flight orbit and Floquet multipliers")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
     p.add_argument("--kinematics", type=parse_kinematics, help="use these kinematics instead of the trim table")
+    p.add_argument("--aero", choices=ORBIT_MODELS, default="uvlm", help="aerodynamic model (default uvlm)")
+    p.add_argument("--floquet", action="store_true",
+                   help="solve the free body's periodic orbit and its monodromy matrix (Floquet multipliers); the "
+                        "averaged A matrices are then those of the same model at the orbit's kinematics")
     p.add_argument("--workers", type=positive_int_arg("workers"), default=None,
                    help="single-threaded worker processes for the 14 UVLM runs (default: the machine's cores; "
                         "1: run them in this process)")
     p.add_argument("--scheduler", help="address of a running Dask scheduler to run them on instead")
+    p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_stability)

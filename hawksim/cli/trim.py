@@ -6,9 +6,27 @@ import math
 
 from hawksim.cli.args import positive_int_arg, seed_arg, speed_arg
 from hawksim.cli.progress import progress_for
+from hawksim.cli.stability import ORBIT_MODELS
+
+
+def cmd_free_flight(args) -> dict:
+    """The periodic orbit of the free body (:func:`hawksim.flight.orbit.periodic_orbit`)."""
+    import sys
+
+    from hawksim.cli.stability import orbit_json
+    from hawksim.flight.orbit import periodic_orbit
+
+    log = None if args.no_progress else (lambda m: print(f"orbit: {m}", file=sys.stderr))
+    orbit = periodic_orbit(args.speed, args.aero, log=log)
+    if not orbit.converged:
+        print(f"hawksim trim: the periodic orbit did not converge (residual {orbit.residual:.2e}, "
+              f"{orbit.iterations} iterations): 'converged' is false", file=sys.stderr)
+    return orbit_json(orbit)
 
 
 def cmd_trim(args) -> dict:
+    if args.free_flight:
+        return cmd_free_flight(args)
     from dataclasses import replace
 
     from hawksim.backends.network import load_for_speed
@@ -53,6 +71,11 @@ def register(sub) -> None:
     p.add_argument("--verify", action="store_true", help="evaluate the optimum with the UVLM")
     p.add_argument("--balance", action="store_true",
                    help="then balance the optimum on the UVLM itself (f, beta, phi0, alpha0; |residuals| <= 0.01)")
+    p.add_argument("--free-flight", action="store_true",
+                   help="instead: the periodic orbit of the free body (Newton shooting on the one-wingbeat map; "
+                        "frees f and phi0 and the body state at phase 0)")
+    p.add_argument("--aero", choices=ORBIT_MODELS, default="uvlm",
+                   help="with --free-flight: the aerodynamic model (default uvlm)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_trim)

@@ -15,29 +15,18 @@ import mujoco
 import numpy as np
 
 from hawksim.backends.base import AeroBackend
-from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, FLY_UVLM
+from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE
 from hawksim.flight.result import FlightResult
-from hawksim.flight.simulator import Simulator
+from hawksim.flight.simulator import Simulator, aero_every_for
 from hawksim.flight.start import inertial_pitch_offset, parse_perturbations, start_on_orbit
 from hawksim.frames import STABILITY_TO_WORLD, quat_from_matrices, quat_from_matrix, rot_x, rot_y
 from hawksim.insect.model import load_model
 from hawksim.trim.point import Trim
 
 
-def aero_every_for(backend: AeroBackend, steps_per_cycle: int) -> int:
-    """Integrator steps per backend update: the UVLM updates :data:`FLY_UVLM`'s steps per wingbeat (the largest
-    divisor of ``steps_per_cycle`` not above ``steps_per_cycle // FLY_UVLM.steps_per_cycle``), the others every step."""
-    if backend.name != "uvlm":
-        return 1
-    every = max(1, steps_per_cycle // FLY_UVLM.steps_per_cycle)
-    while steps_per_cycle % every:
-        every -= 1
-    return every
-
-
 def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, float] | None = None,
         model: mujoco.MjModel | None = None, steps_per_cycle: int = FLY_STEPS_PER_CYCLE, gravity: bool = True,
-        keep_extras_every: int = 0, periodic_start: bool = True,
+        keep_extras_every: int = 0, periodic_start: bool = True, start_state: tuple | None = None,
         progress: Callable[[int, int], None] | None = None) -> FlightResult:
     """Fly for ``cycles`` wingbeats from ``trim`` (its kinematics and ascent speed) with ``backend``'s loads.
 
@@ -45,7 +34,10 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
         perturb: stability-axes disturbances of the initial state (see :data:`hawksim.flight.start.PERTURBATIONS`).
         model: the MuJoCo model (default: generated from the morphology, :func:`hawksim.insect.model.load_model`).
         keep_extras_every: keep the backend's extras every this many steps (0: never).
-        periodic_start: start on the periodic orbit (one calibration wingbeat, see ``start_on_orbit``).
+        periodic_start: start on the trim's periodic path by one calibration wingbeat (``start_on_orbit``).
+        start_state: (x (9,), chi_ref) the body state at phase 0 of a periodic orbit of the free body
+            (:func:`hawksim.flight.orbit.periodic_orbit`; state order :data:`hawksim.flight.orbit.STATE_NAMES`):
+            the flight starts exactly there (plus ``perturb``), with no calibration beat.
         progress: called as progress(step, n_steps).
     """
     speed, kin = trim.speed, trim.kinematics
@@ -59,17 +51,25 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
                     aero_every=aero_every_for(backend, steps_per_cycle))
 
     deg = np.pi / 180
-    S = STABILITY_TO_WORLD
-    v0 = np.array([0.0, 0.0, speed]) + S @ [perturb.get("u", 0.0), perturb.get("v", 0.0), perturb.get("w", 0.0)]
-    omega_world = S @ (np.array([perturb.get("p", 0.0), perturb.get("q", 0.0), perturb.get("r", 0.0)]) * deg)
-    pitch0 = kin.chi - inertial_pitch_offset(sim, kin)
-    if periodic_start:
-        pitch0, v_start, q_start = start_on_orbit(sim, kin, speed, pitch0)
-        v0 = v0 + v_start - np.array([0.0, 0.0, speed])
-        omega_world = omega_world + np.array([0.0, -q_start, 0.0])
-    pitch0 += perturb.get("theta", 0.0) * deg
-    R0 = rot_x(-perturb.get("phi", 0.0) * deg) @ rot_y(-pitch0)
-    sim.reset(velocity=v0, quat=quat_from_matrix(R0), omega_body=R0.T @ omega_world)
+    if start_state is not None:
+        from hawksim.flight.orbit import STATE_NAMES, set_body_state
+
+        x, chi_ref = np.asarray(start_state[0], dtype=float).copy(), float(start_state[1])
+        for k, v in perturb.items():
+            x[STATE_NAMES.index(k)] += v * (deg if k in ("p", "q", "r", "theta", "phi") else 1.0)
+        set_body_state(sim, x, chi_ref)
+    else:
+        S = STABILITY_TO_WORLD
+        v0 = np.array([0.0, 0.0, speed]) + S @ [perturb.get("u", 0.0), perturb.get("v", 0.0), perturb.get("w", 0.0)]
+        omega_world = S @ (np.array([perturb.get("p", 0.0), perturb.get("q", 0.0), perturb.get("r", 0.0)]) * deg)
+        pitch0 = kin.chi - inertial_pitch_offset(sim, kin)
+        if periodic_start:
+            pitch0, v_start, q_start = start_on_orbit(sim, kin, speed, pitch0)
+            v0 = v0 + v_start - np.array([0.0, 0.0, speed])
+            omega_world = omega_world + np.array([0.0, -q_start, 0.0])
+        pitch0 += perturb.get("theta", 0.0) * deg
+        R0 = rot_x(perturb.get("phi", 0.0) * deg) @ rot_y(-pitch0)  # phi > 0: right wing down
+        sim.reset(velocity=v0, quat=quat_from_matrix(R0), omega_body=R0.T @ omega_world)
 
     n = int(cycles) * steps_per_cycle
     rec = {k: [] for k in ("t", "pos", "quat", "v", "w", "wR", "wo", "F", "M", "Pa", "Pj")}

@@ -6,9 +6,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hawksim.frames import pitch_of, quat_to_matrix, roll_of
+from hawksim.frames import attitude_of, pitch_of, quat_to_matrix, roll_of
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.morphology import HAWKMOTH, P0_W
+
+DEPARTURE_SPEED = 0.1
+"""A flight has departed when a wingbeat's mean vertical speed leaves the target, or its horizontal speed leaves
+zero, by more than this [m/s] (issue 19's definition)."""
+DEPARTURE_ANGLE_DEG = 10.0
+"""... or when its mean pitch, roll or yaw leaves the first wingbeat's by more than this [deg]."""
 
 
 @dataclass(frozen=True)
@@ -65,13 +71,48 @@ class FlightResult:
         y_body = self.body_R[:, :, 1]
         return -(self.moment * y_body).sum(1)
 
+    def attitude(self) -> np.ndarray:
+        """(n, 3) pitch, roll, yaw [rad] that do not wrap (:func:`hawksim.frames.attitude_of`)."""
+        return attitude_of(self.body_R)
+
+    def beats(self) -> list[dict]:
+        """One object per wingbeat (CLI contract): cycle means of the vertical speed (up positive) and horizontal
+        speed of the centre of mass [m/s], and of pitch, roll, yaw [deg] (:meth:`attitude`)."""
+        n, N = self.steps_per_cycle, len(self.t)
+        dt = self.t[1] - self.t[0]
+        att = np.rad2deg(self.attitude())
+        out = []
+        for k in range(N // n):
+            a, b = k * n, min((k + 1) * n, N - 1)
+            vz = (self.body_pos[b, 2] - self.body_pos[a, 2]) / ((b - a) * dt)
+            vh = np.hypot(*((self.body_pos[b, :2] - self.body_pos[a, :2]) / ((b - a) * dt)))
+            m = att[a:a + n].mean(0)
+            out.append({"mean_vertical_speed": float(vz), "horizontal_speed": float(vh), "pitch_deg": float(m[0]),
+                        "roll_deg": float(m[1]), "yaw_deg": float(m[2])})
+        return out
+
+    def departed_at_beat(self, beats: list[dict] | None = None) -> int | None:
+        """First wingbeat (1-based) whose cycle mean is more than :data:`DEPARTURE_SPEED` from the target speed
+        (vertical) or from zero (horizontal), or more than :data:`DEPARTURE_ANGLE_DEG` from the first beat's pitch,
+        roll or yaw; None if the flight never departed."""
+        beats = self.beats() if beats is None else beats
+        ref = beats[0]
+        for k, b in enumerate(beats, 1):
+            if (abs(b["mean_vertical_speed"] - self.speed_target) > DEPARTURE_SPEED
+                    or b["horizontal_speed"] > DEPARTURE_SPEED
+                    or any(abs(b[a] - ref[a]) > DEPARTURE_ANGLE_DEG for a in ("pitch_deg", "roll_deg", "yaw_deg"))):
+                return k
+        return None
+
     def summary(self) -> dict:
         """The CLI contract's `fly` keys plus cycle-averaged coefficients of the last cycle."""
         n = self.steps_per_cycle
         first, last = slice(0, n), slice(len(self.t) - n, len(self.t))
         T = n * (self.t[1] - self.t[0])
         vz = (self.body_pos[-1, 2] - self.body_pos[-n, 2]) / (T * (n - 1) / n)
-        pitch = self.pitch()
+        att = self.attitude()
+        pitch = att[:, 0]
+        beats = self.beats()
         horiz = self.body_pos[-1, :2] - self.body_pos[0, :2]
         L, D = self.lift_drag()
         W = HAWKMOTH.weight
@@ -81,9 +122,11 @@ class FlightResult:
             "aero": self.aero,
             "mean_vertical_speed": float(vz),
             "pitch_change_deg": float(np.rad2deg(pitch[last].mean() - pitch[first].mean())),
-            "max_abs_roll_deg": float(np.rad2deg(np.abs(self.roll()).max())),
+            "max_abs_roll_deg": float(np.rad2deg(np.abs(att[:, 1]).max())),
             "horizontal_drift": float(np.hypot(*horiz)),
             "wall_time_s": self.wall_time_s,
+            "beats": beats,
+            "departed_at_beat": self.departed_at_beat(beats),
             "kinematics": self.kinematics.to_edge(),
             "trim_source": self.trim_source,
             "steps_per_cycle": n,

@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from hawksim.backends.base import AeroBackend, FlightState, NoAero, WingLoads, read_state
-from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, MIN_STEPS_PER_CYCLE
+from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, FLY_UVLM, MIN_STEPS_PER_CYCLE
 from hawksim.frames import cross
 from hawksim.insect.accessors import ModelIndex
 from hawksim.insect.kinematics import Kinematics
@@ -71,8 +71,8 @@ class Simulator:
         steps_per_cycle: integration steps per wingbeat.
         gravity: whether gravity acts.
         aero_every: call the backend every this many steps (its dt is then aero_every steps); in between the
-            loads are held fixed in each wing's frame (they turn with the wing), so a costly backend (the UVLM)
-            can run at a coarser rate than the integrator.
+            loads are held fixed in the world frame (force, and moment about each wing's hinge), so a costly
+            backend (the UVLM) can run at a coarser rate than the integrator.
     """
 
     def __init__(self, model: mujoco.MjModel, kin: Kinematics, backend: AeroBackend, *,
@@ -88,7 +88,7 @@ class Simulator:
             raise ValueError(f"aero_every={aero_every} must be >= 1 and divide steps_per_cycle={steps_per_cycle}")
         self.aero_every = aero_every
         self._i = 0
-        self._held: tuple | None = None
+        self._held: WingLoads | None = None
         model.opt.timestep = self.dt
         model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
         model.opt.gravity[:] = (0.0, 0.0, -G) if gravity else (0.0, 0.0, 0.0)
@@ -183,14 +183,12 @@ class Simulator:
         m, d = self.m, self.d
         st = self.state()
         if self._i % self.aero_every == 0:
-            loads = self.backend.loads(st)
-            # hold in the wing frames: local force and moment about the hinge
-            self._held = (loads, np.einsum("wji,wj->wi", st.wing_R, loads.force),
-                          np.einsum("wji,wj->wi", st.wing_R, loads.moment))
-        else:
-            base, F_loc, M_loc = self._held
-            loads = WingLoads(np.einsum("wij,wj->wi", st.wing_R, F_loc), np.einsum("wij,wj->wi", st.wing_R, M_loc),
-                              base.power, base.extras)
+            # held in the WORLD frame until the next update: force and moment about the hinge stay fixed world
+            # vectors (below, the moment is carried to the wing's centre of mass from the hinge's current
+            # position); holding them in the wing frame would turn them with the wing and bias the mean force by
+            # about (aero_every - 1) dt / 2 mean(omega x F) (tests/hawksim/test_heavy_body.py)
+            self._held = self.backend.loads(st)
+        loads = self._held
         self._i += 1
         com = d.xipos[self.wing_ids]
         d.xfrc_applied[self.wing_ids, :3] = loads.force
@@ -216,3 +214,14 @@ class Simulator:
         mujoco.mj_subtreeVel(m, d)
         mass = m.body_subtreemass[self.body_id]
         return mass * d.subtree_linvel[self.body_id].copy(), d.subtree_angmom[self.body_id].copy()
+
+
+def aero_every_for(backend: AeroBackend, steps_per_cycle: int) -> int:
+    """Integrator steps per backend update: the UVLM updates :data:`FLY_UVLM`'s steps per wingbeat (the largest
+    divisor of ``steps_per_cycle`` not above ``steps_per_cycle // FLY_UVLM.steps_per_cycle``), the others every step."""
+    if backend.name != "uvlm":
+        return 1
+    every = max(1, steps_per_cycle // FLY_UVLM.steps_per_cycle)
+    while steps_per_cycle % every:
+        every -= 1
+    return every

@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 
 def stability_report(speed: float, *, kinematics=None, client=None) -> dict:
     """The CLI contract's JSON for one ascent speed (also used by the studies of `hawksim reproduce`); client: a
@@ -29,3 +31,41 @@ def stability_report(speed: float, *, kinematics=None, client=None) -> dict:
         "resolution": runs.resolution.to_dict(),
         "wall_time_s": runs.wall_time_s,
     }
+
+
+def _pairs(z) -> list[list[float]]:
+    return [[float(complex(v).real), float(complex(v).imag)] for v in z]
+
+
+def floquet_json(fl) -> dict:
+    """The CLI contract's ``floquet`` block of a :class:`hawksim.stability.floquet.Floquet`: per system the
+    multipliers mu and exponents ln(mu) per wingbeat (comparable with the nondimensional eigenvalues, t+ = t/T) as
+    [re, im], and the modes (kind and stability of each exponent, |mu| and the eigenvector's magnitudes)."""
+    from hawksim.stability.system import classify
+
+    out = {}
+    for name, mu, ex, vec in (("longitudinal", fl.multipliers_long, fl.exponents_long, fl.eigenvectors_long),
+                              ("lateral", fl.multipliers_lat, fl.exponents_lat, fl.eigenvectors_lat)):
+        modes = []
+        for k in range(len(mu)):
+            kind, stable = classify(ex[k])
+            modes.append({"multiplier": _pairs([mu[k]])[0], "exponent": _pairs([ex[k]])[0], "abs_multiplier":
+                          float(abs(mu[k])), "kind": kind, "stable": bool(abs(mu[k]) < 1.0),
+                          "eigenvector_abs": np.abs(vec[:, k]).tolist()})
+        out[name] = {"multipliers": _pairs(mu), "exponents": _pairs(ex), "modes": modes,
+                     "states": list(("u", "w", "q", "theta") if name == "longitudinal" else ("v", "p", "r", "phi"))}
+    out["coupling"] = float(fl.coupling)
+    out["max_abs_multiplier"] = fl.max_multiplier
+    out["wall_time_s"] = fl.wall_time_s
+    return out
+
+
+def averaged_json(system) -> dict:
+    """The contract's ``longitudinal`` / ``lateral`` blocks of an :class:`hawksim.stability.floquet.AveragedSystem`
+    (cycle-averaged derivatives of one backend)."""
+    from hawksim.stability.system import LAT_DERIVATIVES, LONG_DERIVATIVES, modes_json
+
+    d = system.nondimensional
+    return {"longitudinal": {"derivatives": {k: d[k] for k in LONG_DERIVATIVES}, **modes_json(system.A_long)},
+            "lateral": {"derivatives": {k: d[k] for k in LAT_DERIVATIVES}, **modes_json(system.A_lat)},
+            "derivatives_dimensional": system.derivatives, "nondimensional": system.scalars}

@@ -51,7 +51,7 @@ def test_quasi_steady_trim_holds_over_three_wingbeats():
     beat, see README.)"""
     from hawksim.cli.fly import fly_named
 
-    r = fly_named(1.0, 3)
+    r = fly_named(1.0, 3, start="trim")
     assert "quasi-steady balance" in r.trim_source
     n = r.steps_per_cycle
     z, pitch = r.body_pos[:, 2], np.degrees(r.pitch())

@@ -1,0 +1,456 @@
+"""The periodic orbit of the free body: the one-wingbeat stroboscopic map and its Newton shooting solve.
+
+The map. The free flight of :class:`hawksim.flight.simulator.Simulator` (MuJoCo free body, wings on their prescribed
+motion Eq. 1, body recoil included, gravity on) is strobed at wing phase 0 (t = k T): the wings are then at their
+prescribed phase-0 pose and rates, so the body state alone fixes the mechanical state, and the map is
+
+    x_{k+1} = P(x_k; kin),   x = the body state of :data:`STATE_NAMES` at t = k T.
+
+State (9,), SI, documented exactly (``BodyState``):
+
+* u, v, w [m/s]: velocity of the body's centre of mass (the free joint's linear qvel; the body frame's origin
+  is its centre of mass) in the HEADING axes H: the stability axes (x forward horizontal, y right, z down)
+  turned about the vertical by the yaw psi. At psi = 0, H is the fixed stability frame: u = vx_world,
+  v = -vy_world, w = -vz_world (an ascent at V has w = -V).
+* p, q, r [rad/s]: the body's angular velocity in the heading axes H (roll right-wing-down, pitch nose-up, yaw
+  nose-right positive).
+* phi, theta, psi [rad]: Euler angles Z-Y-X (Etkin) of the body-fixed stability frame F relative to the
+  stability axes: F is the body's aircraft frame (x toward the head, y right, z ventral) pitched nose-down by the
+  reference body angle ``chi_ref`` (= kin.chi), so that F's x is horizontal when the body's pitch is chi_ref;
+  F = Rz(psi) Ry(theta - chi_ref) Rx(phi). So theta is the body pitch (elevation of the body x axis above the
+  horizontal, nose up; for phi = 0 exactly ``arcsin(R_world_body[2, 0])``), phi the bank about the horizontal
+  F x axis (right wing down), psi the heading (nose right). Position and psi are neutral: the dynamics do not
+  depend on them, and velocities in H make the reduced map independent of psi.
+
+The state is SET by writing the free joint's qpos/qvel directly (:func:`set_body_state`, no momentum
+adjustment as in ``Simulator.reset``) and READ back the same way (:func:`read_body_state`), so that iterating
+the map is the flight up to the two approximations below.
+
+Backend memory. The quasi-steady backend keeps the previous call's strip normal velocities (its added-mass term
+is a backward difference); at the section it is primed from the state x by one call at t = -aero_every dt with
+the body state there extrapolated to second order from x and a probe step (:func:`_prime_quasi_steady`), so P
+is a function of x alone. The difference to a continuous flight (whose memory holds the true previous step) is
+the extrapolation's error in one step's added-mass impulse (see :func:`fly_orbit`). The wing joints are
+reset to their exact prescribed
+phase-0 pose and rates (the continuous flight tracks them to < 1e-6 rad).
+
+UVLM: the wake is part of the state and cannot be set from x. The UVLM orbit is a free flight LAUNCHED at
+t = 0 from x0 with no wake; the map's residual is measured on beat ``warm_beats + 1`` (default 2 warm-up beats
+develop the wake on the orbit guess): periodicity x((w + 1) T) = x(w T), and the mean velocity of that beat.
+This is well defined (a smooth function of x0 and the kinematics) but only approximately a periodic orbit of the
+full system: the residual floor is the wake's beat-to-beat variation, measured by one more beat
+(:attr:`Orbit.floor`).
+
+Newton shooting (:func:`periodic_orbit`), symmetric flight: unknowns (u, w, q, theta) at phase 0 plus the
+kinematic parameters f and phi0 (beta, alpha0 and the rest at the held-body trim): f sets the mean lift,
+phi0 (the mean sweep, i.e. where the centre of pressure sits along the body) the mean pitching moment, and the
+phase-0 pitch theta tilts the stroke plane and thereby the mean horizontal force. Equations: 4 periodicity
+residuals and 2 mean-velocity residuals (mean horizontal velocity 0, mean vertical velocity V). Normalized:
+velocities by U = 2 phi_a f r2, the rate by 1/T (q T), angles in rad. Finite-difference Jacobian, Newton with
+backtracking line search.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+
+import mujoco
+import numpy as np
+
+from hawksim.backends.base import AeroBackend
+from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.model import load_model
+from hawksim.insect.morphology import HAWKMOTH, P0_W
+from hawksim.backends import flight_backend
+from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE
+from hawksim.frames import STABILITY_TO_WORLD, pitch_of, quat_from_matrix, quat_to_matrix, rot_x, rot_y, rot_z
+from hawksim.backends.base import read_state
+from hawksim.flight.simulator import Simulator, aero_every_for
+from hawksim.trim.tables import trim_kinematics
+
+STATE_NAMES = ("u", "v", "w", "p", "q", "r", "phi", "theta", "psi")
+"""Body state at phase 0, see the module docstring (m/s, rad/s, rad)."""
+
+SYM_STATE = (0, 2, 4, 7)
+"""Indices of the symmetric (longitudinal) state (u, w, q, theta) in :data:`STATE_NAMES`."""
+
+S = STABILITY_TO_WORLD
+"""World (z up, heading +x) <-> stability axes (x forward, y right, z down): a rotation by pi about x."""
+
+STEPS_PER_CYCLE = FLY_STEPS_PER_CYCLE
+"""Integrator steps per wingbeat (the quasi-steady trim table's resolution)."""
+
+ORBIT_TOL = 1e-8
+"""Newton stops when the max abs normalized residual is below this (the map is deterministic; its round-off
+floor, measured by re-evaluating the converged orbit at perturbed f, is ~1e-12)."""
+
+FD_STEP = 1e-6
+"""Forward-difference step of the shooting Jacobian in the normalized unknowns (quasi-steady)."""
+
+UVLM_FD_STEP = 1e-3
+"""The same for the UVLM: its free wake amplifies round-off (docs/uvlm.md, kinematics.realization), so a
+1e-6 step differences noise; with 1e-6 the Newton solve stalls at 2e-3."""
+
+MAX_STEP = 0.2
+"""Largest Newton step in any normalized unknown (u/U, w/U, q T, theta [rad], f/f_trim, phi0 [rad])."""
+
+UVLM_WARM_BEATS = 2
+"""Wingbeats that develop the UVLM wake before the measured beat."""
+
+
+@dataclass(frozen=True)
+class BodyState:
+    """The map's state (see the module docstring): u, v, w [m/s] and p, q, r [rad/s] in the heading axes
+    (x forward horizontal, y right, z down), Euler angles phi (bank), theta (body pitch), psi (heading) [rad]."""
+
+    u: float = 0.0
+    v: float = 0.0
+    w: float = 0.0
+    p: float = 0.0
+    q: float = 0.0
+    r: float = 0.0
+    phi: float = 0.0
+    theta: float = 0.0
+    psi: float = 0.0
+
+    def as_array(self) -> np.ndarray:
+        """(9,) in :data:`STATE_NAMES` order."""
+        return np.array([getattr(self, k) for k in STATE_NAMES])
+
+    @classmethod
+    def from_array(cls, x) -> BodyState:
+        return cls(*map(float, x))
+
+
+def state_to_world(x: np.ndarray, chi_ref: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(R_world_body (3, 3), v_world (3,) [m/s], omega_world (3,) [rad/s]) of a state x (9,)."""
+    u, v, w, p, q, r, phi, theta, psi = x
+    H = rot_z(psi)
+    A = H @ rot_y(theta - chi_ref) @ rot_x(phi) @ rot_y(chi_ref)  # aircraft body frame -> stability axes
+    return S @ A @ S, S @ H @ np.array([u, v, w]), S @ H @ np.array([p, q, r])
+
+
+def world_to_state(R: np.ndarray, v_world: np.ndarray, omega_world: np.ndarray, chi_ref: float) -> np.ndarray:
+    """Inverse of :func:`state_to_world`: the state (9,) of a body attitude R (body -> world) and world-frame
+    velocity and angular velocity."""
+    F = S @ R @ S @ rot_y(-chi_ref)
+    theta = chi_ref - np.arcsin(np.clip(F[2, 0], -1.0, 1.0))
+    phi = np.arctan2(F[2, 1], F[2, 2])
+    psi = np.arctan2(F[1, 0], F[0, 0])
+    Ht = rot_z(psi).T
+    return np.concatenate([Ht @ S @ v_world, Ht @ S @ omega_world, [phi, theta, psi]])
+
+
+def read_body_state(sim: Simulator, chi_ref: float) -> np.ndarray:
+    """The state (9,) of the simulator's body now, from the free joint's qpos/qvel."""
+    d = sim.d
+    R = quat_to_matrix(d.qpos[3:7])
+    return world_to_state(R, d.qvel[:3].copy(), R @ d.qvel[3:6], chi_ref)
+
+
+def _rodrigues(rv: np.ndarray) -> np.ndarray:
+    a = float(np.linalg.norm(rv))
+    if a == 0.0:
+        return np.eye(3)
+    k = rv / a
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
+
+
+def set_body_state(sim: Simulator, x: np.ndarray, chi_ref: float, position=(0.0, 0.0, 0.0)) -> None:
+    """Start ``sim`` at t = 0 in state x (9,): wings at their prescribed phase-0 pose and rates, the free joint's
+    qpos/qvel written directly (no momentum adjustment), backend reset; a quasi-steady backend's added-mass memory
+    is primed by one call at t = -aero_every dt (:func:`_prime_quasi_steady`)."""
+    R, v_w, om_w = state_to_world(np.asarray(x, float), chi_ref)
+    sim.reset(velocity=v_w, quat=quat_from_matrix(R), omega_body=R.T @ om_w, position=np.asarray(position, float))
+    m, d = sim.m, sim.d
+    d.qpos[3:7] = quat_from_matrix(R)
+    d.qvel[:3] = v_w
+    d.qvel[3:6] = R.T @ om_w
+    mujoco.mj_forward(m, d)
+    sim.backend.reset(sim.state())
+    if getattr(sim.backend, "name", "") == "quasi-steady":
+        _prime_quasi_steady(sim)
+
+
+def _prime_quasi_steady(sim: Simulator) -> None:
+    """Give the quasi-steady backend the memory (strip normal velocities) of a call at t = -h, h = aero_every dt,
+    as a continuous flight would have: the body state at -h is extrapolated to second order from t = 0 and a
+    probe step to +h (v(-h) = 2 v(0) - v(h), likewise the body-frame angular velocity; position and attitude
+    with the acceleration (v(h) - v(0)) / h), the wings at their prescribed pose at -h."""
+    m, d = sim.m, sim.d
+    h = sim.dt * sim.aero_every
+    qpos0, qvel0 = d.qpos.copy(), d.qvel.copy()
+    for _ in range(sim.aero_every):
+        sim.step()
+    v_h, w_h = d.qvel[:3].copy(), d.qvel[3:6].copy()
+    d.time = 0.0
+    d.qpos[:], d.qvel[:] = qpos0, qvel0
+    d.qacc_warmstart[:] = 0.0
+    mujoco.mj_forward(m, d)
+    sim._i = 0
+    sim.backend.reset(sim.state())
+    v0, w0 = qvel0[:3], qvel0[3:6]
+    d2 = mujoco.MjData(m)
+    d2.time = -h
+    d2.qpos[:], d2.qvel[:] = qpos0, qvel0
+    d2.qpos[:3] = qpos0[:3] - h * v0 + 0.5 * h * (v_h - v0)
+    R0 = quat_to_matrix(qpos0[3:7])
+    d2.qpos[3:7] = quat_from_matrix(R0 @ _rodrigues(-h * w0 + 0.5 * h * (w_h - w0)))
+    d2.qvel[:3], d2.qvel[3:6] = 2 * v0 - v_h, 2 * w0 - w_h
+    q, qd, _ = sim.desired(-h)
+    d2.qpos[sim.wing_qpos] = q
+    d2.qvel[sim.wing_dof] = qd
+    mujoco.mj_forward(m, d2)
+    sim.backend.loads(read_state(m, d2, sim.body_id, sim.wing_ids, h))
+
+
+def make_orbit_backend(aero: str, *, symmetric: bool = True) -> tuple[AeroBackend, int]:
+    """(backend, aero_every) of `hawksim fly --aero NAME` (:func:`hawksim.backends.flight_backend`) for
+    ``STEPS_PER_CYCLE`` integrator steps per beat: quasi-steady every step, the UVLM at ``FLY_UVLM``'s rate."""
+    if aero not in ("quasi-steady", "uvlm"):
+        raise ValueError(f"orbit backend must be 'quasi-steady' or 'uvlm', got {aero!r}")
+    backend = flight_backend(aero, symmetric=symmetric)
+    return backend, aero_every_for(backend, STEPS_PER_CYCLE)
+
+
+@dataclass(frozen=True)
+class Beats:
+    """A free flight strobed at phase 0, nb beats. states (nb + 1, 9): the state at t = k T; mean_velocity
+    (nb, 3): each beat's mean centre-of-mass velocity of the body (displacement / T), world frame [m/s];
+    mean_pitch (nb,) [rad]; P_plus (nb,): cycle mean of max(0, joint power) / P0; wall_time_s."""
+
+    states: np.ndarray
+    mean_velocity: np.ndarray
+    mean_pitch: np.ndarray
+    P_plus: np.ndarray
+    wall_time_s: float
+
+
+class _Flight:
+    """One reusable MjModel; a Simulator per kinematics."""
+
+    def __init__(self, aero: str, symmetric: bool = True, model: mujoco.MjModel | None = None):
+        self.aero = aero
+        self.symmetric = symmetric
+        self.model = model if model is not None else load_model()
+
+    def fly(self, kin: Kinematics, x0: np.ndarray, beats: int, chi_ref: float, backend=None) -> Beats:
+        if backend is None:
+            backend, every = make_orbit_backend(self.aero, symmetric=self.symmetric)
+        else:
+            every = 1 if backend.name == "quasi-steady" else STEPS_PER_CYCLE // 40
+        sim = Simulator(self.model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
+        set_body_state(sim, x0, chi_ref)
+        t0 = time.perf_counter()
+        n = STEPS_PER_CYCLE
+        states, vel, pitch, pp = [read_body_state(sim, chi_ref)], [], [], []
+        states[0] = np.asarray(x0, float).copy()
+        pos = sim.d.qpos[:3].copy()
+        for _ in range(beats):
+            pw, th = np.empty(n), np.empty(n)
+            for i in range(n):
+                rec = sim.step()
+                pw[i] = rec.joint_power
+                th[i] = pitch_of(rec.state.body_R)
+            if not np.all(np.isfinite(sim.d.qpos)):
+                raise FloatingPointError("free flight diverged (non-finite state)")
+            states.append(read_body_state(sim, chi_ref))
+            new = sim.d.qpos[:3].copy()
+            vel.append((new - pos) / kin.period)
+            pos = new
+            pitch.append(th.mean())
+            pp.append(np.maximum(pw, 0.0).mean() / P0_W)
+        return Beats(np.array(states), np.array(vel), np.array(pitch), np.array(pp), time.perf_counter() - t0)
+
+
+@dataclass(frozen=True)
+class Orbit:
+    """A periodic orbit of the free body (symmetric flight).
+
+    speed [m/s]: target ascent speed V; aero: backend name; kinematics: the orbit's (f, phi0 solved, the rest
+    the held-body trim's); initial_state: the state at the start of the periodic beat (SI, see
+    :class:`BodyState`); launch_state: the state at t = 0 (equal to initial_state except for the UVLM, where
+    ``warm_beats`` beats from an empty wake precede the periodic beat); residual: max abs normalized residual
+    (periodicity of (u, w, q, theta) by U, 1/T, rad; mean velocity by U); residuals (6,): the vector;
+    mean_velocity (3,): mean velocity of the body centre of mass over the periodic beat, world frame (z up) [m/s];
+    mean_pitch [rad]: cycle-mean body pitch; P_plus: cycle mean of max(0, joint power) / P0 over the periodic beat;
+    iterations: Newton iterations; converged: residual <= tol; floor: for the UVLM, the max abs normalized
+    periodicity residual of the NEXT beat (the wake's beat-to-beat variation), 0 otherwise;
+    history: max abs residual after each iteration; wall_time_s.
+    """
+
+    speed: float
+    aero: str
+    kinematics: Kinematics
+    initial_state: BodyState
+    launch_state: BodyState
+    warm_beats: int
+    residual: float
+    residuals: np.ndarray
+    mean_velocity: np.ndarray
+    mean_pitch: float
+    P_plus: float
+    iterations: int
+    converged: bool
+    floor: float = 0.0
+    history: tuple[float, ...] = field(default=(), repr=False)
+    wall_time_s: float = 0.0
+    chi_ref: float = 0.0
+    """The reference body angle [rad] of the state's attitude chart (the held-body trim's chi)."""
+
+
+def _scales(kin: Kinematics) -> tuple[float, float]:
+    return 2 * kin.phi_a * kin.f * HAWKMOTH.r2, kin.period
+
+
+def _residual(kin: Kinematics, speed: float, b: Beats, warm: int) -> np.ndarray:
+    """Normalized 6-residual of a flight whose beat ``warm`` (0-based) is the candidate periodic beat."""
+    U, T = _scales(kin)
+    xa, xb = b.states[warm], b.states[warm + 1]
+    dx = xb - xa
+    mv = b.mean_velocity[warm]
+    return np.array([dx[0] / U, dx[2] / U, dx[4] * T, dx[7], mv[0] / U, (mv[2] - speed) / U])
+
+
+def _unpack(z: np.ndarray, base: Kinematics, f_ref: float) -> tuple[Kinematics, np.ndarray]:
+    """Normalized unknowns z = (u/U, w/U, q T, theta, f/f_ref, phi0) -> (kinematics, launch state (9,))."""
+    kin = replace(base, f=float(z[4] * f_ref), phi0=float(z[5]))
+    U, T = _scales(kin)
+    x = np.zeros(9)
+    x[0], x[2], x[4], x[7] = z[0] * U, z[1] * U, z[2] / T, z[3]
+    return kin, x
+
+
+def initial_guess(kin: Kinematics, speed: float, flight: _Flight, warm: int = 0) -> np.ndarray:
+    """Launch state (9,) from the held-body trim, by ``hawksim.flight.fly._start_on_orbit``'s logic: one calibration
+    beat from (straight up at V, pitch chi, no rotation) measures the beat-mean pitch, pitch rate and velocity,
+    and the start is corrected by them (removing a mean rate q also lowers the mean pitch by q T / 2). The
+    Newton solve calibrates on the first beat (warm = 0) also for the UVLM: after warm-up beats from an
+    uncorrected start the body has drifted too far for a one-beat correction."""
+    x = np.zeros(9)
+    x[2], x[7] = -speed, kin.chi
+    b = flight.fly(kin, x, warm + 1, kin.chi)
+    # the calibration beat's means (the beat mean of q is (theta(T) - theta(0)) / T)
+    q_mean = (b.states[warm + 1, 7] - b.states[warm, 7]) / kin.period
+    mv = b.mean_velocity[warm]
+    x0 = x.copy()
+    x0[7] = kin.chi - (b.mean_pitch[warm] - kin.chi) + q_mean * kin.period / 2
+    x0[4] = -q_mean
+    x0[0] = -mv[0]
+    x0[2] = -speed - (-mv[2] + speed)
+    return x0
+
+
+def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kinematics | None = None,
+                   tol: float = ORBIT_TOL, max_iter: int = 20, warm_beats: int | None = None,
+                   model: mujoco.MjModel | None = None, x0: np.ndarray | None = None, log=None,
+                   fd_step: float | None = None) -> Orbit:
+    """Newton shooting for the symmetric periodic orbit at ascent ``speed`` [m/s].
+
+    Unknowns: (u, w, q, theta) at the launch and the kinematic parameters f, phi0 (start: the held-body trim
+    ``trim_kinematics(speed, aero)`` or ``kinematics``; the other five parameters stay fixed). Equations:
+    periodicity of (u, w, q, theta) over the measured beat and its mean velocity (0, 0, V) (world). Forward-
+    difference Jacobian (6 extra flights per iteration), full Newton step with backtracking (halving while the
+    residual's max norm does not fall, at most 10 times). ``warm_beats``: beats before the measured one
+    (default 0 for the quasi-steady backend, :data:`UVLM_WARM_BEATS` for the UVLM). ``log``: called with a
+    line per iteration.
+    """
+    t_start = time.perf_counter()
+    base = kinematics if kinematics is not None else trim_kinematics(speed, aero)
+    chi = base.chi
+    warm = warm_beats if warm_beats is not None else (UVLM_WARM_BEATS if aero == "uvlm" else 0)
+    fl = _Flight(aero, symmetric=True, model=model)
+    h_fd = fd_step if fd_step is not None else (UVLM_FD_STEP if aero == "uvlm" else FD_STEP)
+    f_ref = base.f
+    if x0 is None:
+        x0 = initial_guess(base, speed, fl, 0)
+    U, T = _scales(base)
+    z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
+
+    def F(zz):
+        kin, x = _unpack(zz, base, f_ref)
+        b = fl.fly(kin, x, warm + 1, chi)
+        return _residual(kin, speed, b, warm), b
+
+    r, b = F(z)
+    hist = [float(np.abs(r).max())]
+    if log is not None:
+        log(f"start: max|residual| {hist[-1]:.3e}")
+    it = 0
+    while hist[-1] > tol and it < max_iter:
+        it += 1
+        J = np.empty((6, 6))
+        for j in range(6):
+            zj = z.copy()
+            zj[j] += h_fd
+            J[:, j] = (F(zj)[0] - r) / h_fd
+        dz = np.linalg.solve(J, -r)
+        lam = min(1.0, MAX_STEP / np.abs(dz).max())
+        for _ in range(11):
+            try:
+                rn, bn = F(z + lam * dz)
+            except (ValueError, FloatingPointError):  # e.g. the UVLM refuses a far-off flight
+                rn, bn = np.full(6, np.inf), None
+            if np.abs(rn).max() < hist[-1]:
+                break
+            lam /= 2
+        if bn is None:
+            break
+        z, r, b = z + lam * dz, rn, bn
+        hist.append(float(np.abs(r).max()))
+        if log is not None:
+            log(f"iteration {it}: max|residual| {hist[-1]:.3e} (step {lam:g})")
+    kin, x_launch = _unpack(z, base, f_ref)
+    floor = 0.0
+    if warm > 0:
+        bf = fl.fly(kin, x_launch, warm + 2, chi)
+        rf = _residual(kin, speed, Beats(bf.states[1:], bf.mean_velocity[1:], bf.mean_pitch[1:], bf.P_plus[1:],
+                                         0.0), warm)
+        floor = float(np.abs(rf[:4]).max())
+    return Orbit(speed=float(speed), aero=aero, kinematics=kin, initial_state=BodyState.from_array(b.states[warm]),
+                 launch_state=BodyState.from_array(x_launch), warm_beats=warm, residual=hist[-1], residuals=r,
+                 mean_velocity=b.mean_velocity[warm], mean_pitch=float(b.mean_pitch[warm]),
+                 P_plus=float(b.P_plus[warm]), iterations=it, converged=hist[-1] <= tol, floor=floor,
+                 history=tuple(hist), wall_time_s=time.perf_counter() - t_start, chi_ref=chi)
+
+
+def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = None,
+              model: mujoco.MjModel | None = None, symmetric: bool | None = None, backend=None,
+              iterate_map: bool = False) -> Beats:
+    """Open-loop free flight of ``beats`` wingbeats from the orbit (one continuous flight: no resets, the backend
+    keeps its memory and the wings their tracking error), strobed at phase 0. With ``iterate_map`` the flight is
+    restarted from the read state at every section instead (x_{k+1} = P(x_k) exactly). The two differ by the
+    state the map does not carry: the quasi-steady memory (primed, 1e-3 m/s error in the strip normal velocities)
+    and the wing-rate tracking error at phase 0 (5e-4 rad/s): measured 4.5e-4 rad/s in q (q T = 1.6e-5) and 8e-6
+    m/s in u after one beat at 1 m/s, then amplified by the multipliers.
+    ``perturbation`` (9,) is added to the launch state (SI, state order).
+    For the UVLM the flight includes the orbit's ``warm_beats`` (the returned rows start at the periodic beat).
+    symmetric: mirror the UVLM (default: unless the perturbation is lateral)."""
+    x = orbit.launch_state.as_array()
+    if perturbation is not None:
+        x = x + np.asarray(perturbation, float)
+    if symmetric is None:
+        symmetric = perturbation is None or not np.any(np.asarray(perturbation)[[1, 3, 5, 6, 8]])
+    fl = _Flight(orbit.aero, symmetric=symmetric, model=model)
+    w = orbit.warm_beats
+    if iterate_map:
+        if w:
+            raise ValueError("iterate_map needs a settable state (quasi-steady orbit); the UVLM's wake is not")
+        rows = [fl.fly(orbit.kinematics, x, 1, orbit.chi_ref, backend=backend)]
+        for _ in range(beats - 1):
+            rows.append(fl.fly(orbit.kinematics, rows[-1].states[-1], 1, orbit.chi_ref, backend=backend))
+        return Beats(np.array([rows[0].states[0]] + [r.states[-1] for r in rows]),
+                     np.concatenate([r.mean_velocity for r in rows]), np.concatenate([r.mean_pitch for r in rows]),
+                     np.concatenate([r.P_plus for r in rows]), sum(r.wall_time_s for r in rows))
+    b = fl.fly(orbit.kinematics, x, w + beats, orbit.chi_ref, backend=backend)
+    return Beats(b.states[w:], b.mean_velocity[w:], b.mean_pitch[w:], b.P_plus[w:], b.wall_time_s)
+
+
+def beat_map(orbit: Orbit, x: np.ndarray, *, model: mujoco.MjModel | None = None, symmetric: bool = True,
+             beats: int = 1) -> np.ndarray:
+    """The one-beat map at the orbit's kinematics: state (9,) at the launch -> state (9,) ``beats`` beats after
+    the measured beat starts (for the UVLM the launch is ``warm_beats`` earlier, from an empty wake)."""
+    fl = _Flight(orbit.aero, symmetric=symmetric, model=model)
+    return fl.fly(orbit.kinematics, np.asarray(x, float), orbit.warm_beats + beats, orbit.chi_ref).states[-1]

@@ -1,0 +1,230 @@
+"""Floquet analysis of the free body's periodic orbit, beside the cycle-averaged A matrices of the same model.
+
+Monodromy. The Jacobian of the one-wingbeat map (:mod:`hawksim.flight.orbit`) about the orbit's state at phase 0, by
+central differences over the 8 body states (u, v, w, p, q, r, phi, theta) of :data:`hawksim.flight.orbit.STATE_NAMES`
+(heading/stability axes: x forward horizontal, y right, z down; position and the heading psi are neutral: the
+map's velocities are expressed in the heading axes, so the reduced map does not depend on psi, and psi's own
+multiplier 1 is dropped). The matrix is NONDIMENSIONAL: velocities / U (U = 2 phi_a f r2), rates x T, angles
+in rad, so it is the linearized map of the paper's variables (Eq. 8) from t+ = k to t+ = k + 1. It is split
+into the longitudinal (u, w, q, theta) and lateral (v, p, r, phi) blocks, the orders of
+:func:`hawksim.stability.system.a_long` / ``a_lat``; for a left/right symmetric orbit the coupling blocks vanish
+(their norm is reported). Multipliers mu = eigenvalues; exponents ln(mu) per wingbeat (principal branch),
+comparable with the eigenvalues of the nondimensional A matrices (t+ = t / T): a cycle-averaged model
+predicts mu = exp(lambda+).
+
+Cycle-averaged A matrices of the quasi-steady backend (:func:`quasi_steady_system`): stability derivatives by
+central differences of held-body runs (:func:`hawksim.backends.held.held_flight`, body on the trim path at chi) in which
+the wings move relative to the air with an extra rigid body motion (v_d + omega_d x (x - x_cg)): the wing
+velocities and angular velocities the backend sees get the disturbance added (the quasi-steady backend takes
+each wing's rigid motion and a uniform air velocity, so this is exactly the body translating/rotating relative
+to still air, with the attitude frozen, the meaning of Eq. 15's derivatives). Then
+:func:`hawksim.stability.system.nondimensional_system` with the mass properties of
+:func:`hawksim.stability.derivatives.mass_properties`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import mujoco
+import numpy as np
+
+from hawksim.backends.held import held_flight
+from hawksim.insect.kinematics import Kinematics
+from hawksim.flight.orbit import S, Orbit, _Flight, _scales
+from hawksim.frames import cross
+
+FLOQUET_STATES = (0, 1, 2, 3, 4, 5, 6, 7)
+"""Indices (into STATE_NAMES) of the monodromy's states: u, v, w, p, q, r, phi, theta."""
+
+LONG = (0, 2, 4, 7)
+"""Longitudinal (u, w, q, theta) indices into the 8 Floquet states."""
+
+LAT = (1, 3, 5, 6)
+"""Lateral (v, p, r, phi) indices into the 8 Floquet states."""
+
+FD_DELTA = 1e-5
+"""Central-difference step in the normalized states (u/U, q T, rad). The map's round-off is ~1e-13, its
+curvature O(1): the derivative error is ~1e-8 relative (checked by halving the step)."""
+
+
+@dataclass(frozen=True)
+class Floquet:
+    """Monodromy (8, 8) nondimensional (rows/cols u, v, w, p, q, r, phi, theta), its blocks long (4, 4) in
+    (u, w, q, theta) order and lat (4, 4) in (v, p, r, phi) order, coupling: Frobenius norm of the two
+    off-diagonal blocks (max), multipliers_long/lat (4,) complex sorted by |mu| descending, exponents_long/lat
+    ln(mu) per wingbeat, eigenvectors_long/lat (4, 4) columns (normalized states)."""
+
+    monodromy: np.ndarray
+    long: np.ndarray
+    lat: np.ndarray
+    coupling: float
+    multipliers_long: np.ndarray
+    multipliers_lat: np.ndarray
+    exponents_long: np.ndarray
+    exponents_lat: np.ndarray
+    eigenvectors_long: np.ndarray
+    eigenvectors_lat: np.ndarray
+    delta: float
+    wall_time_s: float
+
+    @property
+    def max_multiplier(self) -> float:
+        return float(max(np.abs(self.multipliers_long).max(), np.abs(self.multipliers_lat).max()))
+
+
+def state_scale(kin: Kinematics) -> np.ndarray:
+    """(8,) SI per normalized unit of the Floquet states: U for velocities, 1/T for rates, 1 for angles."""
+    U, T = _scales(kin)
+    return np.array([U, U, U, 1 / T, 1 / T, 1 / T, 1.0, 1.0])
+
+
+def _eig(M):
+    w, V = np.linalg.eig(M)
+    order = np.argsort(-np.abs(w), kind="stable")
+    return w[order], V[:, order]
+
+
+def monodromy(orbit: Orbit, *, delta: float = FD_DELTA, model: mujoco.MjModel | None = None,
+              lateral: bool = True) -> Floquet:
+    """Monodromy of the one-beat map about ``orbit`` by central differences (16 flights; 8 without
+    ``lateral``, whose lateral block is then the identity). UVLM: the symmetric perturbations use the mirrored
+    lattice, the lateral ones both wings; each evaluation is a launch from an empty wake with the orbit's warm-up
+    beats (:mod:`hawksim.flight.orbit`), the perturbation applied at the launch and the map measured over the periodic
+    beat (the perturbation's evolution over the warm-up beats is included: the Jacobian is then that of
+    ``warm_beats + 1`` beats relative to ``warm_beats``, see :func:`_chain`)."""
+    import time
+
+    t0 = time.perf_counter()
+    kin = orbit.kinematics
+    sc = state_scale(kin)
+    x0 = orbit.launch_state.as_array()
+    w = orbit.warm_beats
+    fl = {s: _Flight(orbit.aero, symmetric=s, model=model) for s in (True, False)}
+    cols = FLOQUET_STATES if lateral else LONG
+    # states at the start (k = w) and end (k = w + 1) of the periodic beat, per perturbed launch
+    A = np.zeros((8, 8))   # d x(w) / d x0, normalized (identity when w = 0)
+    B = np.zeros((8, 8))   # d x(w+1) / d x0
+    for j in cols:
+        sym = j in LONG
+        outs = []
+        for s in (1, -1):
+            x = x0.copy()
+            x[FLOQUET_STATES[j]] += s * delta * sc[j]
+            st = fl[sym].fly(kin, x, w + 1, orbit.chi_ref).states
+            outs.append((st[w][:8] / sc, st[w + 1][:8] / sc))
+        A[:, j] = (outs[0][0] - outs[1][0]) / (2 * delta)
+        B[:, j] = (outs[0][1] - outs[1][1]) / (2 * delta)
+    if not lateral:
+        for j in LAT:
+            A[j, j] = B[j, j] = 1.0
+    M = _chain(A, B, w)
+    return _floquet(M, delta, time.perf_counter() - t0)
+
+
+def _chain(A: np.ndarray, B: np.ndarray, warm: int) -> np.ndarray:
+    """The one-beat monodromy from d x(w)/d x0 (A) and d x(w+1)/d x0 (B): M = B A^-1 (for w = 0, A = I).
+    For the UVLM this is the map of the periodic beat's start state to its end state along the family of
+    launches, i.e. with the wake developed from each perturbed launch."""
+    if warm == 0:
+        return B
+    return B @ np.linalg.inv(A)
+
+
+def _floquet(M, delta, wall) -> Floquet:
+    L = M[np.ix_(LONG, LONG)]
+    Lt = M[np.ix_(LAT, LAT)]
+    c = max(np.linalg.norm(M[np.ix_(LONG, LAT)]), np.linalg.norm(M[np.ix_(LAT, LONG)]))
+    wl, Vl = _eig(L)
+    wt, Vt = _eig(Lt)
+    return Floquet(monodromy=M, long=L, lat=Lt, coupling=float(c), multipliers_long=wl, multipliers_lat=wt,
+                   exponents_long=np.log(wl.astype(complex)), exponents_lat=np.log(wt.astype(complex)),
+                   eigenvectors_long=Vl, eigenvectors_lat=Vt, delta=delta, wall_time_s=wall)
+
+
+# ---- cycle-averaged A matrices of the quasi-steady backend -----------------------------------------------
+class _RelativeMotion:
+    """A quasi-steady backend whose wings move relative to the air with an extra rigid motion of the body:
+    velocity v_d (world) and angular velocity omega_d (world) about the body's centre of mass."""
+
+    name = "quasi-steady"
+
+    def __init__(self, v_d: np.ndarray, omega_d: np.ndarray):
+        from hawksim.backends.quasi_steady import QuasiSteadyBackend
+
+        self.inner = QuasiSteadyBackend()
+        self.v_d, self.omega_d = np.asarray(v_d, float), np.asarray(omega_d, float)
+
+    def reset(self, state):
+        self.inner.reset(state)
+
+    def loads(self, st):
+        c = st.body_pos
+        st2 = replace(st, wing_v=st.wing_v + self.v_d + cross(self.omega_d, st.wing_origin - c),
+                      wing_omega=st.wing_omega + self.omega_d, body_v=st.body_v + self.v_d,
+                      body_omega=st.body_omega + self.omega_d)
+        return self.inner.loads(st2)
+
+
+DERIV_DELTA_VELOCITY = 0.05
+"""Translational disturbance / U (as hawksim.stability.derivatives.DELTA_VELOCITY)."""
+
+DERIV_DELTA_RATE = 0.05
+"""Rotational disturbance x T (as hawksim.stability.derivatives.DELTA_RATE)."""
+
+QS_HELD_CYCLES = 2
+"""Held-body wingbeats (the last is averaged; the quasi-steady model has no wake, the first beat only starts its
+added-mass memory)."""
+
+
+@dataclass(frozen=True)
+class AveragedSystem:
+    """Cycle-averaged linear model: dimensional derivatives (stability axes, SI), nondimensional A_long (4, 4),
+    A_lat (4, 4) (t+ = t/T), their eigenvalues (complex, sorted by real part descending), and Eq. 8's scalars."""
+
+    derivatives: dict
+    nondimensional: dict
+    A_long: np.ndarray
+    A_lat: np.ndarray
+    eig_long: np.ndarray
+    eig_lat: np.ndarray
+    scalars: dict
+
+
+def _mean_loads_stability(kin, speed, v_d_s, w_d_s, steps_per_cycle):
+    r = held_flight(kin, speed, _RelativeMotion(S @ v_d_s, S @ w_d_s), cycles=QS_HELD_CYCLES,
+                    steps_per_cycle=steps_per_cycle)
+    F, M = r.mean_loads(1)
+    return np.concatenate([S @ F, S @ M])
+
+
+def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int = 200) -> AveragedSystem:
+    """Stability derivatives of the quasi-steady backend at ``kin`` on the held trim path (ascent ``speed``,
+    body at chi), and the nondimensional A matrices (hawksim.stability.system)."""
+    from hawksim.stability.derivatives import mass_properties
+    from hawksim.stability.system import nondimensional_system
+
+    U, T = _scales(kin)
+    dv, dw = DERIV_DELTA_VELOCITY * U, DERIV_DELTA_RATE / T
+    e = np.eye(3)
+    z = np.zeros(3)
+    out = {}
+    comp = dict(X=0, Y=1, Z=2, L=3, M=4, N=5)
+    for var, i, trans, forces in (("u", 0, True, "XZM"), ("w", 2, True, "XZM"), ("q", 1, False, "XZM"),
+                                  ("v", 1, True, "YLN"), ("p", 0, False, "YLN"), ("r", 2, False, "YLN")):
+        h = dv if trans else dw
+        ys = []
+        for s in (1, -1):
+            vd, wd = (s * h * e[i], z) if trans else (z, s * h * e[i])
+            ys.append(_mean_loads_stability(kin, speed, vd, wd, steps_per_cycle))
+        diff = (ys[0] - ys[1]) / (2 * h)
+        for f in forces:
+            out[f + var] = float(diff[comp[f]])
+    d, Al, At, scalars = nondimensional_system(kin, speed, out, mass_properties(kin))
+
+    def ev(A):
+        w = np.linalg.eigvals(A)
+        return w[np.argsort(-w.real, kind="stable")]
+
+    return AveragedSystem(derivatives=out, nondimensional=d, A_long=Al, A_lat=At, eig_long=ev(Al), eig_lat=ev(At),
+                          scalars=scalars)
