@@ -79,8 +79,8 @@ def quat_from_matrices(R) -> np.ndarray:
 
 
 STABILITY_TO_WORLD = np.diag([1.0, -1.0, -1.0])
-"""Stability axes (x forward horizontal, y right, z down; DESIGN.md) -> world (z up, heading +x): a rotation by
-180 deg about x, so it maps vectors and pseudovectors alike (its own inverse)."""
+"""Stability axes (x forward horizontal, y right, z down; docs/conventions.md) -> world (z up, heading +x): a
+rotation by 180 deg about x, so it maps vectors and pseudovectors alike (its own inverse)."""
 
 
 def pitch_of(R) -> np.ndarray:

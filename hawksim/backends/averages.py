@@ -4,7 +4,7 @@ aerodynamic model, data set, surrogate and trim is compared in.
 L+ = L/W, D+ = D/W, M+ = M/(W cbar), P+ = P/P0, with W = m g and P0 = 84.2 mW (:mod:`hawksim.insect.morphology`);
 lift along world z, drag along minus the body's horizontal heading (world -x), M the nose-up pitching moment
 about the body's centre of mass. Required power: the cycle mean of max(0, P) (no elastic storage; negative power
-is dissipated, DESIGN.md).
+is dissipated, docs/conventions.md).
 """
 
 from __future__ import annotations

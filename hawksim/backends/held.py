@@ -8,8 +8,8 @@ This is how the paper evaluates L+, D+, M+ and P+ for the training data,
 the trim and the stability derivatives. The wing poses and velocities come from the same MuJoCo model and
 the same :func:`hawksim.backends.base.read_state` as the free flights, so a backend sees identical inputs.
 
-Power (DESIGN.md): P(t) = P_aero(t) + P_inertial(t), the mechanical power of the six wing joints; P_aero is the
-backend's power relative to the body, P_inertial = tau_in . qdot with tau_in the joint torques that drive the
+Power (docs/conventions.md): P(t) = P_aero(t) + P_inertial(t), the mechanical power of the six wing joints; P_aero is
+the backend's power relative to the body, P_inertial = tau_in . qdot with tau_in the joint torques that drive the
 wings' inertia (MuJoCo inverse dynamics, gravity off: the wings' weight is left out, as in the paper);
 required power = cycle mean of max(0, P) (no elastic storage, negative power dissipated).
 

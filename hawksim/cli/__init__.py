@@ -1,4 +1,4 @@
-"""The `hawksim` command line (DESIGN.md, "CLI contract").
+"""The `hawksim` command line (docs/conventions.md, "The CLI contract").
 
 Edge units: angles in degrees, frequencies in Hz, speeds in m/s. With ``--json`` each subcommand prints exactly
 one JSON object on stdout; logs and progress bars go to stderr. A user mistake exits with status 2 and a

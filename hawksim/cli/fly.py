@@ -18,9 +18,9 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
               model_path=None, steps_per_cycle: int = STEPS_PER_CYCLE, keep_extras_every: int = 0,
               start: str | None = None, log=None, **kw):
     """`hawksim fly`'s flight: from the free body's periodic orbit (``start='orbit'``, default for the quasi-steady
-    backend without given kinematics at the orbit solver's 200 steps per beat) or from the shipped held-body trim of ``aero`` at ``speed`` (or
-    ``kinematics``) with a calibration beat (``start='trim'``), with the backend of that name, then
-    :func:`hawksim.flight.fly.fly`."""
+    backend without given kinematics at the orbit solver's 200 steps per beat) or from the shipped held-body trim
+    of ``aero`` at ``speed`` (or ``kinematics``) with a calibration beat (``start='trim'``), with the backend of that
+    name, then :func:`hawksim.flight.fly.fly`."""
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
     from hawksim.flight.start import is_lateral, parse_perturbations

@@ -1,9 +1,10 @@
 """A free flight from an operating point: ``fly(trim, backend, cycles)``.
 
 The insect starts at the origin, pitched nose-up so that its cycle-mean body angle is chi, moving straight up
-at the trim's ascent speed (world z), wings on their prescribed motion; perturbations (stability axes, DESIGN.md:
-x forward horizontal, y right, z down) are added to that start (:mod:`hawksim.flight.start`). Results are
-world-frame time series (SI, :class:`hawksim.flight.result.FlightResult`).
+at the trim's ascent speed (world z), wings on their prescribed motion; perturbations (stability axes,
+docs/conventions.md: x forward horizontal, y right, z down) are added to that start (:mod:`hawksim.flight.start`).
+Or the flight starts on a periodic orbit of the free body (``start_state``, :mod:`hawksim.flight.orbit`). Results
+are world-frame time series (SI, :class:`hawksim.flight.result.FlightResult`).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """The MuJoCo flight loop: prescribed wing kinematics on a free body, aerodynamic loads each step.
 
-Method (DESIGN.md, "MuJoCo: what is already known here"). The integrator is RK4. Inside ``mjcb_control``,
+Method (docs/conventions.md, "MuJoCo coupling"). The integrator is RK4. Inside ``mjcb_control``,
 called by MuJoCo at every RK4 stage, the six wing-joint torques are solved by computed torque so that the wing
 joint accelerations equal the prescribed ones (plus a stiff PD term that only removes round-off drift):
 with zero wing torque, ``mj_fwdActuation`` + ``mj_fwdAcceleration`` give the free acceleration a0 of the wing

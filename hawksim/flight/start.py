@@ -1,7 +1,7 @@
 """The start of a free flight: the initial body state on the trim's periodic path, and the perturbations a user
 may add to it.
 
-Frames: world (z up, heading +x); perturbations in stability axes (DESIGN.md: x forward horizontal, y right,
+Frames: world (z up, heading +x); perturbations in stability axes (docs/conventions.md: x forward horizontal, y right,
 z down), mapped to world by :data:`hawksim.frames.STABILITY_TO_WORLD`.
 """
 

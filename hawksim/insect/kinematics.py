@@ -7,7 +7,7 @@ Angles (all radians inside the core):
 * elevation theta(t) = theta_0, positive with the wing tip above the stroke plane;
 * rotation alpha(t) = pi/2 + alpha_0 - alpha_a sin(2 pi f t).
 
-Reading of the rotation angle (DESIGN.md). alpha is the pitch of the chord out of the stroke plane, leading
+Reading of the rotation angle (docs/conventions.md). alpha is the pitch of the chord out of the stroke plane, leading
 edge up: alpha = 0 lays the wing flat in the stroke plane with the leading edge forward, alpha = 90 deg stands
 it vertical. The printed Eq. 1 uses the phase 3 pi / 2 for alpha too, which puts alpha's extremes at stroke
 reversal and alpha = 90 deg at mid-stroke: a vertical wing with near-zero lift at mid-stroke, contradicting

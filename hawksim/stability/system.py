@@ -1,6 +1,6 @@
 """Cycle-averaged flight dynamics: nondimensionalisation (paper Eq. 8), A matrices (Eqs. 11-12) and modes.
 
-Axes: stability axes (DESIGN.md; Etkin 1972): x forward horizontal, y right, z down at equilibrium; the ascent
+Axes: stability axes (docs/conventions.md; Etkin 1972): x forward horizontal, y right, z down at equilibrium; the ascent
 at speed V has w_e = -V. Nondimensional variables follow Eq. 8 literally: U = 2 phi_a f r2 (r2 dimensional),
 T = 1/f, S_t = 2 S, cbar the mean chord, rho the air density:
 

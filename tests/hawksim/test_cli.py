@@ -1,4 +1,4 @@
-"""`hawksim fly` against the CLI contract (DESIGN.md): JSON keys, and bad input -> exit 2, one line."""
+"""`hawksim fly` against the CLI contract (docs/conventions.md): JSON keys, and bad input -> exit 2, one line."""
 
 import json
 import os

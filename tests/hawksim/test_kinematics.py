@@ -1,4 +1,4 @@
-"""Eq. 1 kinematics, the rotation-angle reading of DESIGN.md, Table 2/3 data and the wing frames."""
+"""Eq. 1 kinematics, the rotation-angle reading of docs/conventions.md, Table 2/3 data and the wing frames."""
 
 import numpy as np
 import pytest
@@ -44,7 +44,7 @@ def _geometric_aoa(t):
 
 
 def test_mid_stroke_angle_of_attack_is_90_minus_alpha_a():
-    # DESIGN.md: geometric AoA at mid-stroke = 90 deg - alpha_a; alpha0 raises it on the downstroke and
+    # docs/conventions.md: geometric AoA at mid-stroke = 90 deg - alpha_a; alpha0 raises it on the downstroke and
     # lowers it on the upstroke. The wing leads with its leading edge on both half strokes.
     a_deg, a0 = np.degrees(KIN.alpha_a), np.degrees(KIN.alpha0)
     assert _geometric_aoa(T / 4) == pytest.approx(90 - a_deg + a0, abs=1e-9)
