@@ -10,16 +10,18 @@ from hawksim.cli.progress import progress_for
 
 
 START_CHOICES = ("orbit", "trim")
-"""Where `hawksim fly` starts: the periodic orbit of the free body (solved at the start, quasi-steady only) or the
-held-body trim with one calibration wingbeat (the other backends, or on request)."""
+"""Where `hawksim fly` starts: the periodic orbit of the free body (the shipped one of the backend at that speed,
+hawksim/data/orbit_table_*.json; the quasi-steady one is solved at other speeds) or the held-body trim with one
+calibration wingbeat (where no orbit is available, or on request)."""
 
 
 def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinematics=None, perturb=None,
               model_path=None, steps_per_cycle: int = STEPS_PER_CYCLE, keep_extras_every: int = 0,
               start: str | None = None, log=None, **kw):
-    """`hawksim fly`'s flight: from the free body's periodic orbit (``start='orbit'``, default for the quasi-steady
-    backend without given kinematics at the orbit solver's 200 steps per beat) or from the shipped held-body trim
-    of ``aero`` at ``speed`` (or ``kinematics``) with a calibration beat (``start='trim'``), with the backend of that
+    """`hawksim fly`'s flight: from the free body's periodic orbit (``start='orbit'``, the default where one is
+    available: no given kinematics, the orbit solver's 200 steps per beat, and a shipped orbit of ``aero`` at
+    ``speed`` or the quasi-steady backend, whose orbit is solved in ~1 s) or from the shipped held-body trim of
+    ``aero`` at ``speed`` (or ``kinematics``) with a calibration beat (``start='trim'``), with the backend of that
     name, then :func:`hawksim.flight.fly.fly`."""
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
@@ -29,25 +31,29 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
     from hawksim.trim.tables import shipped_trim
 
     perturb = parse_perturbations(perturb or {})
+    from hawksim.flight.orbit import periodic_orbit, shipped_orbit
+
+    shipped = shipped_orbit(speed, aero) if kinematics is None else None
+    solvable = aero == "quasi-steady"
     if start is None:
-        start = ("orbit" if aero == "quasi-steady" and steps_per_cycle == STEPS_PER_CYCLE and kinematics is None
+        start = ("orbit" if steps_per_cycle == STEPS_PER_CYCLE and kinematics is None and (shipped or solvable)
                  else "trim")
     if start not in START_CHOICES:
         raise ValueError(f"--start {start!r}: choose {', '.join(START_CHOICES)}")
-    if start == "orbit" and (aero != "quasi-steady" or steps_per_cycle != STEPS_PER_CYCLE):
-        raise ValueError(f"--start orbit needs --aero quasi-steady at {STEPS_PER_CYCLE} steps per cycle (the UVLM's "
-                         "orbit takes ~1 min: `hawksim trim --free-flight --aero uvlm`)")
+    if start == "orbit" and (steps_per_cycle != STEPS_PER_CYCLE or not (shipped or solvable)):
+        raise ValueError(f"--start orbit: no {aero} orbit at {speed:g} m/s and {steps_per_cycle} steps per cycle "
+                         f"(orbits are solved at {STEPS_PER_CYCLE}; `hawksim trim --free-flight --aero {aero}` "
+                         "solves one)")
     start_state = None
     if start == "orbit":
-        from hawksim.flight.orbit import periodic_orbit
-
-        orbit = periodic_orbit(speed, aero, kinematics=kinematics, log=log)
+        orbit = shipped if shipped is not None else periodic_orbit(speed, aero, kinematics=kinematics, log=log)
         if not orbit.converged:
             raise FloatingPointError(f"the periodic orbit at {speed:g} m/s did not converge "
                                      f"(residual {orbit.residual:.2e}); fly with --start trim")
         trim = Trim(float(speed), orbit.kinematics, model=aero, source=(
-            f"periodic orbit of the free body ({orbit.iterations} Newton iterations, residual {orbit.residual:.1e}) "
-            f"from the {'given kinematics' if kinematics is not None else 'held-body trim'}"))
+            f"{'shipped ' if shipped is not None else ''}periodic orbit of the free body ({orbit.iterations} Newton "
+            f"iterations, residual {orbit.residual:.1e}) from the "
+            f"{'given kinematics' if kinematics is not None else 'held-body trim'}"))
         start_state = (orbit.launch_state.as_array(), orbit.chi_ref)
     else:
         trim = (Trim(float(speed), kinematics, model=aero, source="given") if kinematics is not None

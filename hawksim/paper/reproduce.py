@@ -46,7 +46,31 @@ def stability_all(out_dir: Path, *, table3: bool = False) -> dict:
     return {"speeds": studies["speeds"], "modes": studies["fig15"]["modes"]}
 
 
-STEPS = ("uvlm_table4", "stability", "stability_table3", "trim")
+def orbits_all(out_dir: Path, log=print, aeros=("quasi-steady", "uvlm"), speeds=None) -> dict:
+    """Periodic orbits of the free body at the study's five speeds for each backend, into
+    ``out_dir/orbit_table_<aero>.json`` (:func:`hawksim.flight.orbit.orbit_table`; copy them to ``hawksim/data`` to
+    ship them). Resumable: a speed already in the file is kept, each new one is written as soon as it is solved."""
+    from hawksim.flight.orbit import ORBIT_TABLE_FILES, Orbit, orbit_table, periodic_orbit
+    from hawksim.insect.kinematics import TABLE3_SPEEDS
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    done = {}
+    for aero in aeros:
+        path = out_dir / ORBIT_TABLE_FILES[aero]
+        rows = {r["speed"]: Orbit.from_json(r) for r in json.loads(path.read_text())["rows"]} if path.is_file() else {}
+        for v in (speeds if speeds is not None else TABLE3_SPEEDS):
+            if v in rows:
+                continue
+            log(f"orbit {aero} V={v:g} ...")
+            rows[v] = periodic_orbit(v, aero, log=lambda m, a=aero, s=v: log(f"  {a} V={s:g}: {m}"))
+            table = orbit_table([rows[k] for k in sorted(rows)], "hawksim reproduce --only orbits")
+            path.write_text(json.dumps(table, indent=1))
+        done[aero] = {"path": str(path), "converged": {f"{k:g}": rows[k].converged for k in sorted(rows)},
+                      "residual": {f"{k:g}": rows[k].residual for k in sorted(rows)}}
+    return done
+
+
+STEPS = ("uvlm_table4", "stability", "stability_table3", "orbits", "trim")
 """Parts of `hawksim reproduce`, in the order they run."""
 
 
@@ -64,6 +88,9 @@ def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
     if "stability_table3" in only:
         log("stability_table3 ...")
         done["stability_table3"] = stability_all(out_dir / "stability_table3", table3=True)
+    if "orbits" in only:
+        log("orbits ...")
+        done["orbits"] = orbits_all(out_dir / "orbits", log=log)
     if "trim" not in only:
         return done
     from hawksim.backends.network import SHIPPED_SPEEDS, shipped_path
