@@ -16,13 +16,22 @@ ONE_THREAD = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS
 """Environment of the workers."""
 
 
+SCHEDULER_TIMEOUT_S = 5.0
+"""Seconds to wait for a Dask scheduler given by address before giving up (dask's default is 30 s)."""
+
+
 @contextmanager
 def dask_client(scheduler: str | None = None, workers: int | None = None):
-    """A dask.distributed Client (closed, with its LocalCluster, on exit)."""
+    """A dask.distributed Client (closed, with its LocalCluster, on exit). ConnectionError (one line, naming the
+    address) when a scheduler does not answer within :data:`SCHEDULER_TIMEOUT_S`."""
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
-        client, cluster = Client(scheduler), None
+        try:
+            client, cluster = Client(scheduler, timeout=SCHEDULER_TIMEOUT_S), None
+        except (OSError, TimeoutError) as exc:
+            raise ConnectionError(f"--scheduler {scheduler}: no Dask scheduler answered within "
+                                  f"{SCHEDULER_TIMEOUT_S:g} s ({type(exc).__name__})") from None
     else:
         # Set in this process too while the workers start: they inherit it from their first instruction on
         # (LocalCluster's env= alone reached them too late).

@@ -4,6 +4,9 @@ Edge units: angles in degrees, frequencies in Hz, speeds in m/s. With ``--json``
 one JSON object on stdout; logs and progress bars go to stderr. A user mistake exits with status 2 and a
 one-line message naming the bad input, never a traceback.
 
+Exit status: 0 success; 2 a bad input (named); 3 a numerical failure (step, time and cause named; no result);
+1 the environment (disk full, unreachable scheduler, out of memory); 130 interrupted.
+
 Each subcommand is one module of this package exposing ``register(subparsers)``, which adds its parser and sets
 ``func`` (args -> dict, the JSON output); :data:`SUBCOMMANDS` lists them in help order.
 """
@@ -56,6 +59,16 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as exc:  # bad input detected by the library (model file, kinematics, ...)
         print(f"hawksim: {str(exc).splitlines()[0]}", file=sys.stderr)
         return 2
+    except FloatingPointError as exc:  # a numerical failure: a non-finite state, a MuJoCo warning, a diverged run
+        print(f"hawksim: numerical failure: {str(exc).splitlines()[0]}", file=sys.stderr)
+        return 3
+    except MemoryError:
+        print("hawksim: out of memory (ask for a smaller run)", file=sys.stderr)
+        return 1
+    except OSError as exc:  # the environment: disk full, read-only file system, unreachable cluster
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        print(f"hawksim: {exc.strerror or exc}{where}".splitlines()[0], file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("hawksim: interrupted", file=sys.stderr)
         return 130

@@ -6,7 +6,7 @@ import math
 from dataclasses import replace
 
 from hawksim.backends.resolution import AERO_MODELS, DEFAULT
-from hawksim.cli.args import KINEMATICS_HELP, cycles_arg, parse_kinematics, positive_int_arg, speed_arg
+from hawksim.cli.args import MAX_RINGS, KINEMATICS_HELP, aero_cycles_arg, parse_kinematics, positive_int_arg, speed_arg
 from hawksim.cli.progress import progress_for
 
 
@@ -36,12 +36,12 @@ def register(sub) -> None:
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
     p.add_argument("--kinematics", type=parse_kinematics, required=True,
                    help=KINEMATICS_HELP)
-    p.add_argument("--cycles", type=cycles_arg,
+    p.add_argument("--cycles", type=aero_cycles_arg,
                    help=f"wingbeats (default {DEFAULT.cycles}; the last {DEFAULT.average_cycles} averaged)")
     p.add_argument("--aero", choices=AERO_MODELS, default=DEFAULT.aero)
-    p.add_argument("--n-chord", type=positive_int_arg("n-chord"),
+    p.add_argument("--n-chord", type=positive_int_arg("n-chord", MAX_RINGS),
                    help=f"chordwise vortex rings per wing ({DEFAULT.n_chord})")
-    p.add_argument("--n-span", type=positive_int_arg("n-span"),
+    p.add_argument("--n-span", type=positive_int_arg("n-span", MAX_RINGS),
                    help=f"spanwise vortex rings per wing ({DEFAULT.n_span})")
     p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"),
                    help=f"time steps per wingbeat ({DEFAULT.steps_per_cycle})")

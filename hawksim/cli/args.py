@@ -42,18 +42,47 @@ def speed_arg(text: str) -> float:
     return v
 
 
-def positive_int_arg(name: str):
-    """argparse type for a positive integer option --name."""
+def _integer(text: str) -> int:
+    """int of '100000', '1e5' or '1.0e5' (an integral number); ValueError otherwise."""
+    try:
+        return int(text)
+    except ValueError:
+        v = float(text)
+        if not math.isfinite(v) or v != int(v):
+            raise ValueError(text) from None
+        return int(v)
+
+
+def positive_int_arg(name: str, maximum: int | None = None, why: str = ""):
+    """argparse type for a positive integer option --name (also written as 1e5), at most ``maximum``."""
     def parse(text: str) -> int:
-        v = _number(name, text, int, "an integer")
+        v = _number(name, text, _integer, "an integer")
         if v < 1:
             raise argparse.ArgumentTypeError(f"--{name} {text} must be >= 1")
+        if maximum is not None and v > maximum:
+            raise argparse.ArgumentTypeError(f"--{name} {text} exceeds the limit {maximum:g}{why}")
         return v
 
     return parse
 
 
 cycles_arg = positive_int_arg("cycles")
+
+# ---- resource limits, checked before any work starts ----------------------------------------------------------
+MAX_FLY_STEPS = 2_000_000
+"""Largest cycles x steps-per-cycle of `hawksim fly` (10 000 beats at 200 steps): the recorded series hold ~1.5 kB
+per step (eleven small arrays), so ~3 GB; estimated from the arrays' sizes, not a measured peak."""
+MAX_STEPS_PER_CYCLE = 20_000
+"""Largest --steps-per-cycle (100x the default; RK4's error is already ~1e-6 m/s at 200)."""
+MAX_AERO_CYCLES = 20
+"""Largest --cycles of a held-body UVLM run: the free wake is kept whole, and its cost grows with the square of its
+length (3 beats: ~1.2 s; 20 beats: minutes)."""
+MAX_RINGS = 256
+"""Largest --n-chord or --n-span (the default lattice is 6 x 12; a 256 x 256 lattice takes minutes per step)."""
+MAX_POPULATION = 2_000_000
+"""Largest GA population (20x the paper's 1e5): ~10 arrays of population x 7 float64, ~1 GB."""
+
+aero_cycles_arg = positive_int_arg("cycles", MAX_AERO_CYCLES, " (the free wake's cost grows with its length squared)")
 
 
 def parse_kinematics(text: str) -> Kinematics:
@@ -99,6 +128,8 @@ def perturbation_arg(text: str) -> tuple[str, float]:
 
 
 def writable_file(text: str) -> Path:
+    if not text.strip():
+        raise argparse.ArgumentTypeError("the file name is empty")
     p = Path(text)
     parent = p.parent if str(p.parent) else Path(".")
     if p.is_dir():
@@ -110,10 +141,14 @@ def writable_file(text: str) -> Path:
     return p
 
 
+SEED_MAX = 2**63 - 1
+"""Largest seed: stored in SQLite's 64-bit INTEGER and numpy's SeedSequence."""
+
+
 def seed_arg(text: str) -> int:
     v = _number("seed", text, int, "an integer")
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"--seed {text} must be >= 0")
+    if not 0 <= v <= SEED_MAX:
+        raise argparse.ArgumentTypeError(f"--seed {text} must be in [0, 2^63 - 1]")
     return v
 
 

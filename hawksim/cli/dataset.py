@@ -6,7 +6,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from hawksim.backends.resolution import TRAINING
-from hawksim.cli.args import positive_int_arg, seed_arg, speed_arg, writable_file
+from hawksim.cli.args import MAX_RINGS, aero_cycles_arg, positive_int_arg, seed_arg, speed_arg, writable_file
 from hawksim.cli.progress import progress_for
 
 
@@ -34,13 +34,13 @@ def register(sub) -> None:
     p.add_argument("--scheduler", help="address of a running Dask scheduler (default: a LocalCluster)")
     p.add_argument("--workers", type=positive_int_arg("workers"),
                    help="LocalCluster worker processes (default: the machine's cores)")
-    p.add_argument("--n-chord", type=positive_int_arg("n-chord"),
+    p.add_argument("--n-chord", type=positive_int_arg("n-chord", MAX_RINGS),
                    help=f"chordwise rings per wing (training: {TRAINING.n_chord})")
-    p.add_argument("--n-span", type=positive_int_arg("n-span"),
+    p.add_argument("--n-span", type=positive_int_arg("n-span", MAX_RINGS),
                    help=f"spanwise rings per wing (training: {TRAINING.n_span})")
     p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"),
                    help=f"time steps per wingbeat (training: {TRAINING.steps_per_cycle})")
-    p.add_argument("--cycles", type=positive_int_arg("cycles"),
+    p.add_argument("--cycles", type=aero_cycles_arg,
                    help=f"wingbeats, the last averaged (training: {TRAINING.cycles})")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")

@@ -5,7 +5,8 @@ from __future__ import annotations
 from hawksim.backends import FLIGHT_BACKENDS
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE as STEPS_PER_CYCLE
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
-from hawksim.cli.args import KINEMATICS_HELP, cycles_arg, parse_kinematics, perturbation_arg, speed_arg, writable_file
+from hawksim.cli.args import (KINEMATICS_HELP, MAX_FLY_STEPS, MAX_STEPS_PER_CYCLE, UsageError, cycles_arg,
+                              parse_kinematics, perturbation_arg, positive_int_arg, speed_arg, writable_file)
 from hawksim.cli.progress import progress_for
 
 
@@ -65,6 +66,13 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
 
 
 def cmd_fly(args) -> dict:
+    if args.cycles * args.steps_per_cycle > MAX_FLY_STEPS:
+        raise UsageError(f"--cycles {args.cycles} x --steps-per-cycle {args.steps_per_cycle} exceeds the limit of "
+                         f"{MAX_FLY_STEPS:g} steps (the recorded series would not fit in memory)")
+    names = [k for k, _ in args.perturb or []]
+    twice = sorted({k for k in names if names.count(k) > 1})
+    if twice:
+        raise UsageError(f"--perturb gives {', '.join(twice)} more than once")
     progress = progress_for(args, "fly")
     result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
                        kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
@@ -97,7 +105,8 @@ def register(sub) -> None:
                    help="initial disturbance: u, v, w [m/s]; p, q, r [deg/s]; theta, phi [deg] (stability axes)")
     f.add_argument("--kinematics", type=parse_kinematics, help="override the trim: " + KINEMATICS_HELP)
     f.add_argument("--model", help="MJCF file (default: the model generated from hawksim.insect.morphology)")
-    f.add_argument("--steps-per-cycle", type=int, default=STEPS_PER_CYCLE,
+    f.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle", MAX_STEPS_PER_CYCLE),
+                   default=STEPS_PER_CYCLE,
                    help=f"integration steps per wingbeat ({STEPS_PER_CYCLE}; at least {MIN_STEPS_PER_CYCLE})")
     f.add_argument("--start", choices=START_CHOICES, default=None,
                    help="orbit: the free body's periodic orbit (default for quasi-steady); trim: the held-body trim "

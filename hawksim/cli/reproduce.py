@@ -2,16 +2,35 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
+from hawksim.cli.args import UsageError
 from hawksim.paper.reproduce import STEPS
+
+EXPECTED_MINUTES = {"uvlm_table4": 1, "stability": 5, "stability_table3": 5, "orbits": 15, "trim": 10}
+"""Rough wall time of each step on 2 cores [min] (measured: trim 555 s and stability 40 s per speed on 2026-11-30,
+the UVLM orbits 1-4 min per speed on 2026-12-01)."""
 
 
 def cmd_reproduce(args) -> dict:
     from hawksim.paper.reproduce import run_all
 
-    return run_all(Path(args.out), log=lambda m: print(m, file=sys.stderr), only=tuple(args.only))
+    out = Path(args.out)
+    parent = out.parent if str(out.parent) else Path(".")
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out {args.out!r} is a file, not a directory")
+    if not parent.is_dir():
+        raise UsageError(f"--out {args.out!r}: its parent directory does not exist")
+    if not os.access(out if out.exists() else parent, os.W_OK):
+        raise UsageError(f"--out {args.out!r} is not writable")
+    if out.is_dir() and any(out.iterdir()) and not args.force:
+        raise UsageError(f"--out {args.out!r} exists and is not empty: pass --force to overwrite its files, or "
+                         "name another directory")
+    minutes = sum(EXPECTED_MINUTES[s] for s in args.only)
+    print(f"hawksim reproduce: {', '.join(args.only)} into {out}/, about {minutes} min on 2 cores", file=sys.stderr)
+    return run_all(out, log=lambda m: print(m, file=sys.stderr), only=tuple(args.only))
 
 
 def register(sub) -> None:
@@ -19,5 +38,6 @@ def register(sub) -> None:
     p.add_argument("--out", default="results", help="output directory (default results/)")
     p.add_argument("--only", nargs="+", choices=STEPS, default=list(STEPS),
                    help="regenerate only these parts (default: all)")
+    p.add_argument("--force", action="store_true", help="overwrite the files of an existing --out")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_reproduce)

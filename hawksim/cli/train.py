@@ -65,8 +65,9 @@ def register(sub) -> None:
     p.add_argument("--data", required=True, help="SQLite data set from `hawksim dataset`")
     p.add_argument("--out", type=writable_file, required=True, help="model file to write (.safetensors)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the split and the initial weights (0)")
-    p.add_argument("--speed", type=speed_arg, help="train the network of this speed (file with several speeds)")
-    p.add_argument("--all-speeds", action="store_true",
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--speed", type=speed_arg, help="train the network of this speed (file with several speeds)")
+    which.add_argument("--all-speeds", action="store_true",
                    help="one network with the ascent speed as an 8th input, on all speeds in the file")
     p.add_argument("--data-seed", type=seed_arg, help="use only the samples drawn with this seed")
     p.add_argument("--hidden", type=positive_int_arg("hidden"), default=500, help="hidden sigmoid units (500)")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from hawksim.cli.args import positive_int_arg, seed_arg, speed_arg
+from hawksim.cli.args import MAX_POPULATION, positive_int_arg, seed_arg, speed_arg
 from hawksim.cli.progress import progress_for
 from hawksim.cli.stability import ORBIT_MODELS
 
@@ -66,8 +66,8 @@ def register(sub) -> None:
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
     p.add_argument("--model", help="surrogate file (.safetensors; default: the shipped network for V)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the GA (0)")
-    p.add_argument("--population", type=positive_int_arg("population"), default=100_000,
-                   help="GA population (1e5, as in the paper)")
+    p.add_argument("--population", type=positive_int_arg("population", MAX_POPULATION), default=100_000,
+                   help=f"GA population (1e5, as in the paper; at most {MAX_POPULATION:g})")
     p.add_argument("--verify", action="store_true", help="evaluate the optimum with the UVLM")
     p.add_argument("--balance", action="store_true",
                    help="then balance the optimum on the UVLM itself (f, beta, phi0, alpha0; |residuals| <= 0.01)")

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import sys
 from dataclasses import dataclass
 
 import mujoco
@@ -48,6 +49,22 @@ class StepRecord:
     loads: WingLoads
     joint_power: float
     """Mechanical power delivered by the six wing joints, sum of tau_j qdot_j at the step start [W]."""
+
+
+UNSTABLE_WARNINGS = ("mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADQACC")
+"""MuJoCo warnings after which it resets the state to the model's qpos0 and carries on: a flight that meets one
+has failed (a numerical blow-up), and :meth:`Simulator.step` raises instead of returning the reset state."""
+
+
+def _warn_to_stderr(message: str) -> None:
+    print(f"MuJoCo: {message}", file=sys.stderr)
+
+
+def route_mujoco_warnings() -> None:
+    """Send MuJoCo's warnings to stderr instead of its default MUJOCO_LOG.TXT in the working directory (unless the
+    user installed a handler)."""
+    if mujoco.get_mju_user_warning() is None:
+        mujoco.set_mju_user_warning(_warn_to_stderr)
 
 
 @contextlib.contextmanager
@@ -102,6 +119,8 @@ class Simulator:
         self._kp, self._kd = wc * wc, 2 * wc
         self._capture = False
         self._tau = np.zeros(6)
+        self._warn_ids = [int(getattr(mujoco.mjtWarning, w)) for w in UNSTABLE_WARNINGS]
+        route_mujoco_warnings()
 
     # ---- prescribed motion -------------------------------------------------------------------------
     def desired(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -195,8 +214,14 @@ class Simulator:
         d.xfrc_applied[self.wing_ids, 3:] = loads.moment + cross(st.wing_origin - com, loads.force)
         qd = d.qvel[self.wing_dof].copy()
         self._capture = True
+        before = [d.warning[w].number for w in self._warn_ids]
         with _control_callback(self._control):
             mujoco.mj_step(m, d)
+        for name, w, n0 in zip(UNSTABLE_WARNINGS, self._warn_ids, before):
+            if d.warning[w].number > n0:
+                raise FloatingPointError(
+                    f"MuJoCo {name[7:]} warning at step {self._i - 1} (t = {st.t:.5f} s): the state blew up "
+                    f"(MuJoCo reset it; index {d.warning[w].lastinfo}), no result")
         mujoco.mj_kinematics(m, d)
         mujoco.mj_comPos(m, d)
         mujoco.mj_comVel(m, d)

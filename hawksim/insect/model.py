@@ -113,8 +113,18 @@ def load_model(path: str | Path | None = None) -> mujoco.MjModel:
         model = mujoco.MjModel.from_xml_string(mjcf())
     else:
         p = Path(path)
-        if not p.is_file():
+        if p.is_dir():
+            raise ValueError(f"model file {str(p)!r} is a directory, not an MJCF file")
+        if not p.exists():
             raise ValueError(f"model file {str(p)!r} does not exist")
+        try:
+            head = p.read_bytes()[:256]
+        except OSError as exc:
+            raise ValueError(f"model file {str(p)!r} cannot be read: {exc.strerror}") from None
+        if not head.strip():
+            raise ValueError(f"model file {str(p)!r} is empty")
+        if not head.lstrip().startswith(b"<"):
+            raise ValueError(f"model file {str(p)!r} is not an MJCF (XML) file")
         try:
             model = mujoco.MjModel.from_xml_path(str(p))
         except Exception as exc:  # mujoco raises ValueError with a multi-line message

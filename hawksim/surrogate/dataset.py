@@ -303,6 +303,7 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
     ``workers`` single-threaded processes (default: the machine's cores), each with numba limited to one thread
     so the cores are not oversubscribed. progress(done, total) is called as samples arrive.
     """
+    created = not (Path(path).exists() and Path(path).stat().st_size > 0)
     conn = open_dataset(path, create=True)
     t0 = time.perf_counter()
     try:
@@ -333,7 +334,14 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
                 if progress:
                     progress(done0 + new, n)
         samples = len(stored_indices(conn, speed, seed))
-    finally:
+    except BaseException:
+        empty = created and conn.execute("SELECT count(*) FROM samples").fetchone()[0] == 0
+        conn.close()
+        if empty:  # nothing half-written: a file this run created and filled with nothing goes
+            for suffix in ("", "-wal", "-shm"):
+                Path(str(path) + suffix).unlink(missing_ok=True)
+        raise
+    else:
         conn.close()
     wall = time.perf_counter() - t0
     return GenerationResult(str(path), samples, new, diverged, wall, new / wall if wall > 0 else 0.0, unsettled)
