@@ -18,18 +18,38 @@ from hawksim.insect.kinematics import (
 KIN = Kinematics.from_edge(dict(f=26.5, beta=1.5, phi0=-5.5, theta0=15.8, alpha0=0.7, phi_a=60, alpha_a=66.9))
 T = KIN.period
 
+ANGLE_ATOL = 1e-12
+"""rad: Eq. 1's angles (sweep over two beats; rotation at reversal and mid-stroke) vs their closed form. The same
+expression evaluated twice: round-off of sin at arguments up to ~17 rad (~17 eps = 4e-15); measured 2.0e-15."""
+
+AOA_TOL_DEG = 1e-9
+"""deg: geometric angle of attack at mid-stroke vs 90 - alpha_a +- alpha0 (docs/conventions.md). Exact in theory;
+arccos of a float64 dot product, round-off; measured 3.2e-14."""
+
+RATE_FD_ATOL = 1e-4
+"""rad/s: KIN.rates vs a central difference with h = 1e-7 s. Round-off of the difference, eps |angle| / h
+~ 3e-9, plus truncation h^2 |d3 angle/dt3| / 6 ~ 1e-8 (rates up to 194 rad/s); measured 1.2e-8: a wide bound."""
+
+ACCEL_FD_ATOL = 1
+"""rad/s^2: KIN.accelerations vs a central difference of the rates with h = 1e-7 s (accelerations up to 3.2e4).
+Round-off eps |rate| / h ~ 4e-7 plus truncation h^2 |d4 angle/dt4| / 6 ~ 1e-6; measured 2.1e-6: a wide bound."""
+
+ROTATION_ATOL = 1e-14
+"""Right wing's rotation matrices vs MIRROR RL MIRROR (entries of order 1): the same products with signs flipped,
+so round-off at most; measured: exact (0)."""
+
 
 def test_eq1_sweep_and_rotation_phases():
     # Eq. 1 as printed for phi: phi_a sin(2 pi f t + 3 pi/2) + phi_0
     t = np.linspace(0, 2 * T, 101)
     phi, theta, alpha = KIN.angles(t)
-    np.testing.assert_allclose(phi, KIN.phi_a * np.sin(2 * np.pi * KIN.f * t + 1.5 * np.pi) + KIN.phi0, atol=1e-12)
+    np.testing.assert_allclose(phi, KIN.phi_a * np.sin(2 * np.pi * KIN.f * t + 1.5 * np.pi) + KIN.phi0, atol=ANGLE_ATOL)
     np.testing.assert_allclose(theta, KIN.theta0)
     # rotation: 90 deg (+ alpha0) at stroke reversal (t = 0, T/2), extremes at mid-stroke (T/4, 3T/4)
     rev = KIN.angles(np.array([0.0, T / 2]))[2]
-    np.testing.assert_allclose(rev, np.pi / 2 + KIN.alpha0, atol=1e-12)
+    np.testing.assert_allclose(rev, np.pi / 2 + KIN.alpha0, atol=ANGLE_ATOL)
     mid = KIN.angles(np.array([T / 4, 3 * T / 4]))[2]
-    np.testing.assert_allclose(mid, np.pi / 2 + KIN.alpha0 + np.array([-1, 1]) * KIN.alpha_a, atol=1e-12)
+    np.testing.assert_allclose(mid, np.pi / 2 + KIN.alpha0 + np.array([-1, 1]) * KIN.alpha_a, atol=ANGLE_ATOL)
 
 
 def _geometric_aoa(t):
@@ -47,16 +67,17 @@ def test_mid_stroke_angle_of_attack_is_90_minus_alpha_a():
     # docs/conventions.md: geometric AoA at mid-stroke = 90 deg - alpha_a; alpha0 raises it on the downstroke and
     # lowers it on the upstroke. The wing leads with its leading edge on both half strokes.
     a_deg, a0 = np.degrees(KIN.alpha_a), np.degrees(KIN.alpha0)
-    assert _geometric_aoa(T / 4) == pytest.approx(90 - a_deg + a0, abs=1e-9)
-    assert _geometric_aoa(3 * T / 4) == pytest.approx(90 - a_deg - a0, abs=1e-9)
+    assert _geometric_aoa(T / 4) == pytest.approx(90 - a_deg + a0, abs=AOA_TOL_DEG)
+    assert _geometric_aoa(3 * T / 4) == pytest.approx(90 - a_deg - a0, abs=AOA_TOL_DEG)
     assert KIN.rates(T / 4)[0] > 0 > KIN.rates(3 * T / 4)[0]  # downstroke sweeps toward the head
 
 
 def test_rates_and_accelerations_are_derivatives():
     t = np.linspace(0, T, 37)
     h = 1e-7
-    np.testing.assert_allclose(KIN.rates(t), (KIN.angles(t + h) - KIN.angles(t - h)) / (2 * h), atol=1e-4)
-    np.testing.assert_allclose(KIN.accelerations(t), (KIN.rates(t + h) - KIN.rates(t - h)) / (2 * h), atol=1)
+    np.testing.assert_allclose(KIN.rates(t), (KIN.angles(t + h) - KIN.angles(t - h)) / (2 * h), atol=RATE_FD_ATOL)
+    np.testing.assert_allclose(KIN.accelerations(t), (KIN.rates(t + h) - KIN.rates(t - h)) / (2 * h),
+                               atol=ACCEL_FD_ATOL)
 
 
 def test_body_angle_and_stroke_plane():
@@ -71,7 +92,7 @@ def test_body_angle_and_stroke_plane():
 def test_left_and_right_wings_are_mirror_images():
     t = np.linspace(0, T, 13)
     RL, RR = wing_rotation_body(KIN, t, "left"), wing_rotation_body(KIN, t, "right")
-    np.testing.assert_allclose(RR, MIRROR @ RL @ MIRROR, atol=1e-14)
+    np.testing.assert_allclose(RR, MIRROR @ RL @ MIRROR, atol=ROTATION_ATOL)
     np.testing.assert_allclose(np.linalg.det(RR), 1.0)
     # spans point to either side: left tip at +y, right tip (local -y) at -y
     assert np.all((RL @ [0, 1, 0])[:, 1] > 0) and np.all((RR @ [0, -1, 0])[:, 1] < 0)

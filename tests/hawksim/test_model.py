@@ -9,7 +9,30 @@ from hawksim.insect.kinematics import MIRROR, table3_kinematics, wing_rotation_b
 from hawksim.insect.model import REPO_MODEL_PATH, load_model, mjcf
 from hawksim.insect.morphology import HAWKMOTH
 
-TOL = 1e-8  # relative: the XML stores 9 significant digits
+TOL = 1e-8
+"""Relative: a mass, inertia, position or axis in the MJCF vs the morphology's float64 value. The XML stores 9
+significant digits (rounding <= 5e-9 relative); measured: exact for the masses and hinge positions, 7.2e-10 for
+the wing centres of mass."""
+
+BODY_INERTIA_ATOL = TOL * 2e-7
+"""kg m^2: TOL of the body's inertia scale (principal moments ~1.9e-7 kg m^2), for entries that vanish; measured
+largest difference 3.0e-16."""
+
+WING_INERTIA_ATOL = TOL * 1e-8
+"""kg m^2: TOL of the wing's inertia scale (entries up to 8.6e-9 kg m^2); measured largest difference 4.5e-18."""
+
+POSITION_ATOL = 1e-12
+"""m: absolute floor for centre-of-mass positions (~0.02 m) whose components vanish; a round-off floor, measured
+largest difference 9.6e-12 on a non-zero component (passing on the TOL part)."""
+
+FRAME_ATOL = 1e-12
+"""MuJoCo's wing xmat vs hawksim.insect.kinematics' wing frames (entries of order 1). assert_allclose's default
+rtol = 1e-7 also applies: measured largest difference 2.1e-10 (5.4e-9 relative), the 9 stored digits of the
+joint axes, so the check passes on the rtol; the atol covers entries that vanish."""
+
+MIRROR_ATOL = 1e-15
+"""m: the posed right wing's position and centre of mass vs the left one's mirror image: MuJoCo computes the two
+with the same operations on mirrored data; measured: exact (0)."""
 
 
 def test_committed_xml_is_the_generated_one():
@@ -38,13 +61,13 @@ def test_mass_and_inertia_equal_the_morphology():
     assert m.body_mass[body] == pytest.approx(HAWKMOTH.body_mass, rel=TOL)
     assert m.body_mass[wl] == m.body_mass[wr] == pytest.approx(HAWKMOTH.wing_mass, rel=TOL)
     assert m.body_subtreemass[body] == pytest.approx(HAWKMOTH.total_mass, rel=TOL)
-    np.testing.assert_allclose(m.body_ipos[body], 0, atol=1e-12)
-    np.testing.assert_allclose(_full_inertia(m, body), HAWKMOTH.body_inertia, rtol=TOL, atol=TOL * 2e-7)
-    np.testing.assert_allclose(m.body_ipos[wl], HAWKMOTH.wing_com, rtol=TOL, atol=1e-12)
-    np.testing.assert_allclose(m.body_ipos[wr], MIRROR @ HAWKMOTH.wing_com, rtol=TOL, atol=1e-12)
+    np.testing.assert_allclose(m.body_ipos[body], 0, atol=POSITION_ATOL)
+    np.testing.assert_allclose(_full_inertia(m, body), HAWKMOTH.body_inertia, rtol=TOL, atol=BODY_INERTIA_ATOL)
+    np.testing.assert_allclose(m.body_ipos[wl], HAWKMOTH.wing_com, rtol=TOL, atol=POSITION_ATOL)
+    np.testing.assert_allclose(m.body_ipos[wr], MIRROR @ HAWKMOTH.wing_com, rtol=TOL, atol=POSITION_ATOL)
     Iw = HAWKMOTH.wing_inertia
-    np.testing.assert_allclose(_full_inertia(m, wl), Iw, rtol=TOL, atol=TOL * 1e-8)
-    np.testing.assert_allclose(_full_inertia(m, wr), MIRROR @ Iw @ MIRROR, rtol=TOL, atol=TOL * 1e-8)
+    np.testing.assert_allclose(_full_inertia(m, wl), Iw, rtol=TOL, atol=WING_INERTIA_ATOL)
+    np.testing.assert_allclose(_full_inertia(m, wr), MIRROR @ Iw @ MIRROR, rtol=TOL, atol=WING_INERTIA_ATOL)
     np.testing.assert_allclose(m.body_pos[wl], HAWKMOTH.hinge_left, rtol=TOL)
     np.testing.assert_allclose(m.body_pos[wr], MIRROR @ HAWKMOTH.hinge_left, rtol=TOL)
 
@@ -63,10 +86,10 @@ def test_joint_axes_reproduce_the_kinematics_frames():
         d.qpos[10:13] = q
         mujoco.mj_kinematics(m, d)
         for side, b in (("left", 2), ("right", 3)):
-            np.testing.assert_allclose(d.xmat[b].reshape(3, 3), wing_rotation_body(kin, t, side), atol=1e-12)
+            np.testing.assert_allclose(d.xmat[b].reshape(3, 3), wing_rotation_body(kin, t, side), atol=FRAME_ATOL)
         # mirror symmetry of the posed wings
-        np.testing.assert_allclose(d.xpos[3], MIRROR @ d.xpos[2], atol=1e-15)
-        np.testing.assert_allclose(d.xipos[3], MIRROR @ d.xipos[2], atol=1e-15)
+        np.testing.assert_allclose(d.xpos[3], MIRROR @ d.xpos[2], atol=MIRROR_ATOL)
+        np.testing.assert_allclose(d.xipos[3], MIRROR @ d.xipos[2], atol=MIRROR_ATOL)
 
 
 def test_bad_model_files(tmp_path):

@@ -5,6 +5,34 @@ import pytest
 
 from hawksim.insect.morphology import HAWKMOTH, beta_planform
 
+TABLE1_RTOL = 2e-4
+"""Relative: area and mean chord of the planform (trapezoid rule, 200001 points) vs Table 1's S = 815.33 mm^2 and
+cbar = 16.81 mm. Covers Table 1's own rounding (S = R cbar only to 6e-5) and the quadrature; the round value's
+source is not recorded. Measured 5.5e-5 (area: that 6e-5), 7.5e-8 (cbar)."""
+
+R2_QUADRATURE_TOL = 1e-4
+"""Dimensionless: r2/R of the planform by quadrature vs the 0.53 it is built with (Table 1). Bounds the trapezoid
+rule's error at the root and tip; source of the value not recorded; measured 1.6e-8."""
+
+R2_EXACT_TOL = 1e-12
+"""Dimensionless: the planform's stored r2_hat vs 0.53: float64 round-off; measured 1.1e-16."""
+
+ELLINGTON_RTOL = 1e-3
+"""Relative: r2 vs Ellington's (1984) r2 = 0.929 r1^0.732, which the beta planform satisfies by construction, so
+only the quadrature error of r1 and r2 is left; measured 1.8e-8 (the round value's source is not recorded)."""
+
+EDGE_ATOL = 1e-15
+"""m: leading minus trailing edge vs chord (~0.02 m): round-off; measured: exact (0)."""
+
+INERTIA_TRIANGLE_RTOL = 1e-9
+"""Relative slack in the triangle inequality of the wing's principal moments (I1 + I2 >= I3; equality for a flat
+plate, the perpendicular-axis theorem): round-off allowance. Measured: I1 + I2 - I3 = +9.2e-6 I3, so the slack is
+not needed here."""
+
+BETA_FN_RTOL = 1e-14
+"""Relative: _beta_fn vs scipy.special.beta over 1 < p, q < 6 (the range stated by the test). Float64 evaluation
+of the same function by another method; measured 1.6e-15 at worst over the 23 x 23 grid."""
+
 
 def test_table1_planform_matches():
     pl = HAWKMOTH.planform
@@ -13,20 +41,20 @@ def test_table1_planform_matches():
     area = np.trapezoid(c, r)
     # Table 1: R = 48.50 mm, cbar = 16.81 mm, S = 815.33 mm^2 (= R cbar to 0.006 %), r2/R = 0.53
     assert pl.R == pytest.approx(48.50e-3)
-    assert area == pytest.approx(815.33e-6, rel=2e-4)
-    assert area / pl.R == pytest.approx(16.81e-3, rel=2e-4)
+    assert area == pytest.approx(815.33e-6, rel=TABLE1_RTOL)
+    assert area / pl.R == pytest.approx(16.81e-3, rel=TABLE1_RTOL)
     r2 = np.sqrt(np.trapezoid(c * r**2, r) / area) / pl.R
-    assert r2 == pytest.approx(0.53, abs=1e-4)
-    assert pl.r2_hat == pytest.approx(0.53, abs=1e-12)
+    assert r2 == pytest.approx(0.53, abs=R2_QUADRATURE_TOL)
+    assert pl.r2_hat == pytest.approx(0.53, abs=R2_EXACT_TOL)
     # Ellington (1984): r2 = 0.929 r1^0.732
     r1 = np.trapezoid(c * r, r) / area / pl.R
-    assert r2 == pytest.approx(0.929 * r1**0.732, rel=1e-3)
+    assert r2 == pytest.approx(0.929 * r1**0.732, rel=ELLINGTON_RTOL)
 
 
 def test_leading_and_trailing_edges_span_the_chord():
     pl = HAWKMOTH.planform
     r = np.linspace(0, pl.R, 11)
-    np.testing.assert_allclose(pl.leading_edge(r) - pl.trailing_edge(r), pl.chord(r), atol=1e-15)
+    np.testing.assert_allclose(pl.leading_edge(r) - pl.trailing_edge(r), pl.chord(r), atol=EDGE_ATOL)
 
 
 def test_masses():
@@ -38,7 +66,7 @@ def test_masses():
     assert np.all(np.linalg.eigvalsh(I) > 0) and np.allclose(I, I.T)
     Iw = m.wing_inertia
     ev = np.linalg.eigvalsh(Iw)
-    assert np.all(ev > 0) and ev[0] + ev[1] >= ev[2] * (1 - 1e-9)
+    assert np.all(ev > 0) and ev[0] + ev[1] >= ev[2] * (1 - INERTIA_TRIANGLE_RTOL)
     assert 0 < m.wing_com[1] < m.R and m.wing_com[0] < 0  # centroid behind the quarter-chord axis
 
 
@@ -59,4 +87,4 @@ def test_beta_function_matches_scipy():
     grid = np.linspace(1.01, 6.0, 23)
     for a in grid:
         for b in grid:
-            assert _beta_fn(a, b) == pytest.approx(beta(a, b), rel=1e-14)
+            assert _beta_fn(a, b) == pytest.approx(beta(a, b), rel=BETA_FN_RTOL)

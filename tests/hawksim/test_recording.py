@@ -17,6 +17,33 @@ from hawksim.cli.fly import fly_named
 from hawksim.flight.recording import write_rrd
 from hawksim.insect.morphology import HAWKMOTH
 
+QUAT_ATOL = 1e-6
+"""Body quaternion as stored (float32) vs the flight's float64 one (unit quaternion): float32 rounding, half an ulp
+~6e-8; measured 3.0e-8."""
+
+WING_R_ATOL = 1e-5
+"""Wing rotation matrices rebuilt from the stored float32 quaternions vs the flight's: products of float32-rounded
+components, a few float32 ulps (~1e-7); measured 1.2e-7."""
+
+SCALAR_RTOL = 1e-9
+"""Relative: plotted scalars (lift, L+, pitch) vs the flight's values. Stored as float64, so exact in practice;
+the round value's source is not recorded; measured: exact (0)."""
+
+SCALAR_ATOL = 1e-15
+"""N: absolute floor for lift values near zero (at stroke reversal); measured: exact (0)."""
+
+TIME_ATOL_S = 1e-9
+"""s: the time timeline is stored in integer nanoseconds, so truncation of up to 1 ns; measured 1.0e-9 (9.98e-10):
+the check also passes on assert_allclose's default rtol = 1e-7 (times up to 0.07 s, i.e. 7e-9 s)."""
+
+MESH_AREA_RTOL = 0.03
+"""Relative: area of the recorded wing mesh (N_SPAN x N_CHORD = 21 x 4 quads, straight edges) vs the planform's
+wing area: polygonal approximation of the curved edges; the round value's source is not recorded; measured 4.2e-3."""
+
+NORMAL_ATOL = 1e-15
+"""m^2: triangle normals' z component (twice the area) may be this far below zero; the mesh lies in z = 0, so only
+round-off; measured min 0 (no negative component)."""
+
 
 @pytest.fixture(scope="module")
 def result():
@@ -73,7 +100,7 @@ def test_recording_contents(result, tmp_path):
     steps, quats = temporal_column(chunks, "/world/moth", "Transform3D:quaternion")
     np.testing.assert_array_equal(steps, np.arange(n))
     q = np.array([v[0] for v in quats])  # xyzw, stored as float32
-    np.testing.assert_allclose(q, result.body_quat[:, [1, 2, 3, 0]], atol=1e-6)
+    np.testing.assert_allclose(q, result.body_quat[:, [1, 2, 3, 0]], atol=QUAT_ATOL)
     for i, side in enumerate(("left", "right")):
         _, wq = temporal_column(chunks, f"/world/wings/{side}", "Transform3D:quaternion")
         assert len(wq) == n
@@ -81,23 +108,23 @@ def test_recording_contents(result, tmp_path):
         R = np.stack([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                       [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                       [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]).transpose(2, 0, 1)
-        np.testing.assert_allclose(R, result.wing_R[:, i], atol=1e-5)
+        np.testing.assert_allclose(R, result.wing_R[:, i], atol=WING_R_ATOL)
         assert len(temporal_column(chunks, f"/world/forces/{side}", "Arrows3D:vectors")[0]) == n
 
     lift = result.lift_drag()[0]
     steps, values = temporal_column(chunks, "/plots/forces/lift", "Scalars:scalars")
     np.testing.assert_array_equal(steps, np.arange(n))
     for k in (0, n // 3, n - 1):
-        assert values[k][0] == pytest.approx(lift[k], rel=1e-9, abs=1e-15)
+        assert values[k][0] == pytest.approx(lift[k], rel=SCALAR_RTOL, abs=SCALAR_ATOL)
     _, lp = temporal_column(chunks, "/plots/forces_nd/L_plus", "Scalars:scalars")
-    assert lp[n // 3][0] == pytest.approx(lift[n // 3] / HAWKMOTH.weight, rel=1e-9)
+    assert lp[n // 3][0] == pytest.approx(lift[n // 3] / HAWKMOTH.weight, rel=SCALAR_RTOL)
     _, pitch = temporal_column(chunks, "/plots/attitude/pitch", "Scalars:scalars")
-    assert pitch[0][0] == pytest.approx(np.rad2deg(result.pitch()[0]), rel=1e-9)
+    assert pitch[0][0] == pytest.approx(np.rad2deg(result.pitch()[0]), rel=SCALAR_RTOL)
 
     # time timeline: duration in nanoseconds
     rb = next(rb for static, rb in chunks["/world/moth"] if not static)
     t = np.asarray(rb.column("time").cast("int64").to_pylist()) * 1e-9
-    np.testing.assert_allclose(np.sort(t), result.t, atol=1e-9)
+    np.testing.assert_allclose(np.sort(t), result.t, atol=TIME_ATOL_S)
 
 
 def test_cli_verify(result, tmp_path):
@@ -117,11 +144,11 @@ def test_wing_mesh_mirrors():
     np.testing.assert_allclose(vr, vl * [1, -1, 1])
     assert vl[:, 1].min() == 0 and vl[:, 1].max() == pytest.approx(HAWKMOTH.R)
     area = 0.5 * np.abs(np.cross(vl[tl[:, 1]] - vl[tl[:, 0]], vl[tl[:, 2]] - vl[tl[:, 0]])[:, 2]).sum()
-    assert area == pytest.approx(HAWKMOTH.wing_area, rel=0.03)
+    assert area == pytest.approx(HAWKMOTH.wing_area, rel=MESH_AREA_RTOL)
     # normals along +z on both wings (winding reversed with the mirror)
     for v, t in ((vl, tl), (vr, tr)):
         nz = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])[:, 2]
-        assert np.all(nz >= -1e-15)
+        assert np.all(nz >= -NORMAL_ATOL)
 
 
 @pytest.mark.parametrize("make", ["missing_dir", "is_dir", "under_file"])

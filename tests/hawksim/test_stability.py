@@ -11,17 +11,29 @@ from hawksim.stability.system import Scales, a_lat, a_long, classify, modes, non
 D = {"Xu": -1.0, "Xw": 0.1, "Xq": 0.2, "Zu": 0.05, "Zw": -2.0, "Zq": 0.3, "Mu": 0.4, "Mw": -0.02, "Mq": -0.5,
      "Yv": -1.1, "Yp": 0.15, "Yr": 0.05, "Lv": -0.3, "Lp": -0.6, "Lr": 0.02, "Nv": 0.04, "Np": 0.03, "Nr": -0.7}
 
+BY_HAND_RTOL = 1e-15
+"""Relative: A matrix entries vs their hand-computed values (quotients of decimal inputs): one or two float64
+roundings (eps 2.2e-16 each) per entry; measured 1.3e-16."""
+
+IXZ_RTOL = 1e-13
+"""Relative: the Ixz-coupled rows of a_lat satisfy Etkin's Ix p' - Ixz r' = L, Iz r' - Ixz p' = N. Round-off of a
+2 x 2 solve and a product (a few tens of eps); measured 8.7e-16."""
+
+MASS_RTOL = 1e-9
+"""Relative: mass_properties' total mass vs Table 1's 1578.7 mg. Source of 1e-9 not recorded (a round-off bound
+with margin); measured: exact (0)."""
+
 
 def test_a_long_by_hand():
     A = a_long(D, m=10.0, Iy=4.0, g=0.5, w_e=-0.3)
     expected = [[-0.1, 0.01, 0.02 + 0.3, -0.5], [0.005, -0.2, 0.03, 0], [0.1, -0.005, -0.125, 0], [0, 0, 1, 0]]
-    np.testing.assert_allclose(A, expected, rtol=1e-15)
+    np.testing.assert_allclose(A, expected, rtol=BY_HAND_RTOL)
 
 
 def test_a_lat_by_hand_and_ixz_coupling():
     A = a_lat(D, m=10.0, Ix=2.0, Iz=4.0, Ixz=0.0, g=0.5, w_e=-0.3)
     expected = [[-0.11, 0.015 - 0.3, 0.005, 0.5], [-0.15, -0.3, 0.01, 0], [0.01, 0.0075, -0.175, 0], [0, 1, 0, 0]]
-    np.testing.assert_allclose(A, expected, rtol=1e-15)
+    np.testing.assert_allclose(A, expected, rtol=BY_HAND_RTOL)
     # with Ixz: rows 2-3 solve Ix p' - Ixz r' = L, Iz r' - Ixz p' = N (Etkin 1972)
     Ix, Iz, Ixz = 2.0, 4.0, -0.5
     A = a_lat(D, m=10.0, Ix=Ix, Iz=Iz, Ixz=Ixz, g=0.5, w_e=-0.3)
@@ -29,8 +41,8 @@ def test_a_lat_by_hand_and_ixz_coupling():
     pdot, rdot = (A @ x)[1:3]
     L = D["Lv"] * x[0] + D["Lp"] * x[1] + D["Lr"] * x[2]
     N = D["Nv"] * x[0] + D["Np"] * x[1] + D["Nr"] * x[2]
-    assert Ix * pdot - Ixz * rdot == pytest.approx(L, rel=1e-13)
-    assert Iz * rdot - Ixz * pdot == pytest.approx(N, rel=1e-13)
+    assert Ix * pdot - Ixz * rdot == pytest.approx(L, rel=IXZ_RTOL)
+    assert Iz * rdot - Ixz * pdot == pytest.approx(N, rel=IXZ_RTOL)
 
 
 def test_classification():
@@ -50,7 +62,7 @@ def test_eq8_scales_and_mass_properties():
     assert sc.U == pytest.approx(2 * np.radians(60) * 26.5 * 0.53 * 48.5e-3)
     assert sc.S_t == pytest.approx(2 * HAWKMOTH.wing_area)
     mp = mass_properties(kin)
-    assert mp.m == pytest.approx(1578.7e-6, rel=1e-9)
+    assert mp.m == pytest.approx(1578.7e-6, rel=MASS_RTOL)
     assert mp.Iy > 0 and mp.Ix > 0 and mp.Iz > 0
     assert mp.Ixz < 0  # the nose-up body's long axis runs forward-up: -int xz dm < 0 in stability axes
     d, Al, At, sca = nondimensional_system(kin, 1.0, {k: 1e-4 for k in D}, mp)

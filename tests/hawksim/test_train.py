@@ -13,6 +13,18 @@ from hawksim.surrogate.train import TrainConfig, _net_batch, gauss_newton, score
 GN_RTOL = 1e-12
 """J^T J by blocks vs the full Jacobian's: the same sums in another order (float64 rounding)."""
 
+SMOOTH_R2_FLOOR = 0.999
+"""Held-out R^2 per output a 12-unit network must reach on the known smooth function (400 samples, 80 LM
+iterations). A round target for an easy fit; source not recorded, not measured separately."""
+
+LM_DECREASE = 1e-3
+"""The final training loss must be below this fraction of the first: LM's progress on the smooth function; a round
+value, source not recorded, not measured separately."""
+
+SPEED_INPUT_R2_FLOOR = 0.99
+"""Held-out R^2 of P+ for the 10-unit speed-input network (200 samples, 60 iterations): a round target, looser
+than SMOOTH_R2_FLOOR for the smaller problem; source not recorded, not measured separately."""
+
 
 def test_gauss_newton_blocks_equal_the_full_jacobian():
     torch.manual_seed(0)
@@ -48,10 +60,10 @@ def test_small_network_learns_a_known_function_and_is_deterministic():
     r = train(x, y, inputs, seed=3, cfg=cfg)
     assert (r.n_train, r.n_val, r.n_test) == (320, 40, 40)
     # held-out accuracy on a smooth function: a 12-unit network fits it to R^2 > 0.999 per output
-    assert min(r.test_scores.r2.values()) > 0.999, r.test_scores.r2
+    assert min(r.test_scores.r2.values()) > SMOOTH_R2_FLOOR, r.test_scores.r2
     # LM lowers the training error monotonically (a step is taken only if it lowers the loss)
     tr = [h[1] for h in r.history]
-    assert all(b <= a for a, b in zip(tr, tr[1:])) and tr[-1] < 1e-3 * tr[0]
+    assert all(b <= a for a, b in zip(tr, tr[1:])) and tr[-1] < LM_DECREASE * tr[0]
     r2 = train(x, y, inputs, seed=3, cfg=cfg)
     assert np.array_equal(r.surrogate.W1, r2.surrogate.W1) and np.array_equal(r.surrogate.W2, r2.surrogate.W2)
     r3 = train(x, y, inputs, seed=4, cfg=TrainConfig(hidden=12, max_iter=2))
@@ -68,7 +80,7 @@ def test_speed_input_network_and_bad_data():
     r = train(np.column_stack([x, v]), y, InputDefinition.for_speed(None), seed=0,
               cfg=TrainConfig(hidden=10, max_iter=60))
     assert r.surrogate.inputs.names[-1] == "speed" and r.surrogate.W1.shape == (10, 8)
-    assert r.test_scores.r2["P_plus"] > 0.99
+    assert r.test_scores.r2["P_plus"] > SPEED_INPUT_R2_FLOOR
     with pytest.raises(ValueError, match="shapes"):
         train(x, y, InputDefinition.for_speed(None))
     y_bad = y.copy()

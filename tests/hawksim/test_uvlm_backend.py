@@ -14,10 +14,58 @@ from hawksim.insect.morphology import HAWKMOTH
 
 COARSE = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=3)
 
+AREA_RTOL = 1e-12
+"""Relative: summed panel areas of the hawkmoth mesh vs the planform's wing area: round-off; measured 1.3e-16."""
+
+MIRROR_RTOL = 1e-8
+"""Relative: mirrored (symmetric=True) vs two-wing UVLM forces and moments over the 0.4 beat before the wing meets
+its own wake. Mathematically identical: round-off, grown through the solves; measured: the only differences are
+on components that vanish (below the atol)."""
+
+MIRROR_FORCE_ATOL = 1e-10
+"""N: absolute floor of the same force comparison (forces ~0.04 N); measured largest difference 2.1e-17 N."""
+
+MIRROR_MOMENT_ATOL = 1e-12
+"""N m: absolute floor of the same moment comparison (moments ~1e-3 N m); measured largest difference 5.4e-19."""
+
+SYMMETRY_TOL = 1e-9
+"""Side force of the explicit symmetric pair as a fraction of the peak |Fz|; roll and yaw moment as a fraction of
+peak |Fz| x R. Round-off; measured 1.4e-16 (force), 2.6e-16 (moments)."""
+
+TABLE4_RTOL = 0.15
+"""Relative: L+ and P+ at Table 3's kinematics vs Nguyen et al. (2020) Table 4 at the coarse 6 x 12 x 40 lattice.
+Our UVLM, morphology and hinge differ from theirs (docs/uvlm.md): 15 % is the band we claim, not derived;
+measured 12.5 % (L+) and 10.6 % (P+) at worst, at 1 and 2 m/s."""
+
+TABLE4_DM_TOL = 0.05
+"""|D+| and |M+| at the same runs ('near 0'; the paper's trim balances them): a round bound; measured at most
+0.022 (D+)."""
+
+POWER_RISE = 1.1
+"""P+(1.5 m/s) must exceed this multiple of P+(0.5 m/s). Table 4: 0.96 -> 1.21 (x 1.26); measured x 1.34 at the
+coarse lattice."""
+
+ROLL_TOL_DEG = 1e-6
+"""deg: largest roll of a symmetric UVLM free flight over one beat: round-off; not measured separately."""
+
+LATERAL_DRIFT_TOL_M = 1e-9
+"""m: largest lateral body position in the same flight: round-off; not measured separately."""
+
+ONE_BEAT_SPEED_RANGE = (0.5, 1.5)
+"""m/s: mean vertical speed after one free beat started at 1 m/s: one beat cannot change it by more than a few
+tenths (a plausibility band, not derived)."""
+
+HOLD_SPEED_TOL = 0.1
+"""m/s: beat-mean ascent speed vs 1 m/s over 2 free beats with the UVLM from the shipped UVLM trim. Measured with
+hawksim 0.2: 1.007, 0.954 m/s (0.1: 1.007, 0.950); largest deviation now 0.033 m/s."""
+
+HOLD_PITCH_TOL_DEG = 2.0
+"""deg: beat-mean body angle vs chi over the same 2 beats; measured largest deviation 1.0 deg."""
+
 
 def test_meshes_have_the_wing_area_and_mirror():
     left, right = hawkmoth_meshes(n_chord=6, n_span=12)
-    assert left.panel_areas.sum() == pytest.approx(HAWKMOTH.wing_area, rel=1e-12)
+    assert left.panel_areas.sum() == pytest.approx(HAWKMOTH.wing_area, rel=AREA_RTOL)
     np.testing.assert_allclose(right.vertices[:, ::-1] * [1, -1, 1], left.vertices)
 
 
@@ -30,12 +78,12 @@ def test_mirror_images_equal_two_explicit_wings():
     full = UVLMBackend(n_chord=4, n_span=8, symmetric=False)
     a = held_flight(kin, 1.0, sym, **kw)
     b = held_flight(kin, 1.0, full, **kw)
-    np.testing.assert_allclose(a.force_world[:n], b.force_world[:n], rtol=1e-8, atol=1e-10)
-    np.testing.assert_allclose(a.moment_world[:n], b.moment_world[:n], rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(a.force_world[:n], b.force_world[:n], rtol=MIRROR_RTOL, atol=MIRROR_FORCE_ATOL)
+    np.testing.assert_allclose(a.moment_world[:n], b.moment_world[:n], rtol=MIRROR_RTOL, atol=MIRROR_MOMENT_ATOL)
     # symmetric flapping: no side force, roll or yaw moment (explicit two wings, all steps)
     scale = np.abs(b.force_world[:, 2]).max()
-    assert np.abs(b.force_world[:n, 1]).max() < 1e-9 * scale
-    assert np.abs(b.moment_world[:n, [0, 2]]).max() < 1e-9 * scale * HAWKMOTH.R
+    assert np.abs(b.force_world[:n, 1]).max() < SYMMETRY_TOL * scale
+    assert np.abs(b.moment_world[:n, [0, 2]]).max() < SYMMETRY_TOL * scale * HAWKMOTH.R
 
 
 @pytest.mark.parametrize("speed, L_paper, P_paper", [(1.0, 0.99, 1.09), (2.0, 0.99, 1.34)])
@@ -43,14 +91,14 @@ def test_table3_kinematics_reproduce_table4_within_15_percent(speed, L_paper, P_
     """Nguyen et al. (2020) Table 4: the UVLM gives L+ and P+ at Table 3's kinematics. Our UVLM, morphology and
     hinge differ from theirs (see docs/uvlm.md); at the coarse resolution we stay within 15 %, D+ and M+ near 0."""
     a = run(table3_kinematics(speed), speed, Resolution(n_chord=6, n_span=12, steps_per_cycle=40, cycles=3)).averages
-    assert a.L_plus == pytest.approx(L_paper, rel=0.15)
-    assert a.P_plus == pytest.approx(P_paper, rel=0.15)
-    assert abs(a.D_plus) < 0.05 and abs(a.M_plus) < 0.05
+    assert a.L_plus == pytest.approx(L_paper, rel=TABLE4_RTOL)
+    assert a.P_plus == pytest.approx(P_paper, rel=TABLE4_RTOL)
+    assert abs(a.D_plus) < TABLE4_DM_TOL and abs(a.M_plus) < TABLE4_DM_TOL
 
 
 def test_power_rises_with_ascent_speed():
     P = [run(table3_kinematics(v), v, COARSE).averages.P_plus for v in (0.5, 1.5)]
-    assert P[1] > P[0] * 1.1  # Table 4: 0.96 -> 1.21
+    assert P[1] > P[0] * POWER_RISE
 
 
 def test_aero_cli_contract(capsys):
@@ -70,8 +118,8 @@ def test_uvlm_flight_stays_symmetric():
 
     r = fly_named(1.0, 1, "uvlm", steps_per_cycle=80, periodic_start=False)
     s = r.summary()
-    assert s["max_abs_roll_deg"] < 1e-6 and abs(r.body_pos[:, 1]).max() < 1e-9
-    assert 0.5 < s["mean_vertical_speed"] < 1.5
+    assert s["max_abs_roll_deg"] < ROLL_TOL_DEG and abs(r.body_pos[:, 1]).max() < LATERAL_DRIFT_TOL_M
+    assert ONE_BEAT_SPEED_RANGE[0] < s["mean_vertical_speed"] < ONE_BEAT_SPEED_RANGE[1]
 
 
 def test_uvlm_trim_holds_over_two_wingbeats():
@@ -90,8 +138,8 @@ def test_uvlm_trim_holds_over_two_wingbeats():
     for c in range(2):
         s = slice(c * n, (c + 1) * n)
         vz = (z[s][-1] - z[s][0]) / (r.t[s][-1] - r.t[s][0])
-        assert vz == pytest.approx(1.0, abs=0.1)
-        assert pitch[s].mean() == pytest.approx(np.degrees(r.kinematics.chi), abs=2.0)
+        assert vz == pytest.approx(1.0, abs=HOLD_SPEED_TOL)
+        assert pitch[s].mean() == pytest.approx(np.degrees(r.kinematics.chi), abs=HOLD_PITCH_TOL_DEG)
 
 
 def test_uvlm_flight_recording_has_pressure_panels_and_wake(tmp_path):
