@@ -46,7 +46,7 @@ def stability_all(out_dir: Path, *, table3: bool = False) -> dict:
     return {"speeds": studies["speeds"], "modes": studies["fig15"]["modes"]}
 
 
-STEPS = ("uvlm_table4", "stability", "stability_table3", "trim")
+STEPS = ("uvlm_table4", "stability", "stability_table3", "trim", "validation", "validation_uvlm")
 """Parts of `hawksim reproduce`, in the order they run."""
 
 
@@ -64,6 +64,17 @@ def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
     if "stability_table3" in only:
         log("stability_table3 ...")
         done["stability_table3"] = stability_all(out_dir / "stability_table3", table3=True)
+    if "validation" in only:
+        log("validation (quasi-steady, 5 speeds) ...")
+        from hawksim.stability.validation import reproduce as validation
+        done["validation"] = validation(out_dir / "free_flight", aero="quasi-steady", log=log)
+    if "validation_uvlm" in only:
+        log("validation_uvlm (UVLM, 0, 1, 2 m/s; many minutes) ...")
+        from hawksim.cluster import dask_client
+        from hawksim.stability.validation import reproduce as validation
+
+        with dask_client() as client:
+            done["validation_uvlm"] = validation(out_dir / "free_flight", aero="uvlm", log=log, client=client)
     if "trim" not in only:
         return done
     from hawksim.backends.network import SHIPPED_SPEEDS, shipped_path

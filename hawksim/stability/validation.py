@@ -27,7 +27,9 @@ Window and amplitude. The fit window is the first J beats, J the largest <= ``be
 flight still lies within :data:`DRIFT_MAX` of the orbit (the linearization is about the orbit, not about a
 departing flight); for a mode's own fit the window also ends when |a_k| falls below :data:`NOISE_REL` |a_0|
 (stable modes decay into round-off). The amplitude is eps = min(:data:`EPS_MAX`, :data:`DEV_MAX` /
-max(1, |mu_max|)^J) (normalized units), so that the largest deviation in the window stays near DEV_MAX. Linearity
+max(1, |mu_max|)^J) (normalized units) longitudinally, so that the largest deviation in the window stays near
+DEV_MAX, and min(:data:`LAT_EPS`, :data:`LAT_DEV_MAX` / max(1, |mu_max|)^J) laterally (larger: see LAT_EPS on
+the quasi-steady load switch). Linearity
 is SHOWN, not assumed: every fit is repeated at eps / 2 and the two rates compared (``halving``).
 
 Averaged model: the quasi-steady A of :func:`hawksim.stability.floquet.quasi_steady_system` at the orbit's
@@ -147,7 +149,22 @@ def _c(z) -> list[float]:
 
 
 def _rel(a, b) -> float:
-    return float(abs(complex(a) - complex(b)) / abs(complex(b)))
+    den = abs(complex(b))
+    return float(abs(complex(a) - complex(b)) / den) if den > 0 else float("inf")
+
+
+def chart_map(system: str, V_over_U: float) -> np.ndarray:
+    """T (4, 4) with x_avg = T x_orbit: the averaged model's states (Etkin's BODY-fixed stability axes, velocity
+    components that turn with the perturbed attitude) from the orbit chart's (velocities in the LEVEL heading
+    axes, :mod:`hawksim.flight.orbit`). About the equilibrium velocity (0, 0, w_e) the body components are
+    v_b = v_level - a x (0, 0, w_e), a = (phi, theta, 0): u_b = u - w_e theta, v_b = v + w_e phi (normalized,
+    w_e+ = -V/U); rates and angles agree to first order (the averaged reference has no rotation). Eigenvalues
+    do not depend on the chart; eigenvectors and per-state predictions do: expm(A k) is compared as
+    T^-1 expm(A k) T. Checked: T^-1 A_long T has the (u, q) entry Xq/m (0.001 at 2 m/s) against logm of the
+    Floquet block's -0.014, where A_long's own entry is Xq/m - w_e = 1.3."""
+    T = np.eye(4)
+    T[0, 3] = V_over_U if system == "longitudinal" else -V_over_U
+    return T
 
 
 def drift(ref_states: np.ndarray, orbit: Orbit) -> np.ndarray:
@@ -275,13 +292,15 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
                 "halving_rel_change": [_rel(lmh[ph[i]], lm[pm[i]]) for i in range(4)],
                 "window_beats": n}
             M = block
-            Ad = A[name]
+            Tc = chart_map(name, orbit.speed / sc[0])
+            Ad = np.linalg.solve(Tc, A[name] @ Tc)
             for s in range(4):
                 x0 = devs[s][0]
                 raw[f"state_{names[s]}"] = {
                     "dev": devs[s].tolist(),
                     "floquet": [(np.linalg.matrix_power(M, k) @ x0).tolist() for k in range(beats + 1)],
-                    "averaged": [(expm(Ad * k) @ x0).real.tolist() for k in range(beats + 1)]}
+                    "averaged": [(expm(Ad * k) @ x0).real.tolist() for k in range(beats + 1)],
+                    "averaged_chart": "T^-1 expm(A k) T x0 (chart_map)"}
         out["systems"][name] = sysout
         out["_flights"][name] = {"amplitude": e, **raw}
     out["wall_time_s"] = time.perf_counter() - t0
