@@ -218,7 +218,7 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
         else:
             e = min(LAT_EPS, LAT_DEV_MAX / mu_max**J)
 
-        def fly(d4, amp):
+        def fly(d4, amp, idx=idx, ref=ref, name=name):
             d8 = np.zeros(8)
             d8[idx] = amp * d4
             f = _fly_dev(orbit, ref, d8, beats, None if not uvlm else (name == "longitudinal"))
@@ -343,7 +343,8 @@ def run_speed(speed: float, aero: str = "quasi-steady", *, client=None, log=None
     res = validate_speed(orbit, fq, A, systems=("longitudinal", "lateral") if lateral else ("longitudinal",),
                          log=log, **kw)
     res["orbit"] = {"residual": orbit.residual, "converged": orbit.converged, "iterations": orbit.iterations,
-                    "floor": orbit.floor, "f_hz": orbit.kinematics.f, "phi0_deg": float(np.degrees(orbit.kinematics.phi0)),
+                    "floor": orbit.floor, "f_hz": orbit.kinematics.f,
+                    "phi0_deg": float(np.degrees(orbit.kinematics.phi0)),
                     "warm_beats": orbit.warm_beats}
     res["floquet_coupling"] = fq.coupling
     res["wall_times_s"] = {"orbit": t_orbit, "monodromy": t_mono, "averaged": t_avg, "flights": res["wall_time_s"]}
@@ -451,7 +452,8 @@ def reproduce(out_dir: Path, *, aero: str = "quasi-steady", speeds=None, log=pri
         except Exception as exc:  # a speed whose orbit/flight fails is reported, not fatal
             log(f"{aero} {v} m/s failed: {exc!r}")
             results.append({"speed": v, "aero": aero, "error": repr(exc), "systems": {}, "_flights": {}})
-    meta = {f"{aero}": {"command": f"hawksim reproduce --only {'validation' if aero == 'quasi-steady' else 'validation_uvlm'}",
+    step = "validation" if aero == "quasi-steady" else "validation_uvlm"
+    meta = {f"{aero}": {"command": f"hawksim reproduce --only {step}",
                         "date": datetime.datetime.now().isoformat(timespec="seconds"), "host": platform.node(),
                         "wall_time_s": time.perf_counter() - t0,
                         "constants": {"BEATS": BEATS, "UVLM_BEATS": UVLM_BEATS, "DRIFT_MAX": DRIFT_MAX,

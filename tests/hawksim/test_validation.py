@@ -7,7 +7,6 @@ change); the stable longitudinal modes agree to < 1e-4. The issue's target is 5 
 """
 
 import numpy as np
-import pytest
 
 from hawksim.flight.orbit import periodic_orbit
 from hawksim.stability.floquet import monodromy
