@@ -70,7 +70,7 @@ def orbits_all(out_dir: Path, log=print, aeros=("quasi-steady", "uvlm"), speeds=
     return done
 
 
-STEPS = ("uvlm_table4", "stability", "stability_table3", "orbits", "trim")
+STEPS = ("uvlm_table4", "stability", "stability_table3", "orbits", "validation", "validation_uvlm", "trim")
 """Parts of `hawksim reproduce`, in the order they run."""
 
 
@@ -91,6 +91,17 @@ def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
     if "orbits" in only:
         log("orbits ...")
         done["orbits"] = orbits_all(out_dir / "orbits", log=log)
+    if "validation" in only:
+        log("validation (quasi-steady, 5 speeds) ...")
+        from hawksim.stability.validation import reproduce as validation
+        done["validation"] = validation(out_dir / "free_flight", aero="quasi-steady", log=log)
+    if "validation_uvlm" in only:
+        log("validation_uvlm (UVLM, 0, 1, 2 m/s; many minutes) ...")
+        from hawksim.cluster import dask_client
+        from hawksim.stability.validation import reproduce as validation
+
+        with dask_client() as client:
+            done["validation_uvlm"] = validation(out_dir / "free_flight", aero="uvlm", log=log, client=client)
     if "trim" not in only:
         return done
     from hawksim.backends.network import SHIPPED_SPEEDS, shipped_path
