@@ -36,14 +36,20 @@ def cmd_stability(args) -> dict:
         from hawksim.stability.floquet import monodromy
         from hawksim.stability.report import floquet_json
 
-        orbit = periodic_orbit(args.speed, args.aero, kinematics=kin,
-                               log=None if args.no_progress else (lambda m: print(f"orbit: {m}", file=sys.stderr)))
+        from hawksim.flight.orbit import shipped_orbit
+
+        orbit = shipped_orbit(args.speed, args.aero) if kin is None else None
+        if orbit is None:
+            orbit = periodic_orbit(args.speed, args.aero, kinematics=kin, log=None if args.no_progress else (
+                lambda m: print(f"orbit: {m}", file=sys.stderr)))
         if not orbit.converged:
             print(f"hawksim stability: the periodic orbit did not converge (residual {orbit.residual:.2e}); "
                   "the multipliers are of the nearest state found", file=sys.stderr)
         fl = monodromy(orbit)
         kin = orbit.kinematics
-        out_orbit = {"orbit": orbit_json(orbit), "floquet": floquet_json(fl)}
+        out_orbit = {"orbit": orbit_json(orbit), "floquet": {
+            **floquet_json(fl), "chart": "level heading axes (u, v horizontal; the averaged A's eigenvectors are in "
+                                         "body-fixed stability axes: u_b = u - w_e theta, v_b = v + w_e phi)"}}
     elif kin is None and args.aero == "quasi-steady":
         kin = shipped_trim(args.speed, "quasi-steady").kinematics
     if args.aero == "quasi-steady" or (args.workers == 1 and not args.scheduler):
