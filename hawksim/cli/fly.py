@@ -35,6 +35,12 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
     from hawksim.flight.orbit import periodic_orbit, shipped_orbit
 
     shipped = shipped_orbit(speed, aero) if kinematics is None else None
+    if shipped is not None and not shipped.converged:
+        if start == "orbit":
+            raise FloatingPointError(f"the shipped {aero} orbit at {speed:g} m/s did not converge (residual "
+                                     f"{shipped.residual:.2e}, the wake's beat-to-beat floor {shipped.floor:.2e}): "
+                                     "fly with --start trim")
+        shipped = None
     solvable = aero == "quasi-steady"
     if start is None:
         start = ("orbit" if steps_per_cycle == STEPS_PER_CYCLE and kinematics is None and (shipped or solvable)

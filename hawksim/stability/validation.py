@@ -325,9 +325,11 @@ def run_speed(speed: float, aero: str = "quasi-steady", *, client=None, log=None
     """Orbit, Floquet matrix, averaged A and the perturbed flights at one speed; wall times of each."""
     from hawksim.stability.floquet import quasi_steady_system
 
+    from hawksim.flight.orbit import shipped_orbit
+
     t = time.perf_counter()
-    orbit = periodic_orbit(speed, aero)
-    t_orbit = time.perf_counter() - t
+    orbit = shipped_orbit(speed, aero) or periodic_orbit(speed, aero)
+    t_orbit = time.perf_counter() - t if orbit.wall_time_s == 0 else orbit.wall_time_s
     if log is not None:
         log(f"{aero} {speed} m/s: orbit residual {orbit.residual:.2e} ({orbit.iterations} it, {t_orbit:.1f} s)")
     t = time.perf_counter()
