@@ -31,7 +31,7 @@ import numpy as np
 
 from hawksim.backends.held import held_flight
 from hawksim.insect.kinematics import Kinematics
-from hawksim.flight.orbit import S, Orbit, _Flight, _scales
+from hawksim.flight.orbit import UVLM_FD_STEP, S, Orbit, _Flight, _scales
 from hawksim.frames import cross
 
 FLOQUET_STATES = (0, 1, 2, 3, 4, 5, 6, 7)
@@ -85,7 +85,7 @@ def _eig(M):
     return w[order], V[:, order]
 
 
-def monodromy(orbit: Orbit, *, delta: float = FD_DELTA, model: mujoco.MjModel | None = None,
+def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None,
               lateral: bool = True) -> Floquet:
     """Monodromy of the one-beat map about ``orbit`` by central differences (16 flights; 8 without
     ``lateral``, whose lateral block is then the identity). UVLM: the symmetric perturbations use the mirrored
@@ -96,6 +96,8 @@ def monodromy(orbit: Orbit, *, delta: float = FD_DELTA, model: mujoco.MjModel | 
     import time
 
     t0 = time.perf_counter()
+    if delta is None:  # the UVLM's free wake amplifies round-off: a 1e-5 step differences noise (docs/free_flight.md)
+        delta = UVLM_FD_STEP if orbit.aero == "uvlm" else FD_DELTA
     kin = orbit.kinematics
     sc = state_scale(kin)
     x0 = orbit.launch_state.as_array()
