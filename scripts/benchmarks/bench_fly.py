@@ -1,4 +1,5 @@
-"""Benchmark `hawksim fly --speed 1 --cycles 20 --aero quasi-steady` against real time (issue 2).
+"""Benchmark `hawksim fly --speed 1 --cycles 20 --aero quasi-steady` against real time (issue 2), and the UVLM's
+wingbeats per wall second (`--aero uvlm --cycles 6`; issue 19's target: >= 1 at the default resolution).
 
 Prints one JSON object: the simulated flight time, the flight loop's wall time (best of --repeat, in process,
 after a warm-up that compiles/loads the numba kernels), the whole command's wall time (subprocess, including
@@ -56,6 +57,10 @@ def main():
         "realtime_factor_fly_call": sim_time / best_fly,
         "realtime_factor_command": sim_time / min(wall_cmd),
         "steps_per_s": a.cycles * r.steps_per_cycle / best_loop,
+        "wingbeats_per_s_loop": a.cycles / best_loop,
+        "wingbeats_per_s_fly_call": a.cycles / best_fly,
+        "target_wingbeats_per_s": 1.0 if a.aero == "uvlm" else None,  # issue 19, item 8
+        "start": r.trim_source,
         "machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "processor": platform.machine()},
     }))
 
