@@ -157,3 +157,25 @@ def seconds_arg(text: str) -> float:
     if not math.isfinite(v) or v <= 0:
         raise argparse.ArgumentTypeError(f"--time-limit {text} must be a positive number of seconds")
     return v
+
+
+def add_resolution_args(p, base, label: str = "default") -> None:
+    """--n-chord, --n-span, --steps-per-cycle, --cycles of a held-body UVLM run, their help showing ``base``'s
+    values (a :class:`hawksim.backends.resolution.Resolution`) as ``label``."""
+    p.add_argument("--n-chord", type=positive_int_arg("n-chord", MAX_RINGS),
+                   help=f"chordwise vortex rings per wing ({label}: {base.n_chord})")
+    p.add_argument("--n-span", type=positive_int_arg("n-span", MAX_RINGS),
+                   help=f"spanwise vortex rings per wing ({label}: {base.n_span})")
+    p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"),
+                   help=f"time steps per wingbeat ({label}: {base.steps_per_cycle})")
+    p.add_argument("--cycles", type=aero_cycles_arg,
+                   help=f"wingbeats ({label}: {base.cycles}; the last {base.average_cycles} averaged)")
+
+
+def resolution_from(args, base):
+    """``base`` with the options of :func:`add_resolution_args` that were given."""
+    from dataclasses import replace
+
+    given = {k: getattr(args, k) for k in ("n_chord", "n_span", "steps_per_cycle", "cycles")
+             if getattr(args, k, None)}
+    return replace(base, **given)

@@ -2,20 +2,17 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
 from pathlib import Path
 
 from hawksim.backends.resolution import TRAINING
-from hawksim.cli.args import MAX_RINGS, aero_cycles_arg, positive_int_arg, seed_arg, speed_arg, writable_file
+from hawksim.cli.args import add_resolution_args, positive_int_arg, resolution_from, seed_arg, speed_arg, writable_file
 from hawksim.cli.progress import progress_for
 
 
 def cmd_dataset(args) -> dict:
     from hawksim.surrogate.dataset import generate
 
-    res = replace(TRAINING, **{k: v for k, v in (("n_chord", args.n_chord), ("n_span", args.n_span),
-                                                 ("steps_per_cycle", args.steps_per_cycle),
-                                                 ("cycles", args.cycles)) if v})
+    res = resolution_from(args, TRAINING)
     progress = progress_for(args, f"dataset V={args.speed:g}", "sample", mininterval=1.0, smoothing=0.05)
     r = generate(args.out, args.speed, args.samples, seed=args.seed, resolution=res, scheduler=args.scheduler,
                  workers=args.workers, progress=progress)
@@ -34,14 +31,7 @@ def register(sub) -> None:
     p.add_argument("--scheduler", help="address of a running Dask scheduler (default: a LocalCluster)")
     p.add_argument("--workers", type=positive_int_arg("workers"),
                    help="LocalCluster worker processes (default: the machine's cores)")
-    p.add_argument("--n-chord", type=positive_int_arg("n-chord", MAX_RINGS),
-                   help=f"chordwise rings per wing (training: {TRAINING.n_chord})")
-    p.add_argument("--n-span", type=positive_int_arg("n-span", MAX_RINGS),
-                   help=f"spanwise rings per wing (training: {TRAINING.n_span})")
-    p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"),
-                   help=f"time steps per wingbeat (training: {TRAINING.steps_per_cycle})")
-    p.add_argument("--cycles", type=aero_cycles_arg,
-                   help=f"wingbeats, the last averaged (training: {TRAINING.cycles})")
+    add_resolution_args(p, TRAINING, "training")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_dataset)
