@@ -35,9 +35,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hawksim.flight.orbit import S, STATE_NAMES, state_to_world, world_to_state
+from hawksim.flight.orbit import STATE_NAMES, state_to_world, world_to_state
 from hawksim.flight.result import FlightResult
-from hawksim.frames import quat_from_matrices, rot_z
+from hawksim.frames import quat_from_matrices
 
 FLOQUET_NAMES = STATE_NAMES[:8]
 """Order of the 8 deviation states: u, v, w, p, q, r, phi, theta (the monodromy's)."""
@@ -183,9 +183,10 @@ class Prediction:
 
     d0 (8,): launch deviation; beat_t (nb + 1,) [s]: phase-0 times t_0 + k T; nonlinear (nb, 8): the flight's own
     deviation from ``reference``; floquet, averaged (nb + 1, 8); neutral (nb + 1, 4): the Floquet prediction of
-    the heading [rad] and world position [m] deviations (:func:`neutral_prediction`); ghost_pos (n, 3) [m] and ghost_quat (n, 4)
-    (w, x, y, z): the ghost's pose from the Floquet prediction (:func:`ghost_pose`); reference: the unperturbed
-    orbit flight (same kinematics, steps and length); multipliers: the largest |mu|; notes: how it was made.
+    the heading [rad] and world position [m] deviations (:func:`neutral_prediction`); ghost_pos (n, 3) [m] and
+    ghost_quat (n, 4) (w, x, y, z): the ghost's pose from the Floquet prediction (:func:`ghost_pose`); reference:
+    the unperturbed orbit flight (same kinematics, steps and length); max_multiplier: the largest |mu| of M;
+    notes: how it was made.
     """
 
     d0: np.ndarray
@@ -219,8 +220,8 @@ def make_prediction(perturbed: FlightResult, reference: FlightResult, perturb: d
     pos, quat = ghost_pose(reference, fq, neutral, chi_ref)
     mu = float(np.abs(np.linalg.eigvals(M)).max())
     return Prediction(d0=d0, beat_t=beat_t, nonlinear=beat_deviation(perturbed, reference, chi_ref), floquet=fq,
-                      averaged=av, neutral=neutral, ghost_pos=pos, ghost_quat=quat, reference=reference, max_multiplier=mu,
-                      notes=notes)
+                      averaged=av, neutral=neutral, ghost_pos=pos, ghost_quat=quat, reference=reference,
+                      max_multiplier=mu, notes=notes)
 
 
 def predict_flight(perturbed: FlightResult, perturb: dict[str, float], orbit, *, model=None) -> Prediction:
