@@ -80,24 +80,69 @@ def cmd_fly(args) -> dict:
     if twice:
         raise UsageError(f"--perturb gives {', '.join(twice)} more than once")
     progress = progress_for(args, "fly")
-    result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
-                       kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
-                       keep_extras_every=args.steps_per_cycle // 10 if args.rrd else 0, progress=progress,
-                       start=args.start)
-    out = result.summary()
-    if out["departed_at_beat"] is not None:
-        import sys
+    guard = None
+    if args.rrd:  # Ctrl-C / SIGTERM: write the recording of the steps flown (hawksim.flight.recording.InterruptGuard)
+        from types import SimpleNamespace
 
-        b = out["beats"][out["departed_at_beat"] - 1]
-        print(f"fly: departed at beat {out['departed_at_beat']} of {args.cycles} (mean vertical speed "
-              f"{b['mean_vertical_speed']:.3f} m/s against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): "
-              "an open-loop flight of this unstable model leaves its trim", file=sys.stderr)
-    out["rrd"] = None
-    if args.rrd:
-        from hawksim.flight.recording import write_rrd
+        from hawksim.flight.recording import InterruptGuard
+        from hawksim.flight.simulator import aero_every_for
 
-        out["rrd"] = str(write_rrd(args.rrd, result))
+        guard = InterruptGuard().__enter__()
+        progress = guard.progress(progress)
+    try:
+        result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
+                           kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
+                           # the UVLM's panels and wake at every UVLM update (every aero_every steps)
+                           keep_extras_every=(aero_every_for(SimpleNamespace(name="uvlm"), args.steps_per_cycle)
+                                              if args.rrd and args.aero == "uvlm" else 0),
+                           progress=progress, start=args.start, **({"partial_on_interrupt": True} if args.rrd else {}))
+        interrupted = len(result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
+        out = {} if interrupted else result.summary()
+        if out and out["departed_at_beat"] is not None:
+            import sys
+
+            b = out["beats"][out["departed_at_beat"] - 1]
+            print(f"fly: departed at beat {out['departed_at_beat']} of {args.cycles} (mean vertical speed "
+                  f"{b['mean_vertical_speed']:.3f} m/s against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): "
+                  "an open-loop flight of this unstable model leaves its trim", file=sys.stderr)
+        out["rrd"] = None
+        if args.rrd:
+            out["rrd"] = _write_recording(args, result, guard, interrupted)
+    finally:
+        if guard is not None:
+            guard.__exit__(None, None, None)
     return out
+
+
+def _write_recording(args, result, guard, interrupted: bool) -> str:
+    """`--rrd`: the recording (with the linear prediction's ghost for a perturbed quasi-steady flight from its
+    orbit); after an interrupt (Ctrl-C, SIGTERM) the steps flown, then KeyboardInterrupt (exit 130)."""
+    import sys
+
+    from hawksim.flight.recording import write_rrd
+    from hawksim.stability.prediction import NoPrediction, predict_cli_flight
+
+    prediction = None
+    if args.perturb and not interrupted:
+        try:
+            from hawksim.insect.model import load_model
+
+            prediction = predict_cli_flight(result, dict(args.perturb), speed=args.speed, aero=args.aero,
+                                            kinematics=args.kinematics, model=load_model(args.model))
+        except NoPrediction as exc:
+            print(f"fly: no ghost in the recording: {exc}", file=sys.stderr)
+        except KeyboardInterrupt:
+            interrupted = True
+            print("fly: interrupted while computing the linear prediction; recording without the ghost",
+                  file=sys.stderr)
+    with guard.deferred():
+        path = str(write_rrd(args.rrd, result, prediction=prediction))
+    if interrupted or guard.signum is not None:
+        n = len(result.t)
+        print(f"fly: interrupted at step {n} of {args.cycles * args.steps_per_cycle} (t = {result.t[-1]:.5f} s); "
+              f"{path} holds steps 0 to {n - 1}", file=sys.stderr)
+        raise KeyboardInterrupt
+    return path
 
 
 def register(sub) -> None:

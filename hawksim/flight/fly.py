@@ -28,7 +28,7 @@ from hawksim.trim.point import Trim
 def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, float] | None = None,
         model: mujoco.MjModel | None = None, steps_per_cycle: int = FLY_STEPS_PER_CYCLE, gravity: bool = True,
         keep_extras_every: int = 0, periodic_start: bool = True, start_state: tuple | None = None,
-        progress: Callable[[int, int], None] | None = None) -> FlightResult:
+        progress: Callable[[int, int], None] | None = None, partial_on_interrupt: bool = False) -> FlightResult:
     """Fly for ``cycles`` wingbeats from ``trim`` (its kinematics and ascent speed) with ``backend``'s loads.
 
     Args:
@@ -40,6 +40,8 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
             (:func:`hawksim.flight.orbit.periodic_orbit`; state order :data:`hawksim.flight.orbit.STATE_NAMES`):
             the flight starts exactly there (plus ``perturb``), with no calibration beat.
         progress: called as progress(step, n_steps).
+        partial_on_interrupt: a KeyboardInterrupt during the steps returns the steps completed so far (a result
+            with fewer than cycles x steps_per_cycle rows) instead of propagating; none completed: it propagates.
     """
     speed, kin = trim.speed, trim.kinematics
     if not (np.isfinite(speed) and speed >= 0):
@@ -76,26 +78,33 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
     rec = {k: [] for k in ("t", "pos", "quat", "v", "w", "wR", "wo", "F", "M", "Pa", "Pj")}
     extras = []
     t0 = time.perf_counter()
-    for i in range(n):
-        r = sim.step()
-        st, ld = r.state, r.loads
-        rec["t"].append(st.t)
-        rec["pos"].append(st.body_pos)
-        rec["quat"].append(st.body_R)
-        rec["v"].append(st.body_v)
-        rec["w"].append(st.body_omega)
-        rec["wR"].append(st.wing_R)
-        rec["wo"].append(st.wing_origin)
-        rec["F"].append(ld.force)
-        rec["M"].append(ld.moment_about(st, st.body_pos))
-        rec["Pa"].append(ld.power)
-        rec["Pj"].append(r.joint_power)
-        if keep_extras_every and i % keep_extras_every == 0 and ld.extras:
-            extras.append((i, ld.extras))
-        if progress is not None:
-            progress(i + 1, n)
-        if not np.all(np.isfinite(sim.d.qpos)):
-            raise FloatingPointError(f"flight diverged at step {i} (t = {st.t:.5f} s): non-finite state")
+    try:
+        for i in range(n):
+            r = sim.step()
+            st, ld = r.state, r.loads
+            rec["t"].append(st.t)
+            rec["pos"].append(st.body_pos)
+            rec["quat"].append(st.body_R)
+            rec["v"].append(st.body_v)
+            rec["w"].append(st.body_omega)
+            rec["wR"].append(st.wing_R)
+            rec["wo"].append(st.wing_origin)
+            rec["F"].append(ld.force)
+            rec["M"].append(ld.moment_about(st, st.body_pos))
+            rec["Pa"].append(ld.power)
+            rec["Pj"].append(r.joint_power)
+            if keep_extras_every and i % keep_extras_every == 0 and ld.extras:
+                extras.append((i, ld.extras))
+            if progress is not None:
+                progress(i + 1, n)
+            if not np.all(np.isfinite(sim.d.qpos)):
+                raise FloatingPointError(f"flight diverged at step {i} (t = {st.t:.5f} s): non-finite state")
+    except KeyboardInterrupt:
+        done = min(len(v) for v in rec.values())
+        if not partial_on_interrupt or done == 0:
+            raise
+        rec = {k: v[:done] for k, v in rec.items()}
+        extras = [e for e in extras if e[0] < done]
     wall = time.perf_counter() - t0
     a = {k: np.asarray(v) for k, v in rec.items()}
     a["quat"] = quat_from_matrices(a["quat"])

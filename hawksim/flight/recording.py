@@ -10,18 +10,30 @@ index). World frame: z up, SI (m, s, N, W). Entity paths:
 * ``world/forces/{left,right}`` - aerodynamic force of each wing (Arrows3D) drawn from the wing's mid-span
   point on the feathering axis, scaled by ``FORCE_SCALE_M_PER_WEIGHT`` = 2 cm per body weight W.
 * ``world/trajectory`` - body centre-of-mass path (LineStrips3D, static).
-* ``plots/...`` - Scalars: forces/{lift,drag} [N], forces_nd/{L_plus,D_plus} (/W), moment/pitching [N m],
-  moment_nd/M_plus (/(W cbar)), power/{aero,joint} [W], velocity/{vx,vy,vz} [m/s] world,
-  attitude/{pitch,roll} [deg].
+* ``plots/...`` - Scalars per step (:data:`SERIES`: entity, series name with its unit, view): forces/{lift,drag}
+  [N], forces_nd/{L_plus,D_plus} [-] (/W), moment/pitching [N m], moment_nd/M_plus [-] (/(W cbar)),
+  power/{aero,joint} [W], velocity/{vx,vy,vz} [m/s] world, attitude/{pitch,roll} [deg].
 * ``world/uvlm/...`` - only when ``result.extras`` holds UVLM data (see `_log_extras`): ``panels`` (pressure-
   coloured Mesh3D), ``wake/{left,right}`` (LineStrips3D coloured by circulation), ``legend`` (colour scales).
+  They are logged at the steps the backend was called (every UVLM update when the flight kept extras every
+  ``aero_every`` steps, as `hawksim fly --rrd` does); in between they hold, as the simulator holds the loads.
+* With a :class:`hawksim.stability.prediction.Prediction` (a perturbed flight from a periodic orbit):
+  ``world/ghost`` - the ghost body, pose per step (Transform3D) = the unperturbed flight's pose plus the Floquet
+  prediction of the deviation, shifted by :data:`GHOST_OFFSET_M` so that it stands beside the nonlinear body;
+  ``world/ghost/body`` (translucent Ellipsoids3D), ``world/ghost/wings/{left,right}`` (Transform3D relative to the
+  ghost body, the prescribed wing motion) with ``.../mesh``; ``world/ghost_trajectory`` (static);
+  ``world/ghost_legend`` (TextDocument); ``plots/beats/{u,w,q,theta,v,p,r,phi}/{nonlinear,floquet,averaged}`` -
+  the per-beat state deviations at phase 0 (t = k T) in edge units (:data:`BEAT_STATES`).
 
-A default blueprint (3D view + time-series views) is stored in the file.
+A default blueprint is stored in the file: the 3D view beside tabs of time-series views, each series named with
+its unit, one view per group (:func:`default_blueprint`), plus a text view of each legend present.
 """
 
 from __future__ import annotations
 
 import os
+import signal
+import threading
 import uuid
 from pathlib import Path
 
@@ -29,6 +41,7 @@ import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
+from hawksim.flight.orbit import STATE_NAMES
 from hawksim.flight.result import FlightResult
 from hawksim.frames import quat_from_matrices
 from hawksim.insect.accessors import WING_SIDES as SIDES
@@ -40,6 +53,38 @@ FORCE_SCALE_M_PER_WEIGHT = 0.02
 N_SPAN, N_CHORD = 21, 4
 """Wing mesh resolution: spanwise stations (cosine spaced, tips included) and chordwise divisions."""
 
+GHOST_OFFSET_M = (0.0, 0.15, 0.0)
+"""World offset [m] of the ghost body (the linear prediction) from the nonlinear one: 15 cm to the left (+y;
+the wingspan is ~10 cm), fixed, so that both are visible side by side."""
+
+SERIES = (
+    ("forces/lift", "lift [N]"), ("forces/drag", "drag [N]"),
+    ("forces_nd/L_plus", "L+ = L/W [-]"), ("forces_nd/D_plus", "D+ = D/W [-]"),
+    ("moment/pitching", "pitching moment [N m]"), ("moment_nd/M_plus", "M+ = M/(W cbar) [-]"),
+    ("power/aero", "aerodynamic power [W]"), ("power/joint", "joint power [W]"),
+    ("velocity/vx", "vx [m/s]"), ("velocity/vy", "vy [m/s]"), ("velocity/vz", "vz [m/s]"),
+    ("attitude/pitch", "pitch [deg]"), ("attitude/roll", "roll [deg]"),
+)
+"""Per-step series under ``plots/``: (entity, series name with its unit)."""
+
+VIEWS = (
+    ("plots/forces", "Lift, drag [N]"), ("plots/forces_nd", "L+, D+ [-]"),
+    ("plots/moment", "Pitching moment [N m]"), ("plots/moment_nd", "M+ [-]"), ("plots/power", "Power [W]"),
+    ("plots/velocity", "Velocity, world [m/s]"), ("plots/attitude", "Pitch, roll [deg]"),
+)
+"""Time-series views of the per-step series: (origin, name with the unit)."""
+
+BEAT_STATES = (
+    ("u", "m/s", 1.0), ("w", "m/s", 1.0), ("q", "deg/s", 180 / np.pi), ("theta", "deg", 180 / np.pi),
+    ("v", "m/s", 1.0), ("p", "deg/s", 180 / np.pi), ("r", "deg/s", 180 / np.pi), ("phi", "deg", 180 / np.pi),
+)
+"""Per-beat deviation plots: (state, edge unit, factor from SI). States of the orbit's chart
+(:mod:`hawksim.flight.orbit`): u, v, w in the level heading axes (forward, right, down), p, q, r the body rates in
+them, theta the pitch (nose up), phi the bank (right wing down)."""
+
+_BEAT_KINDS = (("nonlinear", "nonlinear flight", (20, 20, 20)), ("floquet", "Floquet M^k x0", (31, 119, 180)),
+               ("averaged", "averaged expm(A k) x0", (214, 39, 40)))
+_GHOST_COLOR = (120, 200, 255)
 _SIDE_COLORS = {"left": (230, 120, 40), "right": (40, 140, 230)}
 _DIVERGING = np.array([[59, 76, 192], [221, 221, 221], [180, 4, 38]], dtype=float)  # blue-white-red
 
@@ -85,11 +130,14 @@ def _check_target(path: Path) -> None:
         raise ValueError(f"cannot write recording {path}: directory {path.parent} does not exist")
 
 
-def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, application_id: str = "hawksim") -> Path:
+def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, prediction=None,
+              application_id: str = "hawksim") -> Path:
     """Write ``result`` as a Rerun recording (with its default blueprint) to ``path``; return the Path.
 
-    Writes to a temporary file in the same directory and renames it at the end, so a failure leaves nothing
-    half-written. Raises ValueError (one line, naming the path) when the path cannot be written.
+    ``prediction``: a :class:`hawksim.stability.prediction.Prediction` of the flight (ghost body and per-beat
+    plots), or None. Writes to a temporary file in the same directory and renames it at the end, so a failure (or
+    an interrupt) leaves nothing half-written. Raises ValueError (one line, naming the path) when the path cannot
+    be written.
     """
     path = Path(path)
     _check_target(path)
@@ -101,9 +149,12 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, appli
         raise ValueError(f"cannot write recording {path}: {exc.strerror or exc}") from None
     rec = rr.RecordingStream(application_id)
     try:
-        rec.save(tmp, default_blueprint=default_blueprint())
+        rec.save(tmp, default_blueprint=default_blueprint(uvlm=_uvlm_extras(result) != [],
+                                                           prediction=prediction is not None))
         _log_flight(rec, result, morph)
         _log_extras(rec, result)
+        if prediction is not None:
+            _log_prediction(rec, result, prediction, morph)
         rec.flush()
         rec.disconnect()  # closes the file sink (writes the footer)
         os.replace(tmp, path)
@@ -115,15 +166,23 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, appli
     return path
 
 
-def default_blueprint() -> rrb.Blueprint:
-    """3D view of the insect beside time-series views of forces, moment, power, velocity and attitude."""
-    ts = [rrb.TimeSeriesView(origin=f"plots/{k}", name=n) for k, n in (
-        ("forces", "Lift, drag [N]"), ("forces_nd", "L+, D+ [W]"), ("moment", "Pitching moment [N m]"),
-        ("power", "Power [W]"), ("velocity", "Velocity [m/s]"), ("attitude", "Pitch, roll [deg]"))]
+def default_blueprint(*, uvlm: bool = False, prediction: bool = False) -> rrb.Blueprint:
+    """The 3D view beside tabs: the per-step time series (:data:`VIEWS`), with ``prediction`` the per-beat state
+    deviations (one view per :data:`BEAT_STATES` entry, named with its unit) and the ghost's legend, with ``uvlm``
+    the colour legend of the panels and wake."""
+    tabs = [rrb.Grid(*[rrb.TimeSeriesView(origin=o, name=n) for o, n in VIEWS], name="Per step")]
+    if prediction:
+        tabs.append(rrb.Grid(*[rrb.TimeSeriesView(origin=f"plots/beats/{k}", name=f"Δ{k} per beat [{u}]")
+                               for k, u, _ in BEAT_STATES], name="Per beat: nonlinear vs linear"))
+    texts = ([rrb.TextDocumentView(origin="world/ghost_legend", name="Ghost")] if prediction else []) + (
+        [rrb.TextDocumentView(origin="world/uvlm/legend", name="UVLM colour scales")] if uvlm else [])
+    side = rrb.Tabs(*tabs) if len(tabs) > 1 else tabs[0]
+    right = rrb.Vertical(side, *texts, row_shares=[6] + [1] * len(texts)) if texts else side
     return rrb.Blueprint(
         rrb.Horizontal(
-            rrb.Spatial3DView(origin="world", name="Hawkmoth"),
-            rrb.Grid(*ts),
+            rrb.Spatial3DView(origin="world", name="Hawkmoth", contents=["+ /world/**", "- /world/uvlm/legend",
+                                                                         "- /world/ghost_legend"]),
+            right,
             column_shares=[3, 2],
         ),
         collapse_panels=True,
@@ -165,16 +224,16 @@ def _log_flight(rec: rr.RecordingStream, res: FlightResult, morph: Morphology) -
     W, cbar = morph.weight, morph.cbar
     lift, drag = res.lift_drag()
     M = res.pitching_moment()
-    series = {
+    values = {
         "forces/lift": lift, "forces/drag": drag, "forces_nd/L_plus": lift / W, "forces_nd/D_plus": drag / W,
         "moment/pitching": M, "moment_nd/M_plus": M / (W * cbar),
         "power/aero": res.power_aero, "power/joint": res.power_joint,
         "velocity/vx": res.body_v[:, 0], "velocity/vy": res.body_v[:, 1], "velocity/vz": res.body_v[:, 2],
         "attitude/pitch": np.rad2deg(res.pitch()), "attitude/roll": np.rad2deg(res.roll()),
     }
-    for name, values in series.items():
-        rec.log(f"plots/{name}", rr.SeriesLines(names=name.split("/")[1]), static=True)
-        rec.send_columns(f"plots/{name}", idx, rr.Scalars.columns(scalars=np.asarray(values, dtype=float)))
+    for name, label in SERIES:
+        rec.log(f"plots/{name}", rr.SeriesLines(names=label), static=True)
+        rec.send_columns(f"plots/{name}", idx, rr.Scalars.columns(scalars=np.asarray(values[name], dtype=float)))
 
 
 def _panel_mesh(vertices: np.ndarray, pressure: np.ndarray, limit: float) -> rr.Mesh3D:
@@ -198,12 +257,18 @@ def _wake_strips(vertices: np.ndarray, gamma: np.ndarray, limit: float) -> rr.Li
     return rr.LineStrips3D(strips, colors=colors, radii=5e-5)
 
 
+def _uvlm_extras(res: FlightResult) -> list:
+    """The (step, dict) extras that hold UVLM panels or wake, within the flight's rows."""
+    return [(int(i), e) for i, e in res.extras
+            if isinstance(e, dict) and ("panels" in e or "wake" in e) and 0 <= int(i) < len(res.t)]
+
+
 def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
     """UVLM extras (step, dict): ``panels`` (2, nc+1, ns+1, 3) world [m] with ``pressure`` (2, nc, ns) [Pa]
     (pressure jump across the wing), and ``wake``: per wing (vertices (rows+1, ns+1, 3) [m], gamma (rows, ns)
     [m^2/s]). Colour scales are symmetric, blue (negative) - white - red (positive), with limits the largest
     |pressure| and |gamma| over all kept steps; they are written to ``world/uvlm/legend``."""
-    kept = [(int(i), e) for i, e in res.extras if isinstance(e, dict) and ("panels" in e or "wake" in e)]
+    kept = _uvlm_extras(res)
     if not kept:
         return
     p_lim = max([float(np.abs(e["pressure"]).max()) for _, e in kept if "pressure" in e] + [0.0])
@@ -224,3 +289,113 @@ def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
             if g.size:
                 rec.log(f"world/uvlm/wake/{SIDES[w]}", _wake_strips(V, g, g_lim))
     rec.reset_time()
+
+
+def _log_prediction(rec: rr.RecordingStream, res: FlightResult, pred, morph: Morphology) -> None:
+    """The ghost body (pose per step, wings relative to it), its trajectory and legend, and the per-beat series."""
+    ref = pred.reference
+    n = min(len(res.t), len(ref.t), len(pred.ghost_pos))
+    idx = [rr.TimeColumn("time", duration=np.asarray(ref.t[:n], dtype=float)),
+           rr.TimeColumn("step", sequence=np.arange(n))]
+    off = np.asarray(GHOST_OFFSET_M, dtype=float)
+    pos = pred.ghost_pos[:n] + off
+    rec.send_columns("world/ghost", idx, rr.Transform3D.columns(translation=pos,
+                                                                 quaternion=_xyzw(pred.ghost_quat[:n])))
+    rec.log("world/ghost_trajectory", rr.LineStrips3D([pos], colors=[(*_GHOST_COLOR, 160)]), static=True)
+    centres = morph.segment_centres()
+    rec.log("world/ghost/body", rr.Ellipsoids3D(
+        centers=[centres[s.name] for s in morph.segments], half_sizes=[s.semi_axes for s in morph.segments],
+        colors=[(*_GHOST_COLOR, 90)], fill_mode="solid"), static=True)
+    Rb = ref.body_R[:n]
+    for i, side in enumerate(SIDES):  # the prescribed wing motion relative to the body (the same in both flights)
+        R_rel = np.einsum("nji,njk->nik", Rb, ref.wing_R[:n, i])
+        o_rel = np.einsum("nji,nj->ni", Rb, ref.wing_origin[:n, i] - ref.body_pos[:n])
+        rec.send_columns(f"world/ghost/wings/{side}", idx, rr.Transform3D.columns(
+            translation=o_rel, quaternion=_xyzw(quat_from_matrices(R_rel))))
+        verts, tris = wing_mesh(morph, side)
+        rec.log(f"world/ghost/wings/{side}/mesh", rr.Mesh3D(
+            vertex_positions=verts, triangle_indices=tris, vertex_normals=np.tile([0.0, 0.0, 1.0], (len(verts), 1)),
+            albedo_factor=(*_GHOST_COLOR, 90)), static=True)
+    rec.log("world/ghost_legend", rr.TextDocument(
+        "Ghost (pale blue, translucent): the LINEAR prediction of this perturbed flight - the unperturbed orbit "
+        "flight's pose plus the Floquet prediction of the deviation (M^k x0 at phase 0 of each beat, linearly "
+        "interpolated; heading and position from the one-beat map's neutral rows), drawn "
+        f"{off[1] * 100:g} cm to the left (+y world) of the nonlinear body.\n"
+        "Per-beat plots: deviation from the unperturbed flight at phase 0 (t = k T): nonlinear flight (points), "
+        "Floquet M^k x0 and cycle-averaged T^-1 expm(A k) T x0 (lines).\n" + (pred.notes or "")), static=True)
+
+    spc = res.steps_per_cycle
+    series = {"nonlinear": pred.nonlinear, "floquet": pred.floquet, "averaged": pred.averaged}
+    for name, unit, factor in BEAT_STATES:
+        j = STATE_NAMES.index(name)  # the first 8 are the prediction's states (hawksim.stability.prediction)
+        for kind, label, color in _BEAT_KINDS:
+            d = np.asarray(series[kind], dtype=float)
+            k = np.arange(len(d))
+            ent = f"plots/beats/{name}/{kind}"
+            style = (rr.SeriesPoints(names=f"{label} [{unit}]", colors=[color], markers=["circle"], marker_sizes=[3.0])
+                     if kind == "nonlinear" else rr.SeriesLines(names=f"{label} [{unit}]", colors=[color]))
+            rec.log(ent, style, static=True)
+            rec.send_columns(ent, [rr.TimeColumn("time", duration=np.asarray(pred.beat_t[: len(d)], dtype=float)),
+                                   rr.TimeColumn("step", sequence=k * spc)],
+                             rr.Scalars.columns(scalars=d[:, j] * factor))
+
+
+class InterruptGuard:
+    """Ctrl-C (SIGINT) and SIGTERM around a flight whose recording is asked for (`hawksim fly --rrd`).
+
+    Before the flight's first step a signal raises KeyboardInterrupt at once (nothing to save). During the flight
+    (from the first call of the wrapped progress hook, :meth:`progress`) it is only noted; the hook raises
+    KeyboardInterrupt after the step in progress, so :func:`hawksim.flight.fly.fly` (``partial_on_interrupt``)
+    returns the steps flown. :meth:`deferred` notes signals while the recording is written (so that the write
+    completes; write_rrd's temporary file is removed on any exception anyway); :attr:`signum` tells whether one
+    came. Handlers are installed only in the main thread and restored on exit.
+    """
+
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+    def __init__(self):
+        self.signum: int | None = None
+        self._defer = False
+        self._old: dict = {}
+
+    def __enter__(self) -> InterruptGuard:
+        if threading.current_thread() is threading.main_thread():
+            for s in self.SIGNALS:
+                self._old[s] = signal.signal(s, self._handler)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        for s, h in self._old.items():
+            signal.signal(s, h)
+        self._old = {}
+
+    def _handler(self, signum, frame) -> None:
+        self.signum = signum
+        if not self._defer:
+            raise KeyboardInterrupt
+
+    def progress(self, inner=None):
+        """A progress hook (step, n) that defers signals from the first step on and raises KeyboardInterrupt
+        after the step in which one came; then calls ``inner``. The deferral ends when the flight's last step
+        is done."""
+        def hook(i, n):
+            self._defer = i < n
+            if self.signum is not None:
+                self._defer = False
+                raise KeyboardInterrupt
+            if inner is not None:
+                inner(i, n)
+        return hook
+
+    def deferred(self):
+        """Context: signals are noted, not raised (restores the previous mode on exit)."""
+        import contextlib
+
+        @contextlib.contextmanager
+        def cm():
+            old, self._defer = self._defer, True
+            try:
+                yield
+            finally:
+                self._defer = old
+        return cm()

@@ -229,3 +229,177 @@ def test_uvlm_extras(result, tmp_path):
 def test_diverging_colors():
     c = recording.diverging_colors(np.array([-2.0, -1.0, 0.0, 1.0, 5.0]), 1.0)
     assert [tuple(x) for x in c] == [(59, 76, 192), (59, 76, 192), (221, 221, 221), (180, 4, 38), (180, 4, 38)]
+
+
+# ---- units, views, legends (issue 18 item 5) --------------------------------------------------------------
+def blueprint_views(path: Path) -> list[tuple[str, str, str]]:
+    """(class, origin, display name) of every view in the file's blueprint."""
+    reader = RrdReader(path)
+    out = []
+    for ch in reader.stream(store=reader.blueprints()[0]).to_chunks():
+        rb = ch.to_record_batch()
+        if "ViewBlueprint:class_identifier" in rb.schema.names:
+            cls = rb.column("ViewBlueprint:class_identifier").to_pylist()[-1][0]
+            origin = rb.column("ViewBlueprint:space_origin").to_pylist()[-1][0]
+            name = rb.column("ViewBlueprint:display_name").to_pylist()[-1][0]
+            out.append((cls, "/" + origin.strip("/"), name))
+    return out
+
+
+def series_names(chunks: dict) -> dict[str, str]:
+    """Entity -> the series name (SeriesLines or SeriesPoints) of every entity that logs Scalars."""
+    out = {}
+    for e, lst in chunks.items():
+        if not any("Scalars:scalars" in rb.schema.names for _, rb in lst):
+            continue
+        names = [rb.column(c).to_pylist()[0][0] for _, rb in lst for c in rb.schema.names
+                 if c in ("SeriesLines:names", "SeriesPoints:names")]
+        out[e] = names[0] if names else None
+    return out
+
+
+def check_units_and_views(path: Path, chunks: dict) -> list:
+    views = blueprint_views(path)
+    ts = [o for c, o, _ in views if c == "TimeSeries"]
+    assert all("[" in n and "]" in n for c, _, n in views if c == "TimeSeries"), views
+    series = series_names(chunks)
+    assert series
+    for e, name in series.items():
+        assert name is not None and name.endswith("]") and "[" in name, (e, name)
+        assert any(e == o or e.startswith(o + "/") for o in ts), f"{e} is in no time-series view"
+    for legend in ("/world/uvlm/legend", "/world/ghost_legend"):
+        if legend in chunks:
+            assert ("TextDocument", legend) in [(c, o) for c, o, _ in views], f"{legend} is in no text view"
+    return views
+
+
+def test_every_series_in_a_view_with_its_unit(result, tmp_path):
+    path = write_rrd(tmp_path / "flight.rrd", result)
+    chunks = read_chunks(path)
+    views = check_units_and_views(path, chunks)
+    assert "/plots/moment_nd/M_plus" in series_names(chunks)
+    names = {o: n for c, o, n in views}
+    assert names["/plots/forces_nd"] == "L+, D+ [-]" and names["/plots/moment_nd"] == "M+ [-]"
+
+
+def test_uvlm_legend_in_a_view(result, tmp_path):
+    res = dataclasses.replace(result, extras=[(k, synthetic_extras(result, k)) for k in (0, 5, 10)])
+    path = write_rrd(tmp_path / "uvlm.rrd", res)
+    check_units_and_views(path, read_chunks(path))
+    verify(path)
+
+
+def verify(path: Path) -> None:
+    cli = rerun_cli()
+    if cli is None:
+        pytest.skip("rerun CLI not found")
+    out = subprocess.run([*cli, "rrd", "verify", str(path)], capture_output=True, text=True, timeout=60,
+                         check=False)
+    assert out.returncode == 0, out.stderr
+
+
+def test_uvlm_extras_every_update(result, tmp_path, monkeypatch):
+    """`hawksim fly --aero uvlm --rrd` keeps the UVLM extras at every update (every aero_every steps), and the
+    recording logs the panels and wake at each of those steps."""
+    from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, FLY_UVLM
+    from hawksim.cli import fly as cli_fly
+    from hawksim.cli import main
+
+    every = FLY_STEPS_PER_CYCLE // FLY_UVLM.steps_per_cycle
+    seen = {}
+
+    def fake(speed, cycles, aero, **kw):
+        seen.update(kw)
+        k = kw["keep_extras_every"]
+        return dataclasses.replace(result, aero=aero, extras=[(i, synthetic_extras(result, i))
+                                                              for i in range(0, len(result.t), k)])
+
+    monkeypatch.setattr(cli_fly, "fly_named", fake)
+    path = tmp_path / "uvlm.rrd"
+    assert main(["fly", "--speed", "1", "--cycles", "2", "--aero", "uvlm", "--rrd", str(path), "--json",
+                 "--no-progress"]) == 0
+    assert seen["keep_extras_every"] == every == 5
+    steps, _ = temporal_column(read_chunks(path), "/world/uvlm/panels/left", "Mesh3D:vertex_positions")
+    np.testing.assert_array_equal(steps, np.arange(0, len(result.t), every))
+    verify(path)
+
+
+# ---- interrupts -------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("signame", ["SIGINT", "SIGTERM"])
+def test_interrupt_writes_the_steps_flown(tmp_path, monkeypatch, capsys, signame):
+    """A signal during the flight: the recording holds the steps flown (up to the step after the signal), it
+    verifies, no temporary file is left, the exit status is 130 and stderr says where it stopped."""
+    import os
+    import signal
+
+    from hawksim.cli import fly as cli_fly
+    from hawksim.cli import main
+
+    at = 150
+
+    def progress_for(args, desc):
+        def hook(i, n):
+            if i == at:
+                os.kill(os.getpid(), getattr(signal, signame))
+        return hook
+
+    monkeypatch.setattr(cli_fly, "progress_for", progress_for)
+    before = signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)
+    path = tmp_path / "cut.rrd"
+    assert main(["fly", "--speed", "1", "--cycles", "3", "--rrd", str(path), "--json"]) == 130
+    assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before  # handlers restored
+    assert [p.name for p in tmp_path.iterdir()] == ["cut.rrd"]
+    steps, _ = temporal_column(read_chunks(path), "/world/moth", "Transform3D:quaternion")
+    assert at <= len(steps) <= at + 2 and np.array_equal(steps, np.arange(len(steps)))
+    err = capsys.readouterr()
+    assert err.out == "" and "interrupted at step" in err.err and str(path) in err.err
+    verify(path)
+
+
+def test_interrupt_while_writing_leaves_nothing(result, tmp_path, monkeypatch):
+    def stop(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(recording, "_log_extras", stop)
+    with pytest.raises(KeyboardInterrupt):
+        write_rrd(tmp_path / "flight.rrd", result)
+    assert list(tmp_path.iterdir()) == []
+
+
+# ---- the linear prediction's ghost (issue 19 item 7) --------------------------------------------------------
+def test_perturbed_flight_ghost(tmp_path, capsys):
+    from hawksim.cli import main
+
+    path = tmp_path / "ghost.rrd"
+    assert main(["fly", "--speed", "1", "--cycles", "2", "--perturb", "w=0.01", "--perturb", "phi=0.5", "--rrd",
+                 str(path), "--json", "--no-progress"]) == 0
+    chunks = read_chunks(path)
+    for e in ("/world/ghost", "/world/ghost/body", "/world/ghost/wings/left", "/world/ghost/wings/right/mesh",
+              "/world/ghost_trajectory", "/world/ghost_legend"):
+        assert e in chunks, e
+    for name, _, _ in recording.BEAT_STATES:
+        for kind in ("nonlinear", "floquet", "averaged"):
+            assert f"/plots/beats/{name}/{kind}" in chunks
+    steps, phi = temporal_column(chunks, "/plots/beats/phi/floquet", "Scalars:scalars")
+    np.testing.assert_array_equal(steps, [0, 200, 400])
+    assert phi[0][0] == pytest.approx(0.5)  # deg, the launch perturbation
+    _, w = temporal_column(chunks, "/plots/beats/w/nonlinear", "Scalars:scalars")
+    assert len(w) == 2 and w[0][0] == pytest.approx(0.01)
+    # the ghost stands GHOST_OFFSET_M beside the nonlinear body (to within the predicted deviation)
+    _, tg = temporal_column(chunks, "/world/ghost", "Transform3D:translation")
+    _, tm = temporal_column(chunks, "/world/moth", "Transform3D:translation")
+    gap = np.array([v[0] for v in tg]) - np.array([v[0] for v in tm])
+    np.testing.assert_allclose(gap, np.tile(recording.GHOST_OFFSET_M, (len(gap), 1)), atol=1e-4)
+    views = check_units_and_views(path, chunks)
+    assert sum(c == "TimeSeries" and o.startswith("/plots/beats/") for c, o, _ in views) == 8
+    verify(path)
+
+
+def test_ghost_skipped_with_a_reason(tmp_path, capsys):
+    from hawksim.cli import main
+
+    path = tmp_path / "trim.rrd"
+    assert main(["fly", "--speed", "1", "--cycles", "1", "--start", "trim", "--perturb", "w=0.01", "--rrd",
+                 str(path), "--json", "--no-progress"]) == 0
+    assert "no ghost in the recording" in capsys.readouterr().err
+    assert not any(e.startswith("/world/ghost") for e in read_chunks(path))
