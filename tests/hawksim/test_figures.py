@@ -66,13 +66,14 @@ def test_stability_figures_from_the_stored_studies(tmp_path):
         assert_published(p)
 
 
-def test_surrogate_grid_figure(tmp_path):
-    from hawksim.surrogate.plots import grid_figure
+def test_surrogate_figures(tmp_path):
+    from hawksim.surrogate.plots import grid_figure, scatter_figure
 
     rng = np.random.default_rng(0)
     y = rng.normal(size=(50, 4))
     p = grid_figure([(0.0, y, y + 0.01 * rng.normal(size=y.shape)), (1.0, y, y)], tmp_path / "validation.png")
     assert_published(p)
+    assert_published(scatter_figure(y, y, tmp_path / "scatter.png", plotting.title(5, "t")))
 
 
 def test_caption_wrap_keeps_mathtext_on_one_line():
