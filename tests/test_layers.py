@@ -12,7 +12,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 HAWKSIM_LAYERS = (
-    ("hawksim", "hawksim.frames", "hawksim.cluster"),
+    ("hawksim", "hawksim.frames", "hawksim.cluster", "hawksim.plotting"),
     ("hawksim.insect",),
     ("hawksim.backends",),
     ("hawksim.trim",),

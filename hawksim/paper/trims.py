@@ -14,7 +14,7 @@ energy per unit ascent distance is E = P / V [J/m], whose fit follows from the s
 (E = a / V + b, the paper's E = 0.0702 / V + 0.0215).
 
 :func:`compute` is the numerical part (returns plain dicts); :func:`write_trim_results` writes JSON, Markdown
-tables and PNG figures into a directory (`hawksim reproduce` calls it).
+tables and figures (PNG at 300 dpi and PDF) into a directory (`hawksim reproduce` calls it).
 """
 
 from __future__ import annotations
@@ -162,54 +162,74 @@ def table4_markdown(res: dict) -> str:
     return head + "\n".join(lines) + "\n"
 
 
-def _save(fig, title: str, path: Path) -> Path:
-    import matplotlib.pyplot as plt
-
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+SAMPLES_NOTE = "{n} samples per beat (the UVLM's time step), joined by straight lines, not interpolated"
+"""Caption text of the time series (Figs. 11, 13b, 14b): what the stored series hold."""
 
 
 def figures(res: dict, out_dir: Path) -> list[Path]:
-    import matplotlib
+    """Figs. 9, 11, 13 and 14 from :func:`compute`'s result into out_dir: PNG (300 dpi) and PDF beside each
+    (:mod:`hawksim.plotting`); returns the PNG paths."""
+    from hawksim import plotting
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    with plotting.style():
+        return _figures(res, Path(out_dir), plotting)
 
+
+def _figures(res: dict, out_dir: Path, plotting) -> list[Path]:
+    plt = plotting.pyplot()
     rows = [r for r in res["rows"] if "balanced" in r]
+    left_out = [f"{r['speed']:g}" for r in res["rows"] if "balanced" not in r]
+    missing = f" No UVLM-balanced trim at V = {', '.join(left_out)} m/s (not shown)." if left_out else ""
     paths = []
     colors = plt.cm.viridis(np.linspace(0, 0.9, len(rows)))
+    vlab = [f"V = {r['speed']:g} m/s" for r in rows]
+    n_samples = sorted({len(r["balanced"]["series"]["t_over_T"]) for r in rows})
+    samples = SAMPLES_NOTE.format(n="/".join(map(str, n_samples)))
+    cyc = rows[0]["balanced"].get("resolution", {}).get("cycles") if rows else None
+    beat = f"wingbeat {cyc} (the last) of the UVLM run" if cyc else "the last wingbeat of the UVLM run"
 
     # Fig. 9: wing kinematic functions over one wingbeat
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
+    fig, axes = plt.subplots(1, 3, figsize=(plotting.WIDE, 3.2))
     tt = np.linspace(0, 1, 201)
-    for r, c in zip(rows, colors):
+    for r, c, lab in zip(rows, colors, vlab):
         kin = Kinematics.from_edge(r["balanced"]["kinematics"])
         ang = np.degrees(kin.angles(tt * kin.period))
         for j, ax in enumerate(axes):
-            ax.plot(tt, ang[j], color=c, label=f"V = {r['speed']:g} m/s")
-    for ax, name in zip(axes, ("sweep phi", "elevation theta", "rotation alpha")):
+            ax.plot(tt, ang[j], color=c, label=lab)
+    for ax, name in zip(axes, (r"sweep $\phi$", r"elevation $\theta$", r"rotation $\alpha$")):
         ax.set_xlabel("t / T")
         ax.set_ylabel(f"{name} (deg)")
-    axes[0].legend(fontsize=8)
-    paths.append(_save(fig, "Wing kinematics of the UVLM-balanced minimum-power trims (cf. Nguyen et al. 2020, "
-                       "Fig. 9)", out_dir / "fig09_kinematics.png"))
+        ax.set_xlim(0, 1)
+        plotting.min_span(ax, 20.0)
+    axes[0].legend(loc="lower center")
+    plotting.panel_letters(axes, ("sweep", "elevation", "rotation"))
+    theta0 = ", ".join(f"{r['balanced']['kinematics']['theta0']:.1f}" for r in rows)
+    vlist = ", ".join(f"{r['speed']:g}" for r in rows)
+    paths.append(plotting.save(
+        fig, out_dir / "fig09_kinematics.png",
+        title=plotting.title(9, "wing kinematics of the UVLM-balanced minimum-power trims"),
+        caption=f"{plotting.cite(9)} Eq. 1 evaluated from each trim's parameters over one wingbeat (t/T). The "
+                rf"elevation is constant in the kinematics ($\theta = \theta_0$ = {theta0} deg at V = {vlist} "
+                f"m/s); every panel spans at least 20 deg so a constant is drawn flat.{missing}"))
 
     # Fig. 11: lift and drag over one wingbeat
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
-    for r, c in zip(rows, colors):
+    fig, axes = plt.subplots(1, 2, figsize=(plotting.WIDE, 3.4))
+    for r, c, lab in zip(rows, colors, vlab):
         s = r["balanced"]["series"]
-        axes[0].plot(s["t_over_T"], 1e3 * np.asarray(s["lift_N"]), color=c, label=f"V = {r['speed']:g} m/s")
-        axes[1].plot(s["t_over_T"], 1e3 * np.asarray(s["drag_N"]), color=c)
+        for ax, key in zip(axes, ("lift_N", "drag_N")):
+            ax.plot(s["t_over_T"], 1e3 * np.asarray(s[key]), "o-", ms=2.5, lw=1.0, color=c, label=lab)
     axes[0].set_ylabel("lift (mN)")
     axes[1].set_ylabel("drag (mN)")
     for ax in axes:
         ax.set_xlabel("t / T")
-    axes[0].legend(fontsize=8)
-    paths.append(_save(fig, "UVLM lift and drag at the balanced trims (cf. Nguyen et al. 2020, Fig. 11)",
-                       out_dir / "fig11_forces.png"))
+        ax.set_xlim(0, 1)
+        ax.axhline(0, color="k", lw=0.5)
+    axes[0].legend()
+    plotting.panel_letters(axes, ("lift", "drag"))
+    paths.append(plotting.save(
+        fig, out_dir / "fig11_forces.png",
+        title=plotting.title(11, "UVLM lift and drag over a wingbeat at the balanced trims"),
+        caption=f"{plotting.cite(11)} Instantaneous aerodynamic forces of {beat}: {samples}.{missing}"))
 
     # Figs. 13 and 14: mean power and energy per unit distance against V, with fits; distributions in a cycle
     sp = np.array([r["speed"] for r in rows])
@@ -219,40 +239,59 @@ def figures(res: dict, out_dir: Path) -> list[Path]:
     vv = np.linspace(0, max(2.0, sp.max()), 100)
     fb, fp = res["power_fit_W"]["uvlm_balanced"], res["power_fit_W"]["paper"]
     for kind in ("power", "energy"):
-        fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+        fig, axes = plt.subplots(1, 2, figsize=(plotting.WIDE, 3.6))
         ax = axes[0]
         if kind == "power":
             ax.plot(sp, 1e3 * p_bal, "o", color="C0", label="UVLM, balanced trims")
             ax.plot(sp_opt, 1e3 * p_opt, "s", mfc="none", color="C2", label="UVLM at the surrogate optima")
             ax.plot(vv, 1e3 * (fb["a"] + fb["b"] * vv), "-", color="C0",
-                    label=f"fit P = {fb['a']:.4f} + {fb['b']:.4f} V W")
+                    label=f"fit P = {fb['a']:.4f} + {fb['b']:.4f} V (W)")
             ax.plot(vv, 1e3 * (fp["a"] + fp["b"] * vv), "--", color="k",
-                    label=f"paper P = {fp['a']:.4f} + {fp['b']:.4f} V W")
-            ax.set_ylabel("mean power (mW)")
+                    label=f"paper P = {fp['a']:.4f} + {fp['b']:.4f} V (W)")
+            ax.set_ylabel("mean power P (mW)")
         else:
             m = sp > 0
             v2 = vv[vv >= 0.25]
             ax.plot(sp[m], 1e3 * p_bal[m] / sp[m], "o", color="C0", label="UVLM, balanced trims")
             ax.plot(v2, 1e3 * (fb["a"] / v2 + fb["b"]), "-", color="C0",
-                    label=f"fit E = {fb['a']:.4f}/V + {fb['b']:.4f} J/m")
+                    label=f"fit E = {fb['a']:.4f}/V + {fb['b']:.4f} (J/m)")
             ax.plot(v2, 1e3 * (fp["a"] / v2 + fp["b"]), "--", color="k",
-                    label=f"paper E = {fp['a']:.4f}/V + {fp['b']:.4f} J/m")
-            ax.set_ylabel("energy per unit distance (mJ/m)")
+                    label=f"paper E = {fp['a']:.4f}/V + {fp['b']:.4f} (J/m)")
+            ax.set_ylabel("energy per unit distance E = P/V (mJ/m)")
+            ax.set_xlim(0, None)
         ax.set_xlabel("ascent speed V (m/s)")
         ax.legend(fontsize=7)
-        for r, c in zip(rows, colors):
+        for r, c, lab in zip(rows, colors, vlab):
             s = r["balanced"]["series"]
-            p = np.asarray(s["power_W"])
+            p = 1e3 * np.asarray(s["power_W"])
             if kind == "power":
-                axes[1].plot(s["t_over_T"], 1e3 * p, color=c, label=f"V = {r['speed']:g} m/s")
+                axes[1].plot(s["t_over_T"], p, "o-", ms=2.5, lw=1.0, color=c, label=lab)
             elif r["speed"] > 0:
-                axes[1].plot(s["t_over_T"], 1e3 * p / r["speed"], color=c, label=f"V = {r['speed']:g} m/s")
+                axes[1].plot(s["t_over_T"], p / r["speed"], "o-", ms=2.5, lw=1.0, color=c, label=lab)
         axes[1].set_xlabel("t / T")
+        axes[1].set_xlim(0, 1)
         axes[1].set_ylabel("power (mW)" if kind == "power" else "power / V (mJ/m)")
         axes[1].legend(fontsize=7)
-        n = 13 if kind == "power" else 14
-        paths.append(_save(fig, f"{'Mean required power' if kind == 'power' else 'Energy per unit distance'} "
-                                f"(cf. Nguyen et al. 2020, Fig. {n})", out_dir / f"fig{n}_{kind}.png"))
+        if kind == "power":
+            plotting.panel_letters(axes, ("mean power against ascent speed", "power over a wingbeat"))
+            paths.append(plotting.save(
+                fig, out_dir / "fig13_power.png",
+                title=plotting.title(13, "required aerodynamic power of the minimum-power trims"),
+                caption=f"{plotting.cite(13)} (a) Cycle-averaged power of the UVLM at the balanced trims and at the "
+                        f"surrogate's optima, least-squares line through the balanced trims, and the paper's fit. "
+                        f"(b) Instantaneous power over {beat} at the balanced trims: {samples}.{missing}"))
+        else:
+            hover = ", ".join(f"{v:g}" for v in sp[sp <= 0])
+            omit = (f" V = {hover} m/s (hover) is not shown: the energy per unit ascent distance P/V is infinite "
+                    "there; the fit curves start at V = 0.25 m/s.") if hover else ""
+            plotting.panel_letters(axes, ("energy per unit distance against ascent speed",
+                                          "power / V over a wingbeat"))
+            paths.append(plotting.save(
+                fig, out_dir / "fig14_energy.png",
+                title=plotting.title(14, "energy per unit ascent distance of the minimum-power trims"),
+                caption=f"{plotting.cite(14)} (a) E = P/V of the UVLM at the balanced trims, with E = a/V + b from "
+                        f"the power fits of Fig. 13. (b) Instantaneous power divided by V over {beat}: "
+                        f"{samples}.{omit}{missing}"))
     return paths
 
 

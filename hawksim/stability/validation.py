@@ -365,11 +365,9 @@ def plot_speed(res: dict, out_dir: Path) -> list[str]:
     """Per system: a 4 x 4 grid, row = the state perturbed at the launch, column = the deviated state; nonlinear
     per-beat deviation (dots) with the Floquet (M^k x0) and averaged (expm(A k) x0) predictions, divided by the
     amplitude. PNG (300 dpi) and PDF."""
-    import matplotlib
+    from hawksim import plotting
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = plotting.pyplot()
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = []
     for name, sysout in res["systems"].items():
@@ -407,8 +405,8 @@ def plot_speed(res: dict, out_dir: Path) -> list[str]:
                      fontsize=10)
         fig.tight_layout(rect=(0, 0, 1, 0.97))
         stem = out_dir / f"validation_{res['aero'].replace('-', '_')}_{res['speed']:g}ms_{name}"
-        for ext in ("png", "pdf"):
-            fig.savefig(f"{stem}.{ext}", dpi=300)
+        for ext in plotting.FORMATS:
+            fig.savefig(f"{stem}.{ext}", dpi=plotting.DPI)
             paths.append(f"{stem}.{ext}")
         plt.close(fig)
     return paths

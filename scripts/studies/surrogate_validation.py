@@ -4,8 +4,8 @@ For each study speed: the held-out test samples of that speed's network (the sam
 same data order, seed and fractions), scored by the per-speed network and by the speed-input network (whose
 grouped split holds out exactly these samples too, so neither has seen them); RMSE and R^2 per output on all of
 them and on 50 drawn at random (the paper's Fig. 5 shows 50 cases); the label noise of the data (from
-``--noise-json``, the output of scripts/studies/label_noise.py) beside them. Writes one PNG grid (speeds x
-outputs) of the 50 cases, ANN vs UVLM.
+``--noise-json``, the output of scripts/studies/label_noise.py) beside them. ``--png``: one grid (speeds x
+outputs) of the 50 cases, ANN vs UVLM, as PNG (300 dpi) and PDF beside it (:func:`hawksim.surrogate.plots.grid_figure`).
 
 ``--conditioning``: the 50 cases are run again by the UVLM (the data set's resolution), as stored and with the
 flapping frequency changed by a relative 1e-10 (round-off level). At low ascent speeds the free wake amplifies
@@ -78,7 +78,9 @@ def main():
         rows[f"{v:g}"] = row
         panels.append((v, y[pick], p[pick]))
     if a.png:
-        _grid(panels, a.png)
+        from hawksim.surrogate.plots import grid_figure
+
+        grid_figure(panels, a.png)
     emit({"data": a.data, "r2_target": R2_TARGET, "per_speed": rows}, a.out)
 
 
@@ -131,32 +133,6 @@ def _conditioning(data_seed, v, idx, y, beats, preds) -> dict:
 def _sc(y, p):
     s = scores(y, p)
     return {"rmse": s.rmse, "r2": s.r2}
-
-
-def _grid(panels, path):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(len(panels), 4, figsize=(12, 2.7 * len(panels)))
-    for i, (v, y, p) in enumerate(panels):
-        s = scores(y, p)
-        for k, name in enumerate(OUTPUTS):
-            ax = axes[i, k]
-            lo, hi = float(min(y[:, k].min(), p[:, k].min())), float(max(y[:, k].max(), p[:, k].max()))
-            ax.plot([lo, hi], [lo, hi], "k-", lw=0.7)
-            ax.plot(y[:, k], p[:, k], "o", ms=3, mfc="none")
-            ax.set_title(f"V={v:g} {name}: R$^2$ {s.r2[name]:.3f}", fontsize=8)
-            ax.tick_params(labelsize=7)
-            if i == len(panels) - 1:
-                ax.set_xlabel("UVLM", fontsize=8)
-            if k == 0:
-                ax.set_ylabel("ANN", fontsize=8)
-    fig.suptitle("Surrogates vs UVLM, 50 held-out cases per speed (cf. Nguyen et al. 2020, Fig. 5)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -45,6 +45,10 @@ def test_tables_figures_and_trim_table_layout(tmp_path):
     assert [p.name for p in paths] == ["fig09_kinematics.png", "fig11_forces.png", "fig13_power.png",
                                        "fig14_energy.png"]
     assert all(p.stat().st_size > 10_000 for p in paths)
+    from test_figures import assert_published
+
+    for p in paths:
+        assert_published(p)
     table = trim_table(res, "hawksim reproduce --out results")
     # the layout hawksim.trim.tables reads
     path = tmp_path / "trim_table.json"
