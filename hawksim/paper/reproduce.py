@@ -2,7 +2,7 @@
 
 What it produces (each step skips with a note if a piece it needs is missing, e.g. no shipped surrogate):
 * ``uvlm_table4.json``: Table 3's kinematics evaluated by our UVLM next to the paper's Table 4;
-* ``stability/``: per-speed stability reports and the studies of Figs. 15-19 (JSON + PNG);
+* ``stability/``: per-speed stability reports and the studies of Figs. 15-19 (JSON + PDF + 300 dpi PNG);
 * ``trim/``: the trim tables (Tables 3-4) and Figs. 9, 11, 13, 14 when the trim pipeline is available.
 """
 
