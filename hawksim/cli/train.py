@@ -74,7 +74,8 @@ def register(sub) -> None:
     p.add_argument("--max-iter", type=positive_int_arg("max-iter"), default=300, help="LM iterations at most (300)")
     p.add_argument("--time-limit", type=seconds_arg, default=3600.0,
                    help="stop after this many seconds, keeping the best weights (3600)")
-    p.add_argument("--validation-png", type=writable_file, help="write the held-out scatter plot (PNG at 300 dpi, and a PDF beside it)")
+    p.add_argument("--validation-png", type=writable_file,
+                   help="write the held-out scatter plot (PNG at 300 dpi, and a PDF beside it)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_train)
