@@ -43,8 +43,8 @@ class Resolution:
 
 DEFAULT = Resolution()
 """``hawksim aero`'s default resolution: 6 x 12 rings per wing, 40 steps per beat, 3 beats, the last averaged.
-Convergence study (results/uvlm_convergence_v1.json, docs/uvlm.md): doubling the rings in both directions
-and the steps per beat changes L+ and P+ by less than 3 %."""
+Convergence study (``python scripts/studies/uvlm_convergence.py``, results/uvlm_convergence_v1.json, docs/uvlm.md):
+doubling the rings in both directions and the steps per beat changes L+ and P+ by less than 3 %."""
 
 TRAINING = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=3)
 """Resolution of the surrogate's training data (0.4 s per sample, 2.5x cheaper than DEFAULT): P+ within 2 % and

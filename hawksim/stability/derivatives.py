@@ -36,10 +36,11 @@ DERIVATIVE_RESOLUTION = replace(DEFAULT, cycles=4, average_cycles=2)
 4 wingbeats with the last 2 averaged (the beat-to-beat scatter of the free wake is differenced otherwise)."""
 
 DELTA_VELOCITY = 0.05
-"""Translational disturbance as a fraction of the reference speed U = 2 phi_a f r2 (step-size study)."""
+"""Translational disturbance as a fraction of the reference speed U = 2 phi_a f r2 (step-size study:
+``python scripts/studies/derivative_step_study.py``, results/stability/step_study_v*.json, docs/stability.md)."""
 
 DELTA_RATE = 0.05
-"""Rotational disturbance in units of 1/T (q T = 0.05)."""
+"""Rotational disturbance in units of 1/T (q T = 0.05; the same step-size study)."""
 
 
 def mass_properties(kin: Kinematics, model: mujoco.MjModel | None = None) -> MassProperties:
