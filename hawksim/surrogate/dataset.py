@@ -60,7 +60,8 @@ SETTLE_TOL = 0.1
 count as periodic ('ok'; otherwise 'unsettled'). Measured on the 1451 held-out samples of the 0.2 data set
 (``python scripts/studies/label_periodicity.py``, results/surrogate/label_periodicity.json): the beat 2 -> 3
 change of L+ has median 0.004-0.012 and 99th percentile 0.06-0.13 per speed, it is correlated with the beat
-3 -> 4 change (r = 0.39-0.78: the same runs keep changing), and 0.1 leaves out 0-10 % of the samples (most at hover, where the wake stays under the wings)."""
+3 -> 4 change (r = 0.39-0.78: the same runs keep changing), and 0.1 leaves out 0-10 % of the samples (most at
+hover, where the wake stays under the wings)."""
 
 _SCHEMA = f"""
 CREATE TABLE samples (
