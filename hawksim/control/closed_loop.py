@@ -214,7 +214,8 @@ class ControlledFlightResult(FlightResult):
 class ClosedLoop:
     """What :func:`fly_closed_loop` returns: ``beats`` (one dict per wingbeat: commanded and reference speed,
     the beat's mean vertical speed and its error, pitch error against the orbit's mean pitch, roll [deg],
-    horizontal offset from the start point [m], the commands (edge units) and whether a wing saturated, P+),
+    horizontal offset from the start point [m], the air velocity, the body state at the beat's end (SI,
+    hawksim.flight.orbit.STATE_NAMES), the commands (edge units) and whether a wing saturated, P+),
     the time series ``result`` (None without ``record``) and the schedule."""
 
     beats: list[dict]
@@ -278,8 +279,9 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     set_body_state(sim, x0, chi0)
     hold = stability_position(sim.d.qpos[:3])
     n = STEPS_PER_CYCLE
-    flown = [(p_orbit, p_orbit)] * (delay + 1)  # (left, right) of the beats before the first
-    sensed = [(x0, np.zeros(2))] * (delay + 1)
+    keep = max(delay, schedule.delay) + 2
+    flown = [(p_orbit, p_orbit)] * keep  # (left, right) of the beats before the first
+    sensed = [(x0, np.zeros(2))] * keep
     rec = {k: [] for k in ("t", "pos", "R", "v", "w", "wR", "wo", "F", "M", "Pa", "Pj")}
     out = []
     v_ref = float(speed)
@@ -288,7 +290,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
         if control == "lqr":
             x_s, pos_s = sensed[-1 - delay]
-            du = schedule.command(v_ref, x_s, pos_s, flown[-1 - delay:])
+            du = schedule.command(v_ref, x_s, pos_s, flown[-1 - schedule.delay:])
             lp, rp = wing_kinematics(kin_ref, du)
         else:
             lp = rp = p_orbit
@@ -319,7 +321,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         pos = stability_position(sim.d.qpos[:3]) - hold
         flown.append((ls, rs))
         sensed.append((x, pos))
-        flown, sensed = flown[-(delay + 2):], sensed[-(delay + 2):]
+        flown, sensed = flown[-keep:], sensed[-keep:]
         vz = (sim.d.qpos[2] - z0) / T
         out.append({"beat": k, "speed_command": float(cmd[k - 1]), "speed_reference": v_ref,
                     "mean_vertical_speed": float(vz), "speed_error": float(vz - cmd[k - 1]),
@@ -328,6 +330,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     "horizontal_offset_m": [float(pos[0]), float(pos[1])],
                     "horizontal_drift_m": float(np.hypot(*pos)),
                     "air_velocity": [float(a) for a in air],
+                    "state": [float(a) for a in x],
                     "commands": _edge_command(kin_ref, du_applied), "saturated": saturated,
                     "P_plus": float(np.maximum(pj, 0).mean() / P0_W)})
     result = None
