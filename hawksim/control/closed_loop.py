@@ -79,6 +79,10 @@ class SchedulePoint:
                 "K_long": self.long.K.tolist(), "K_lat": self.lat.K.tolist()}
 
 
+UVLM_ORBIT_ACCEPT = 1e-3
+"""Largest normalized residual of a UVLM orbit the schedule accepts: its Newton solve stalls at ~2e-4 on the
+wake's beat-to-beat variation (docs/free_flight.md), never reaching the 1e-8 of ``converged``."""
+
 _POINTS: dict = {}
 
 
@@ -89,7 +93,7 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     key = (float(speed), aero)
     if key not in _POINTS:
         orb = periodic_orbit(speed, aero, model=model, log=log)
-        if not orb.converged:
+        if not (orb.converged or (aero == "uvlm" and orb.residual <= UVLM_ORBIT_ACCEPT)):
             raise FloatingPointError(f"the periodic orbit at {speed:g} m/s did not converge ({orb.residual:.1e})")
         _POINTS[key] = (orb, linearize(orb, model=model))
     orb, lin = _POINTS[key]
@@ -249,13 +253,15 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     perturbation: np.ndarray | None = None, schedule: Schedule | None = None,
                     model: mujoco.MjModel | None = None, record: bool = False, log=None,
                     progress: Callable[[int, int], None] | None = None,
-                    design_delay: int | None = None) -> ClosedLoop:
+                    design_delay: int | None = None, aero: str = "quasi-steady") -> ClosedLoop:
     """Fly ``beats`` wingbeats from the quasi-steady orbit at ``speed`` [m/s] (plus ``perturbation`` (9,) SI in
     :data:`hawksim.flight.orbit.STATE_NAMES` order) under the LQR (``control='lqr'``) or open loop (``'none'``:
     the orbit's kinematics throughout), commanded by ``profile`` [(speed, beats)] (default: ``speed``), with
     ``gusts``, sensing ``delay`` [beats]. ``design_delay``: the delay the gains were designed for (default
     ``delay``; a smaller one tests a controller unaware of the delay). ``record``: keep the per-step time series
-    (``ClosedLoop.result``, a FlightResult for summary() and write_rrd)."""
+    (``ClosedLoop.result``, a FlightResult for summary() and write_rrd). ``aero='uvlm'``: the schedule's
+    orbits must be UVLM orbits (pass ``schedule``); the flight is launched from the orbit's launch state and
+    flies its warm-up beats open loop before the ``beats`` controlled ones (only those are reported)."""
     if control not in ("lqr", "none"):
         raise ValueError(f"--control {control!r}: choose lqr, none")
     t_start = time.perf_counter()
@@ -263,7 +269,9 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     cmd = profile_speeds(profile, speed, beats)
     dd = delay if design_delay is None else design_delay
     if schedule is None:
-        schedule = Schedule(min(speed, cmd.min()), max(speed, cmd.max()), delay=dd, model=model, log=log)
+        schedule = Schedule(min(speed, cmd.min()), max(speed, cmd.max()), delay=dd, model=model, log=log, aero=aero)
+    if any(p.orbit.aero != aero for p in schedule.points):
+        raise ValueError(f"the schedule's orbits are not {aero} orbits")
     model = model if model is not None else load_model()
     start = schedule.reference(speed)
     kin0, x0, chi0, _ = start
@@ -272,17 +280,27 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         kin0, x0, chi0 = exact[0].orbit.kinematics, exact[0].orbit.initial_state.as_array(), exact[0].orbit.chi_ref
     if perturbation is not None:
         x0 = x0 + np.asarray(perturbation, float)
-    backend, every = make_orbit_backend("quasi-steady", symmetric=False)
+    backend, every = make_orbit_backend(aero, symmetric=False)
     sim = ControlledSimulator(model, kin0, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
     p_orbit = kin0.as_array()
     sim.set_wings(kin0, kin0)
-    set_body_state(sim, x0, chi0)
-    hold = stability_position(sim.d.qpos[:3])
     n = STEPS_PER_CYCLE
+    rec = {k: [] for k in ("t", "pos", "R", "v", "w", "wR", "wo", "F", "M", "Pa", "Pj")}
+    warm = exact[0].orbit.warm_beats if exact else 0
+    if warm:  # UVLM: launch, develop the wake open loop, then sense the periodic beat's start
+        set_body_state(sim, exact[0].orbit.launch_state.as_array() + (x0 - exact[0].orbit.initial_state.as_array()),
+                       chi0)
+        for _ in range(warm):
+            sim.begin_beat(kin0, kin0)
+            for _ in range(n):
+                sim.step()
+        x0 = read_body_state(sim, chi0)
+    else:
+        set_body_state(sim, x0, chi0)
+    hold = stability_position(sim.d.qpos[:3])
     keep = max(delay, schedule.delay) + 2
     flown = [(p_orbit, p_orbit)] * keep  # (left, right) of the beats before the first
     sensed = [(x0, np.zeros(2))] * keep
-    rec = {k: [] for k in ("t", "pos", "R", "v", "w", "wR", "wo", "F", "M", "Pa", "Pj")}
     out = []
     v_ref = float(speed)
     for k in range(1, beats + 1):
@@ -337,7 +355,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     if record:
         a = {k: np.asarray(v) for k, v in rec.items()}
         result = ControlledFlightResult(
-            speed_target=float(speed), cycles=int(beats), aero="quasi-steady", kinematics=kin0, steps_per_cycle=n,
+            speed_target=float(speed), cycles=int(beats), aero=aero, kinematics=kin0, steps_per_cycle=n,
             t=a["t"], body_pos=a["pos"], body_quat=quat_from_matrices(a["R"]), body_v=a["v"], body_omega=a["w"],
             wing_R=a["wR"], wing_origin=a["wo"], force=a["F"], moment=a["M"], power_aero=a["Pa"],
             power_joint=a["Pj"], wall_time_s=time.perf_counter() - t_start,

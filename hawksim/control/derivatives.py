@@ -47,6 +47,9 @@ LAT_X = (1, 3, 5, 6, 8, 10)
 FD_DELTA = 1e-5
 """Central-difference step in the normalized states and inputs (as hawksim.stability.floquet.FD_DELTA)."""
 
+UVLM_FD_DELTA = 1e-3
+"""The same for the UVLM, whose free wake amplifies round-off (as hawksim.flight.orbit.UVLM_FD_STEP)."""
+
 
 def xi_scale(kin: Kinematics) -> np.ndarray:
     """(11,) SI per normalized unit of :data:`XI_NAMES`: U, 1/T, 1 (angles), U T (positions)."""
@@ -57,6 +60,59 @@ def xi_scale(kin: Kinematics) -> np.ndarray:
 def stability_position(pos_world: np.ndarray) -> np.ndarray:
     """(X forward, Y right) [m] of a world position (stability axes at heading 0)."""
     return (STABILITY_TO_WORLD @ np.asarray(pos_world, float))[:2]
+
+
+def set_phase0(sim: ControlledSimulator, x: np.ndarray, chi_ref: float) -> None:
+    """Overwrite the body state (9,) and put the wings on their prescribed phase-0 pose and rates of the current
+    kinematics (``sim.wing_params``), keeping the backend's memory (the UVLM's wake) and the body's position:
+    the state perturbation of the UVLM's derivatives (:func:`linearize`)."""
+    from hawksim.flight.orbit import state_to_world
+    from hawksim.frames import quat_from_matrix
+
+    R, v_w, om_w = state_to_world(np.asarray(x, float), chi_ref)
+    d = sim.d
+    d.qpos[3:7] = quat_from_matrix(R)
+    d.qvel[:3] = v_w
+    d.qvel[3:6] = R.T @ om_w
+    q, qd, _ = sim.desired(sim.d.time)
+    d.qpos[sim.wing_qpos] = q
+    d.qvel[sim.wing_dof] = qd
+    mujoco.mj_forward(sim.m, d)
+
+
+class _UVLMSnapshot:
+    """A UVLM flight launched from the orbit's launch state and flown over its warm-up beats at the orbit's
+    kinematics; :meth:`beat` branches one controlled beat from a copy (the wake as developed on the orbit)."""
+
+    def __init__(self, orbit: Orbit, model):
+        import copy
+
+        self._copy = copy.deepcopy
+        backend, every = make_orbit_backend("uvlm", symmetric=False)
+        kin = orbit.kinematics
+        sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True,
+                                  aero_every=every)
+        sim.set_wings(kin, kin)
+        set_body_state(sim, orbit.launch_state.as_array(), orbit.chi_ref)
+        for _ in range(orbit.warm_beats):
+            sim.begin_beat(kin, kin)
+            for _ in range(STEPS_PER_CYCLE):
+                sim.step()
+        self.sim, self.orbit = sim, orbit
+
+    def beat(self, x0, du_prev, du):
+        sim = self._copy(self.sim)
+        kin, chi = self.orbit.kinematics, self.orbit.chi_ref
+        lp, rp = (Kinematics.from_array(p) for p in wing_kinematics(kin, du_prev))
+        sim._new = sim._old = (lp, rp)
+        sim._t0 = float(sim.d.time)  # phase 0 of the previous command's kinematics now
+        set_phase0(sim, x0, chi)
+        p0 = stability_position(sim.d.qpos[:3])
+        ln, rn = (Kinematics.from_array(p) for p in wing_kinematics(kin, du))
+        sim.begin_beat(ln, rn)
+        for _ in range(STEPS_PER_CYCLE):
+            sim.step()
+        return read_body_state(sim, chi), stability_position(sim.d.qpos[:3]) - p0
 
 
 def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, *,
@@ -122,16 +178,30 @@ class BeatMapModel:
                 "coupling": self.coupling, "delta": self.delta}
 
 
-def linearize(orbit: Orbit, *, delta: float = FD_DELTA, model: mujoco.MjModel | None = None) -> BeatMapModel:
-    """:class:`BeatMapModel` about a quasi-steady ``orbit`` by central differences (module docstring)."""
-    if orbit.warm_beats:
-        raise ValueError("linearize needs a settable state (a quasi-steady orbit); the UVLM's wake is not")
+def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None) -> BeatMapModel:
+    """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady: each
+    derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with warm-up
+    beats): one flight is launched and flown over the warm-up beats, and every derivative beat branches from a
+    copy of it at the periodic beat's start, with the body state overwritten there (:func:`set_phase0`) and the
+    wake kept: the derivatives hold the wake at the orbit's (its memory of the perturbation is left out)."""
     t0 = time.perf_counter()
+    if delta is None:
+        delta = UVLM_FD_DELTA if orbit.warm_beats else FD_DELTA
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     sc = xi_scale(kin)
-    x0 = orbit.launch_state.as_array()
     zero = np.zeros(len(INPUTS))
+    if orbit.warm_beats:
+        snap = _UVLMSnapshot(orbit, model)
+        x0 = orbit.initial_state.as_array()
+
+        def beat(x, du_prev, du):
+            return snap.beat(x, du_prev, du)
+    else:
+        x0 = orbit.launch_state.as_array()
+
+        def beat(x, du_prev, du):
+            return one_beat(orbit, x, du_prev, du, model=model)
 
     def xi(out):
         x, disp = out
@@ -143,15 +213,15 @@ def linearize(orbit: Orbit, *, delta: float = FD_DELTA, model: mujoco.MjModel | 
         for s in (1, -1):
             x = x0.copy()
             x[j] += s * delta * sc[j]
-            r.append(xi(one_beat(orbit, x, zero, zero, model=model)))
+            r.append(xi(beat(x, zero, zero)))
         A[:, j] = (r[0] - r[1]) / (2 * delta)
     B1, Bt = np.zeros((11, 7)), np.zeros((11, 7))
     for j in range(7):
         e = np.zeros(7)
         e[j] = delta
-        B1[:, j] = (xi(one_beat(orbit, x0, zero, e, model=model)) - xi(one_beat(orbit, x0, zero, -e, model=model))) \
+        B1[:, j] = (xi(beat(x0, zero, e)) - xi(beat(x0, zero, -e))) \
             / (2 * delta)
-        Bt[:, j] = (xi(one_beat(orbit, x0, e, e, model=model)) - xi(one_beat(orbit, x0, -e, -e, model=model))) \
+        Bt[:, j] = (xi(beat(x0, e, e)) - xi(beat(x0, -e, -e))) \
             / (2 * delta)
     B0 = Bt - B1
     # the neutral rows: psi and position do not feed back (identity columns set above); psi's own row from the map
