@@ -79,6 +79,9 @@ class SchedulePoint:
                 "K_long": self.long.K.tolist(), "K_lat": self.lat.K.tolist()}
 
 
+UVLM_ORBIT_ITERATIONS = 5
+"""Newton iterations of a UVLM orbit for the schedule (it reaches ~5e-4 in 3-4, then stalls)."""
+
 UVLM_ORBIT_ACCEPT = 1e-3
 """Largest normalized residual of a UVLM orbit the schedule accepts: its Newton solve stalls at ~2e-4 on the
 wake's beat-to-beat variation (docs/free_flight.md), never reaching the 1e-8 of ``converged``."""
@@ -92,7 +95,8 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     cached per process (quasi-steady: ~1 s + ~2 s each)."""
     key = (float(speed), aero)
     if key not in _POINTS:
-        orb = periodic_orbit(speed, aero, model=model, log=log)
+        orb = periodic_orbit(speed, aero, model=model, log=log,
+                             **({"max_iter": UVLM_ORBIT_ITERATIONS} if aero == "uvlm" else {}))
         if not (orb.converged or (aero == "uvlm" and orb.residual <= UVLM_ORBIT_ACCEPT)):
             raise FloatingPointError(f"the periodic orbit at {speed:g} m/s did not converge ({orb.residual:.1e})")
         _POINTS[key] = (orb, linearize(orb, model=model))

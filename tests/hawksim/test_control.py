@@ -206,3 +206,12 @@ def test_cli_control_json(capsys):
     assert abs(b["commands"]["dphi0_deg"]) > 0.1  # the gust was answered by an antisymmetric command
     assert all(p["closed_loop_spectral_radius_long"] < 1 for p in ctl["schedule"])
     assert "held under LQR control" in cap.err
+
+
+@pytest.mark.slow
+def test_uvlm_in_the_loop_20_beats_at_1ms():
+    """The UVLM orbit at 1 m/s, its derivatives and LQR, 20 controlled wingbeats within the bounds (~6 min)."""
+    s = Schedule(1.0, 1.0, aero="uvlm", speeds=(1.0,))
+    assert s.points[0].long.spectral_radius < 1 and s.points[0].lat.spectral_radius < 1
+    cl = fly_closed_loop(1.0, 20, schedule=s, aero="uvlm")
+    assert all(_within(b) for b in cl.beats)
