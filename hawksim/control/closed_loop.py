@@ -71,8 +71,9 @@ class SchedulePoint:
 
         return {"speed": self.speed, "orbit_f_hz": self.orbit.kinematics.f,
                 "orbit_residual": self.orbit.residual,
-                "open_loop_max_multiplier": float(max(np.abs(self.long.open_loop).max(),
-                                                      np.abs(self.lat.open_loop[np.abs(self.lat.open_loop - 1) > 1e-9]).max())),
+                "open_loop_max_multiplier": float(max(
+                    np.abs(self.long.open_loop).max(),
+                    np.abs(self.lat.open_loop[np.abs(self.lat.open_loop - 1) > 1e-9]).max())),
                 "closed_loop_spectral_radius_long": self.long.spectral_radius,
                 "closed_loop_spectral_radius_lat": self.lat.spectral_radius,
                 "closed_loop_multipliers_long": mu(self.long), "closed_loop_multipliers_lat": mu(self.lat),

@@ -59,7 +59,8 @@ def main():
         ok = [within(b) for b in cp.beats]
         settle = next((k for k in range(len(ok)) if all(ok[k:])), None)
         hold[v] = {"from_orbit": stats(cl), "orbit_P_plus": sch[0].points[SCHEDULE_SPEEDS.index(v)].orbit.P_plus,
-                   "wall_s": cl.wall_time_s, "perturbed_start": stats(cp), "perturbed_start_stats_after_10": stats(cp, 10),
+                   "wall_s": cl.wall_time_s, "perturbed_start": stats(cp),
+                   "perturbed_start_stats_after_10": stats(cp, 10),
                    "perturbed_settled_at_beat": None if settle is None else cp.beats[settle]["beat"]}
         print(v, hold[v], file=sys.stderr)
     res["hold_100_beats"] = hold
@@ -77,12 +78,14 @@ def main():
     for name, s in (("delay-aware design", sch[1]), ("design without delay", sch[0])):
         try:
             cl = fly_closed_loop(1.0, 100, delay=1, schedule=s, gusts=[Gust(np.array([0.0, 0.5, 0.0]), 5, 2)])
-            dl[name] = {"stats": stats(cl), "after_20": stats(cl, 20), "recovered_beats_after_gust": recovered_after(cl, 6)}
+            dl[name] = {"stats": stats(cl), "after_20": stats(cl, 20),
+                        "recovered_beats_after_gust": recovered_after(cl, 6)}
         except FloatingPointError as exc:
             dl[name] = {"diverged": str(exc)}
     res["delay_1_beat_1ms_gust"] = dl
     ol = fly_closed_loop(1.0, 40, control="none")
-    res["open_loop_1ms"] = {"departed_at_beat": next((b["beat"] for b in ol.beats if abs(b["speed_error"]) > 0.1), None)}
+    res["open_loop_1ms"] = {
+        "departed_at_beat": next((b["beat"] for b in ol.beats if abs(b["speed_error"]) > 0.1), None)}
     res["wall_s"] = time.time() - t0
     OUT.mkdir(parents=True, exist_ok=True)
     (OUT / "control_study.json").write_text(json.dumps(res, indent=1, default=float))
@@ -101,7 +104,6 @@ def figure(sch):
                          schedule=sch, record=True)
     r = cl.result
     b = cl.beats
-    k = np.array([x["beat"] for x in b])
     tb = np.cumsum([0.0] + [1 / x["commands"]["f_hz"] for x in b])  # beat boundaries [s]
     tm = (tb[:-1] + tb[1:]) / 2
     fig, ax = plt.subplots(4, 1, figsize=(7.5, 9), sharex=True)

@@ -10,7 +10,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 
 from hawksim.control.closed_loop import Schedule, body_length, fly_closed_loop
 
@@ -38,7 +37,7 @@ def main():
     for control in ("lqr", "none"):
         try:
             cl = fly_closed_loop(1.0, 20, schedule=sch, aero="uvlm", control=control,
-                                 progress=lambda k, n: log(f"{control} beat {k}/{n}"))
+                                 progress=lambda k, n, c=control: log(f"{c} beat {k}/{n}"))
             b = cl.beats
             res[control] = {"wall_s": cl.wall_time_s, "beats": [
                 {k: x[k] for k in ("beat", "mean_vertical_speed", "speed_error", "pitch_error_deg", "roll_deg",

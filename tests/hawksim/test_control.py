@@ -2,7 +2,6 @@
 the LQR's closed-loop multipliers lie inside the unit circle, and the controlled quasi-steady flight meets the
 issue's targets (CI: 1 m/s; every speed and the ascent profile are `slow`)."""
 
-import math
 
 import numpy as np
 import pytest
@@ -210,7 +209,8 @@ def test_cli_control_json(capsys):
 
 @pytest.mark.slow
 def test_uvlm_in_the_loop_20_beats_at_1ms():
-    """The UVLM orbit at 1 m/s, its derivatives and LQR, 20 controlled wingbeats within the bounds (~6 min)."""
+    """The UVLM orbit at 1 m/s, its derivatives and LQR, 20 controlled wingbeats within the bounds (~8 min CPU;
+    15 min wall on a loaded 2-core host)."""
     s = Schedule(1.0, 1.0, aero="uvlm", speeds=(1.0,))
     assert s.points[0].long.spectral_radius < 1 and s.points[0].lat.spectral_radius < 1
     cl = fly_closed_loop(1.0, 20, schedule=s, aero="uvlm")
