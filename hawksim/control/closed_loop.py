@@ -32,7 +32,7 @@ from hawksim.control.plant import INPUTS, ControlledSimulator, command_of, satur
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, periodic_orbit, read_body_state, \
     set_body_state
 from hawksim.flight.result import FlightResult
-from hawksim.frames import pitch_of, quat_from_matrices, roll_of
+from hawksim.frames import attitude_of, pitch_of, quat_from_matrices
 from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
 from hawksim.insect.model import load_model
 from hawksim.insect.morphology import HAWKMOTH, P0_W
@@ -179,7 +179,10 @@ def profile_speeds(profile: list[tuple[float, int]] | None, speed: float, beats:
 
 class ControlledFlightResult(FlightResult):
     """A :class:`FlightResult` whose wingbeats may differ in length (f changes): per-beat means over each beat's
-    own time span, the departure test against each beat's commanded speed."""
+    own time span, the departure test against each beat's speed reference (the rate-limited command): a beat's
+    mean vertical speed departs when it is more than DEPARTURE_SPEED outside the range of this beat's and the
+    previous beat's reference (a reference change reaches the flight one beat late: the new kinematics blend in
+    over the beat)."""
 
     def __init__(self, *args, beat_steps: int, speed_commands: np.ndarray, **kw):
         super().__init__(*args, **kw)
@@ -204,9 +207,12 @@ class ControlledFlightResult(FlightResult):
 
         beats = self.beats() if beats is None else beats
         ref = beats[0]
+        r = self._speed_commands
         for k, b in enumerate(beats, 1):
-            v = self._speed_commands[min(k - 1, len(self._speed_commands) - 1)]
-            if (abs(b["mean_vertical_speed"] - v) > DEPARTURE_SPEED or b["horizontal_speed"] > DEPARTURE_SPEED
+            a, c = r[min(k - 1, len(r) - 1)], r[max(0, min(k - 2, len(r) - 1))]
+            vz = b["mean_vertical_speed"]
+            off = max(min(a, c) - vz, vz - max(a, c), 0.0)
+            if (off > DEPARTURE_SPEED or b["horizontal_speed"] > DEPARTURE_SPEED
                     or any(abs(b[a] - ref[a]) > DEPARTURE_ANGLE_DEG for a in ("pitch_deg", "roll_deg", "yaw_deg"))):
                 return k
         return None
@@ -222,7 +228,8 @@ class ControlledFlightResult(FlightResult):
 @dataclass
 class ClosedLoop:
     """What :func:`fly_closed_loop` returns: ``beats`` (one dict per wingbeat: commanded and reference speed,
-    the beat's mean vertical speed and its error, pitch error against the orbit's mean pitch, roll [deg],
+    the beat's mean vertical speed and its error, pitch error against the orbit's mean pitch, roll and yaw [deg]
+    (beat means of :func:`hawksim.frames.attitude_of`, as the CLI contract's ``beats``),
     horizontal offset from the start point [m], the air velocity, the body state at the beat's end (SI,
     hawksim.flight.orbit.STATE_NAMES), the commands (edge units) and whether a wing saturated, P+),
     the time series ``result`` (None without ``record``) and the schedule."""
@@ -306,10 +313,11 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     keep = max(delay, schedule.delay) + 2
     flown = [(p_orbit, p_orbit)] * keep  # (left, right) of the beats before the first
     sensed = [(x0, np.zeros(2))] * keep
-    out = []
+    out, refs = [], []
     v_ref = float(speed)
     for k in range(1, beats + 1):
         v_ref += float(np.clip(cmd[k - 1] - v_ref, -SPEED_RATE, SPEED_RATE))
+        refs.append(v_ref)
         kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
         if control == "lqr":
             x_s, pos_s = sensed[-1 - delay]
@@ -324,11 +332,11 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         air = sum((g.at(k) for g in gusts), np.zeros(3))
         sim.air_v = air
         t0, z0 = sim.d.time, sim.d.qpos[2]
-        pitch, roll, pj = np.empty(n), np.empty(n), np.empty(n)
+        pitch, Rs, pj = np.empty(n), np.empty((n, 3, 3)), np.empty(n)
         for i in range(n):
             r = sim.step()
             st = r.state
-            pitch[i], roll[i], pj[i] = pitch_of(st.body_R), roll_of(st.body_R), r.joint_power
+            pitch[i], Rs[i], pj[i] = pitch_of(st.body_R), st.body_R, r.joint_power
             if record:
                 ld = r.loads
                 for key, val in (("t", st.t), ("pos", st.body_pos), ("R", st.body_R), ("v", st.body_v),
@@ -346,10 +354,11 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         sensed.append((x, pos))
         flown, sensed = flown[-keep:], sensed[-keep:]
         vz = (sim.d.qpos[2] - z0) / T
+        att = attitude_of(Rs)  # roll and yaw as the CLI contract's `beats` (pitch-first angles)
         out.append({"beat": k, "speed_command": float(cmd[k - 1]), "speed_reference": v_ref,
                     "mean_vertical_speed": float(vz), "speed_error": float(vz - cmd[k - 1]),
                     "pitch_error_deg": float(np.rad2deg(pitch.mean() - pitch_ref)),
-                    "roll_deg": float(np.rad2deg(roll.mean())),
+                    "roll_deg": float(np.rad2deg(att[:, 1].mean())), "yaw_deg": float(np.rad2deg(att[:, 2].mean())),
                     "horizontal_offset_m": [float(pos[0]), float(pos[1])],
                     "horizontal_drift_m": float(np.hypot(*pos)),
                     "air_velocity": [float(a) for a in air],
@@ -364,6 +373,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
             t=a["t"], body_pos=a["pos"], body_quat=quat_from_matrices(a["R"]), body_v=a["v"], body_omega=a["w"],
             wing_R=a["wR"], wing_origin=a["wo"], force=a["F"], moment=a["M"], power_aero=a["Pa"],
             power_joint=a["Pj"], wall_time_s=time.perf_counter() - t_start,
-            trim_source=f"periodic orbit of the free body, {control} control", beat_steps=n, speed_commands=cmd)
+            trim_source=f"periodic orbit of the free body, {control} control", beat_steps=n,
+            speed_commands=np.array(refs))
     return ClosedLoop(beats=out, schedule=schedule, result=result, wall_time_s=time.perf_counter() - t_start,
                       control=control, delay=int(delay), gusts=gusts)

@@ -25,7 +25,7 @@ from hawksim.control.derivatives import LAT_X, LONG_X, XI_NAMES, BeatMapModel
 from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS
 
 X_MAX = {"u": 0.01, "v": 0.01, "w": 0.01, "p": 0.05, "q": 0.05, "r": 0.05, "phi": np.deg2rad(1.0),
-         "theta": np.deg2rad(1.0), "psi": np.deg2rad(5.0), "X": 0.3, "Y": 0.3}
+         "theta": np.deg2rad(1.0), "psi": np.deg2rad(2.0), "X": 0.3, "Y": 0.3}
 """Bryson's acceptable deviations of the normalized states (velocities / U, rates x T, rad, positions / (U T))."""
 
 U_MAX = {"f": 0.03, "phi0": np.deg2rad(3.0), "alpha0": np.deg2rad(3.0), "theta0": np.deg2rad(3.0),

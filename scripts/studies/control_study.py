@@ -117,6 +117,7 @@ def figure(sch):
     ax[0].legend(fontsize=7, loc="upper left")
     ax[1].plot(tm, [x["pitch_error_deg"] for x in b], "o-", ms=3, label="pitch - orbit mean pitch")
     ax[1].plot(tm, [x["roll_deg"] for x in b], "s-", ms=3, label="roll (right wing down +)")
+    ax[1].plot(tm, [x["yaw_deg"] for x in b], "^-", ms=3, label="yaw (nose right +)")
     ax[1].axhspan(-2, 2, color="0.92", zorder=0)
     ax[1].set_ylabel("beat mean [deg]")
     ax[1].legend(fontsize=7)

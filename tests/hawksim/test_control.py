@@ -215,3 +215,11 @@ def test_uvlm_in_the_loop_20_beats_at_1ms():
     assert s.points[0].long.spectral_radius < 1 and s.points[0].lat.spectral_radius < 1
     cl = fly_closed_loop(1.0, 20, schedule=s, aero="uvlm")
     assert all(_within(b) for b in cl.beats)
+
+
+def test_profile_is_not_a_departure(schedule1):
+    """A commanded speed step is followed through the rate-limited reference; the departure test uses it."""
+    cl = fly_closed_loop(1.0, 8, profile=[(1.0, 2), (1.5, 6)], schedule=Schedule(1.0, 1.5), record=True)
+    assert [round(b["speed_reference"], 6) for b in cl.beats[:5]] == [1.0, 1.0, 1.2, 1.4, 1.5]
+    assert cl.result.departed_at_beat() is None
+    assert max(b["mean_vertical_speed"] - b["speed_command"] for b in cl.beats) < 0.1
