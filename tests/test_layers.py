@@ -18,6 +18,7 @@ HAWKSIM_LAYERS = (
     ("hawksim.trim",),
     ("hawksim.flight",),
     ("hawksim.stability",),
+    ("hawksim.control",),
     ("hawksim.surrogate",),
     ("hawksim.paper",),
     ("hawksim.cli", "hawksim.__main__"),

@@ -80,6 +80,9 @@ def cmd_fly(args) -> dict:
     if twice:
         raise UsageError(f"--perturb gives {', '.join(twice)} more than once")
     progress = progress_for(args, "fly")
+    controlled = _controlled_fly(args, progress)  # issue 20: --control lqr (default for quasi-steady), --gust
+    if controlled is not None:
+        return controlled
     guard = None
     if args.rrd:  # Ctrl-C / SIGTERM: write the recording of the steps flown (hawksim.flight.recording.InterruptGuard)
         from types import SimpleNamespace
@@ -145,6 +148,46 @@ def _write_recording(args, result, guard, interrupted: bool) -> str:
     return path
 
 
+def _controlled_fly(args, progress):
+    """The closed-loop flight of hawksim.control when --control lqr applies (or a gust is asked), else None."""
+    from hawksim.control.command import default_control, fly_command
+
+    control = getattr(args, "control", None) or default_control(args.aero, args.kinematics, args.steps_per_cycle,
+                                                                args.start, STEPS_PER_CYCLE)
+    profile, gusts = getattr(args, "ascent_profile", None), getattr(args, "gust", None) or []
+    if control == "none" and not profile and not gusts:
+        return None
+    if args.aero != "quasi-steady" or args.kinematics is not None or args.steps_per_cycle != STEPS_PER_CYCLE \
+            or args.start == "trim":
+        raise ValueError(f"--control {control} / --gust / --ascent-profile need --aero quasi-steady from the orbit "
+                         f"(no --kinematics, --start trim or --steps-per-cycle other than {STEPS_PER_CYCLE})")
+    return fly_command(args.speed, args.cycles, control=control, profile=profile, gusts=gusts,
+                       delay=args.sensing_delay, perturb=dict(args.perturb or []), model_path=args.model, rrd=args.rrd,
+                       progress=(lambda k, n: progress(k, n)) if progress is not None else None)
+
+
+def _control_type(parse):
+    import argparse
+
+    def f(text):
+        try:
+            return parse(text)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    return f
+
+
+def _delay(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise ValueError(f"--sensing-delay {text!r} is not an integer") from None
+    if v < 0:
+        raise ValueError(f"--sensing-delay {text} must be >= 0 wingbeats")
+    return v
+
+
 def register(sub) -> None:
     f = sub.add_parser("fly", help="fly the insect from its trim at an ascent speed (MuJoCo, 6-DOF)")
     f.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 (hover) to 2")
@@ -162,6 +205,19 @@ def register(sub) -> None:
     f.add_argument("--start", choices=START_CHOICES, default=None,
                    help="orbit: the free body's periodic orbit (default for quasi-steady); trim: the held-body trim "
                         "with a calibration wingbeat (default for uvlm and surrogate)")
+    from hawksim.control.command import CONTROL_CHOICES, parse_gust, parse_profile
+
+    f.add_argument("--control", choices=CONTROL_CHOICES, default=None,
+                   help="lqr: the wingbeat-to-wingbeat LQR (default for quasi-steady from the orbit); none: open loop "
+                        "(default otherwise)")
+    f.add_argument("--ascent-profile", type=_control_type(parse_profile), metavar="V:BEATS,...",
+                   help="piecewise-constant speed commands [m/s] for that many wingbeats each, e.g. 0:2,1:10,2:10 "
+                        "(the last speed holds after it)")
+    f.add_argument("--gust", type=_control_type(parse_gust), action="append", metavar="VX,VY,VZ@START:BEATS",
+                   help="uniform air-velocity pulse [m/s], world frame (z up, y left), over wingbeats START.. "
+                        "START+BEATS-1 (from 1), e.g. 0,0.5,0@5:2")
+    f.add_argument("--sensing-delay", type=_control_type(_delay), default=0,
+                   metavar="BEATS", help="the controller senses the state this many wingbeats late (default 0)")
     f.add_argument("--no-progress", action="store_true", help="no progress bar")
     f.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     f.set_defaults(func=cmd_fly)

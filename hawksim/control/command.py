@@ -1,0 +1,103 @@
+"""`hawksim fly --control lqr`: the closed-loop flight behind the command line, and the parsing of its options
+(plain ValueError naming the option; :mod:`hawksim.cli.fly` turns them into exit status 2)."""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+from hawksim.control.closed_loop import Gust, body_length, fly_closed_loop
+from hawksim.insect.kinematics import SPEED_RANGE
+
+CONTROL_CHOICES = ("lqr", "none")
+
+
+def parse_profile(text: str) -> list[tuple[float, int]]:
+    """``SPEED:BEATS,SPEED:BEATS,...`` (m/s, wingbeats) -> [(speed, beats)]."""
+    out = []
+    lo, hi = SPEED_RANGE
+    for item in filter(None, (s.strip() for s in text.split(","))):
+        v, sep, n = item.partition(":")
+        try:
+            speed, beats = float(v), int(n)
+        except ValueError:
+            raise ValueError(f"--ascent-profile item {item!r} is not SPEED:BEATS (m/s, wingbeats)") from None
+        if not sep or not math.isfinite(speed) or not (lo <= speed <= hi):
+            raise ValueError(f"--ascent-profile item {item!r}: speed must be in [{lo:g}, {hi:g}] m/s")
+        if beats < 1:
+            raise ValueError(f"--ascent-profile item {item!r}: beats must be >= 1")
+        out.append((speed, beats))
+    if not out:
+        raise ValueError(f"--ascent-profile {text!r} is empty; expected SPEED:BEATS,...")
+    return out
+
+
+def parse_gust(text: str) -> Gust:
+    """``VX,VY,VZ@START:BEATS`` (m/s world, wingbeat numbers from 1) -> :class:`Gust`."""
+    vel, sep, when = text.partition("@")
+    start, sep2, beats = when.partition(":")
+    try:
+        v = np.array([float(c) for c in vel.split(",")])
+        s, n = int(start), int(beats)
+    except ValueError:
+        raise ValueError(f"--gust {text!r} is not VX,VY,VZ@START:BEATS (m/s, wingbeats)") from None
+    if not sep or not sep2 or v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"--gust {text!r} is not VX,VY,VZ@START:BEATS (m/s, wingbeats)")
+    if s < 1 or n < 1:
+        raise ValueError(f"--gust {text!r}: START (the first gusty wingbeat, from 1) and BEATS must be >= 1")
+    return Gust(v, s, n)
+
+
+def default_control(aero: str, kinematics, steps_per_cycle: int, start: str | None, spc_default: int) -> str:
+    """lqr where the controller applies (quasi-steady, the orbit start: no given kinematics, the orbit's steps
+    per beat, no --start trim), none otherwise."""
+    ok = aero == "quasi-steady" and kinematics is None and steps_per_cycle == spc_default and start in (None, "orbit")
+    return "lqr" if ok else "none"
+
+
+def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=None, delay: int = 0,
+                perturb: dict | None = None, model_path=None, rrd=None, progress=None, log=None) -> dict:
+    """The JSON object of a `hawksim fly` under control (or open loop with a gust): the FlightResult summary
+    (the CLI contract's keys) plus ``control`` (:meth:`ClosedLoop.to_json`: schedule, gains, closed-loop
+    multipliers, per-beat commands and tracking errors) and ``rrd``."""
+    from hawksim.flight.orbit import STATE_NAMES
+    from hawksim.flight.start import parse_perturbations
+    from hawksim.insect.model import load_model
+
+    if control == "none" and profile:
+        raise ValueError("--ascent-profile needs --control lqr (an open-loop flight cannot follow it)")
+    x = np.zeros(9)
+    deg = np.pi / 180
+    for k, v in parse_perturbations(perturb or {}).items():
+        x[STATE_NAMES.index(k)] += v * (deg if k in ("p", "q", "r", "theta", "phi") else 1.0)
+    cl = fly_closed_loop(speed, cycles, profile=profile, gusts=gusts, delay=delay, control=control, perturbation=x,
+                         model=load_model(model_path), record=True, log=log, progress=progress)
+    out = cl.result.summary()
+    ctl = cl.to_json()
+    b = cl.beats
+    last = b[-min(10, len(b)):]
+    ctl["last_beats_max_abs"] = {
+        "speed_error": max(abs(e["speed_error"]) for e in last), "pitch_error_deg": max(abs(e["pitch_error_deg"])
+                                                                                      for e in last),
+        "roll_deg": max(abs(e["roll_deg"]) for e in last), "horizontal_drift_m": max(e["horizontal_drift_m"]
+                                                                                    for e in last)}
+    out["control"] = ctl
+    if out["departed_at_beat"] is not None:
+        e = out["beats"][out["departed_at_beat"] - 1]
+        print(f"fly: departed at beat {out['departed_at_beat']} of {cycles} (mean vertical speed "
+              f"{e['mean_vertical_speed']:.3f} m/s; pitch {e['pitch_deg']:.1f} deg) under --control {control}",
+              file=sys.stderr)
+    elif control == "lqr":
+        m = ctl["last_beats_max_abs"]
+        print(f"fly: held under LQR control for {cycles} wingbeats; last {len(last)} beats: speed error <= "
+              f"{m['speed_error']:.4f} m/s, pitch error <= {m['pitch_error_deg']:.2f} deg, roll <= "
+              f"{m['roll_deg']:.2f} deg, drift <= {m['horizontal_drift_m'] * 1e3:.1f} mm "
+              f"(body length {body_length() * 1e3:.1f} mm)", file=sys.stderr)
+    out["rrd"] = None
+    if rrd:
+        from hawksim.flight.recording import write_rrd
+
+        out["rrd"] = str(write_rrd(rrd, cl.result))
+    return out

@@ -1,0 +1,232 @@
+"""Control derivatives: the one-beat map's sensitivities to the wingbeat commands, beside its monodromy.
+
+The controlled one-beat map (:mod:`hawksim.control.plant`): beat k blends the previous command u_{k-1} into the
+new one u_k, so
+
+    xi_{k+1} = A xi_k + B0 u_{k-1} + B1 u_k,
+
+linearized about a periodic orbit (:func:`hawksim.flight.orbit.periodic_orbit`, quasi-steady: the state is
+settable, so each derivative is one beat from the orbit's phase-0 state). xi (11,) is the body state of
+:data:`hawksim.flight.orbit.STATE_NAMES` (u, v, w, p, q, r, phi, theta, psi) plus the horizontal position
+(X forward, Y right; stability axes), NORMALIZED as the Floquet states (:func:`hawksim.stability.floquet.state_scale`):
+velocities / U, rates x T, angles in rad, positions / (U T) (U = 2 phi_a f r2, T = 1/f of the orbit).
+u (7,) are the commands of :data:`hawksim.control.plant.INPUTS` (f relative, angles in rad).
+
+Central differences (step :data:`FD_DELTA` in the normalized states and inputs): A's columns over the 8
+states u..theta (psi, X, Y are neutral: identity columns, since the map's velocities are in the heading axes
+and the orbit's mean horizontal velocity is zero); B1 from a beat that blends the orbit's kinematics into
+orbit + du; Bt = B0 + B1 from a beat at orbit + du throughout (previous and new command equal); B0 = Bt - B1.
+16 + 28 one-beat flights (~2-4 s quasi-steady). Blocks: longitudinal states :data:`LONG_X` with the symmetric
+inputs, lateral :data:`LAT_X` with the antisymmetric ones; the cross blocks vanish for the symmetric orbit
+(their largest entry is reported as ``coupling``).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, saturate, wing_kinematics
+from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, _scales, make_orbit_backend, read_body_state, set_body_state
+from hawksim.frames import STABILITY_TO_WORLD
+from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.model import load_model
+
+XI_NAMES = ("u", "v", "w", "p", "q", "r", "phi", "theta", "psi", "X", "Y")
+"""The extended state: body state (hawksim.flight.orbit.STATE_NAMES) and horizontal position X (forward), Y (right)."""
+
+LONG_X = (0, 2, 4, 7, 9)
+"""Longitudinal states u, w, q, theta, X in :data:`XI_NAMES`."""
+
+LAT_X = (1, 3, 5, 6, 8, 10)
+"""Lateral states v, p, r, phi, psi, Y in :data:`XI_NAMES`."""
+
+FD_DELTA = 1e-5
+"""Central-difference step in the normalized states and inputs (as hawksim.stability.floquet.FD_DELTA)."""
+
+UVLM_FD_DELTA = 1e-3
+"""The same for the UVLM, whose free wake amplifies round-off (as hawksim.flight.orbit.UVLM_FD_STEP)."""
+
+
+def xi_scale(kin: Kinematics) -> np.ndarray:
+    """(11,) SI per normalized unit of :data:`XI_NAMES`: U, 1/T, 1 (angles), U T (positions)."""
+    U, T = _scales(kin)
+    return np.array([U, U, U, 1 / T, 1 / T, 1 / T, 1.0, 1.0, 1.0, U * T, U * T])
+
+
+def stability_position(pos_world: np.ndarray) -> np.ndarray:
+    """(X forward, Y right) [m] of a world position (stability axes at heading 0)."""
+    return (STABILITY_TO_WORLD @ np.asarray(pos_world, float))[:2]
+
+
+def set_phase0(sim: ControlledSimulator, x: np.ndarray, chi_ref: float) -> None:
+    """Overwrite the body state (9,) and put the wings on their prescribed phase-0 pose and rates of the current
+    kinematics (``sim.wing_params``), keeping the backend's memory (the UVLM's wake) and the body's position:
+    the state perturbation of the UVLM's derivatives (:func:`linearize`)."""
+    from hawksim.flight.orbit import state_to_world
+    from hawksim.frames import quat_from_matrix
+
+    R, v_w, om_w = state_to_world(np.asarray(x, float), chi_ref)
+    d = sim.d
+    d.qpos[3:7] = quat_from_matrix(R)
+    d.qvel[:3] = v_w
+    d.qvel[3:6] = R.T @ om_w
+    q, qd, _ = sim.desired(sim.d.time)
+    d.qpos[sim.wing_qpos] = q
+    d.qvel[sim.wing_dof] = qd
+    mujoco.mj_forward(sim.m, d)
+
+
+class _UVLMSnapshot:
+    """A UVLM flight launched from the orbit's launch state and flown over its warm-up beats at the orbit's
+    kinematics; :meth:`beat` branches one controlled beat from a copy (the wake as developed on the orbit)."""
+
+    def __init__(self, orbit: Orbit, model):
+        import copy
+
+        self._copy = copy.deepcopy
+        backend, every = make_orbit_backend("uvlm", symmetric=False)
+        kin = orbit.kinematics
+        sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True,
+                                  aero_every=every)
+        sim.set_wings(kin, kin)
+        set_body_state(sim, orbit.launch_state.as_array(), orbit.chi_ref)
+        for _ in range(orbit.warm_beats):
+            sim.begin_beat(kin, kin)
+            for _ in range(STEPS_PER_CYCLE):
+                sim.step()
+        self.sim, self.orbit = sim, orbit
+
+    def beat(self, x0, du_prev, du):
+        sim = self._copy(self.sim)
+        kin, chi = self.orbit.kinematics, self.orbit.chi_ref
+        lp, rp = (Kinematics.from_array(p) for p in wing_kinematics(kin, du_prev))
+        sim._new = sim._old = (lp, rp)
+        sim._t0 = float(sim.d.time)  # phase 0 of the previous command's kinematics now
+        set_phase0(sim, x0, chi)
+        p0 = stability_position(sim.d.qpos[:3])
+        ln, rn = (Kinematics.from_array(p) for p in wing_kinematics(kin, du))
+        sim.begin_beat(ln, rn)
+        for _ in range(STEPS_PER_CYCLE):
+            sim.step()
+        return read_body_state(sim, chi), stability_position(sim.d.qpos[:3]) - p0
+
+
+def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, *,
+             model: mujoco.MjModel | None = None, clip: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """One controlled beat from body state x0 (9,) at phase 0, the wings on the orbit's kinematics + du_prev
+    before and blended into + du over the beat: (state (9,) at the beat's end, horizontal displacement (2,)
+    [m], stability axes). ``clip``: saturate each wing at Table 2 (off for derivatives, which may step past
+    a bound the orbit sits on, e.g. phi_a = 60 deg)."""
+    model = model if model is not None else load_model()
+    backend, every = make_orbit_backend(orbit.aero, symmetric=False)
+    kin = orbit.kinematics
+    sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
+    sat = saturate if clip else (lambda p: p)
+    lp, rp = (Kinematics.from_array(sat(p)) for p in wing_kinematics(kin, du_prev))
+    sim.set_wings(lp, rp)
+    set_body_state(sim, x0, orbit.chi_ref)
+    p0 = stability_position(sim.d.qpos[:3])
+    ln, rn = (Kinematics.from_array(sat(p)) for p in wing_kinematics(kin, du))
+    sim.begin_beat(ln, rn)
+    for _ in range(STEPS_PER_CYCLE):
+        sim.step()
+    if not np.all(np.isfinite(sim.d.qpos)):
+        raise FloatingPointError("controlled beat diverged (non-finite state)")
+    return read_body_state(sim, orbit.chi_ref), stability_position(sim.d.qpos[:3]) - p0
+
+
+@dataclass(frozen=True)
+class BeatMapModel:
+    """The linearized controlled one-beat map about ``orbit`` (normalized, module docstring): A (11, 11), B0 and
+    B1 (11, 7); ``scale`` (11,) SI per normalized state unit; ``coupling``: largest |entry| of the
+    longitudinal-lateral cross blocks of A, B0, B1; wall_time_s."""
+
+    orbit: Orbit
+    A: np.ndarray
+    B0: np.ndarray
+    B1: np.ndarray
+    scale: np.ndarray
+    coupling: float
+    delta: float
+    wall_time_s: float
+
+    @property
+    def Bt(self) -> np.ndarray:
+        """Sensitivity to a command held over the beat and the one before (B0 + B1)."""
+        return self.B0 + self.B1
+
+    def block(self, which: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(A, B0, B1) of the longitudinal ('long': LONG_X x SYM_INPUTS) or lateral ('lat': LAT_X x ANTI_INPUTS)
+        subsystem."""
+        xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
+        ix = np.ix_(xs, xs)
+        iu = np.ix_(xs, us)
+        return self.A[ix], self.B0[iu], self.B1[iu]
+
+    @property
+    def monodromy(self) -> np.ndarray:
+        """(8, 8) over (u, v, w, p, q, r, phi, theta): the Floquet monodromy (hawksim.stability.floquet)."""
+        return self.A[:8, :8]
+
+    def to_json(self) -> dict:
+        return {"speed": self.orbit.speed, "aero": self.orbit.aero, "states": list(XI_NAMES), "inputs": list(INPUTS),
+                "A": self.A.tolist(), "B0": self.B0.tolist(), "B1": self.B1.tolist(), "scale": self.scale.tolist(),
+                "coupling": self.coupling, "delta": self.delta}
+
+
+def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None) -> BeatMapModel:
+    """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady: each
+    derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with warm-up
+    beats): one flight is launched and flown over the warm-up beats, and every derivative beat branches from a
+    copy of it at the periodic beat's start, with the body state overwritten there (:func:`set_phase0`) and the
+    wake kept: the derivatives hold the wake at the orbit's (its memory of the perturbation is left out)."""
+    t0 = time.perf_counter()
+    if delta is None:
+        delta = UVLM_FD_DELTA if orbit.warm_beats else FD_DELTA
+    model = model if model is not None else load_model()
+    kin = orbit.kinematics
+    sc = xi_scale(kin)
+    zero = np.zeros(len(INPUTS))
+    if orbit.warm_beats:
+        snap = _UVLMSnapshot(orbit, model)
+        x0 = orbit.initial_state.as_array()
+
+        def beat(x, du_prev, du):
+            return snap.beat(x, du_prev, du)
+    else:
+        x0 = orbit.launch_state.as_array()
+
+        def beat(x, du_prev, du):
+            return one_beat(orbit, x, du_prev, du, model=model)
+
+    def xi(out):
+        x, disp = out
+        return np.concatenate([x, disp]) / sc
+
+    A = np.eye(11)
+    for j in range(8):
+        r = []
+        for s in (1, -1):
+            x = x0.copy()
+            x[j] += s * delta * sc[j]
+            r.append(xi(beat(x, zero, zero)))
+        A[:, j] = (r[0] - r[1]) / (2 * delta)
+    B1, Bt = np.zeros((11, 7)), np.zeros((11, 7))
+    for j in range(7):
+        e = np.zeros(7)
+        e[j] = delta
+        B1[:, j] = (xi(beat(x0, zero, e)) - xi(beat(x0, zero, -e))) \
+            / (2 * delta)
+        Bt[:, j] = (xi(beat(x0, e, e)) - xi(beat(x0, -e, -e))) \
+            / (2 * delta)
+    B0 = Bt - B1
+    # the neutral rows: psi and position do not feed back (identity columns set above); psi's own row from the map
+    cross = max(np.abs(M[np.ix_(a, b)]).max() for M, (a, b) in
+                ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
+                 (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
+    return BeatMapModel(orbit=orbit, A=A, B0=B0, B1=B1, scale=sc, coupling=float(cross), delta=delta,
+                        wall_time_s=time.perf_counter() - t0)

@@ -1,0 +1,91 @@
+"""Discrete-time LQR on the controlled one-beat map, with a sensing delay, gain-scheduled over the ascent speed.
+
+Plant (per subsystem, :meth:`hawksim.control.derivatives.BeatMapModel.block`): x_{k+1} = A x_k + B0 u_{k-1} + B1 u_k
+(normalized deviations from the orbit; u_{k-1} enters because beat k blends the previous command into the new
+one). With a sensing delay of d wingbeats the command of beat k can use x_{k-d} and the commands already sent;
+the augmented state
+
+    z_k = (x_{k-d}, u_{k-d-1}, u_{k-d}, ..., u_{k-1})        (n + (d + 1) m)
+
+is known at beat k and obeys z_{k+1} = Az z_k + Bz u_k exactly (x advances by the plant, the command slots
+shift, u_k enters the last). The gain is the infinite-horizon LQR of (Az, Bz) for the cost
+sum z' Q z + u' R u with Q = diag(1 / x_max^2) on the x block (zero on the command slots) and
+R = diag(1 / u_max^2) (Bryson's rule, :data:`X_MAX`, :data:`U_MAX`), from scipy.linalg.solve_discrete_are:
+u_k = -K z_k. Closed-loop multipliers: eig(Az - Bz K).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import solve_discrete_are
+
+from hawksim.control.derivatives import LAT_X, LONG_X, XI_NAMES, BeatMapModel
+from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS
+
+X_MAX = {"u": 0.01, "v": 0.01, "w": 0.01, "p": 0.05, "q": 0.05, "r": 0.05, "phi": np.deg2rad(1.0),
+         "theta": np.deg2rad(1.0), "psi": np.deg2rad(2.0), "X": 0.3, "Y": 0.3}
+"""Bryson's acceptable deviations of the normalized states (velocities / U, rates x T, rad, positions / (U T))."""
+
+U_MAX = {"f": 0.03, "phi0": np.deg2rad(3.0), "alpha0": np.deg2rad(3.0), "theta0": np.deg2rad(3.0),
+         "dphi_a": np.deg2rad(3.0), "dphi0": np.deg2rad(3.0), "dalpha0": np.deg2rad(3.0)}
+"""Bryson's acceptable commands (f relative, angles in rad)."""
+
+
+def augment(A: np.ndarray, B0: np.ndarray, B1: np.ndarray, delay: int) -> tuple[np.ndarray, np.ndarray]:
+    """(Az, Bz) of the delay-augmented state (module docstring)."""
+    if delay < 0 or int(delay) != delay:
+        raise ValueError(f"sensing delay must be a non-negative integer of wingbeats, got {delay}")
+    n, m = B1.shape
+    s = delay + 1  # command slots u_{k-d-1} .. u_{k-1}
+    N = n + s * m
+    Az, Bz = np.zeros((N, N)), np.zeros((N, m))
+    Az[:n, :n] = A
+    Az[:n, n:n + m] = B0  # u_{k-d-1}
+    if delay == 0:
+        Bz[:n] = B1  # u_{k-d} = u_k
+    else:
+        Az[:n, n + m:n + 2 * m] = B1  # u_{k-d}
+    for j in range(s - 1):  # shift the slots
+        Az[n + j * m:n + (j + 1) * m, n + (j + 1) * m:n + (j + 2) * m] = np.eye(m)
+    Bz[n + (s - 1) * m:] = np.eye(m)
+    return Az, Bz
+
+
+@dataclass(frozen=True)
+class Gain:
+    """One subsystem's LQR: K (m, n + (d + 1) m) on z (module docstring), the closed-loop multipliers (sorted
+    by |mu| descending), the open-loop ones of A, and the indices of its states / inputs."""
+
+    K: np.ndarray
+    multipliers: np.ndarray
+    open_loop: np.ndarray
+    states: tuple[int, ...]
+    inputs: tuple[int, ...]
+    delay: int
+
+    @property
+    def spectral_radius(self) -> float:
+        return float(np.abs(self.multipliers).max())
+
+
+def _sorted(w):
+    return w[np.argsort(-np.abs(w), kind="stable")]
+
+
+def lqr_gain(lin: BeatMapModel, which: str, delay: int = 0, x_max: dict | None = None,
+             u_max: dict | None = None) -> Gain:
+    """LQR of the 'long' or 'lat' subsystem of ``lin`` with a sensing delay of ``delay`` wingbeats."""
+    A, B0, B1 = lin.block(which)
+    xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
+    xm, um = {**X_MAX, **(x_max or {})}, {**U_MAX, **(u_max or {})}
+    Az, Bz = augment(A, B0, B1, delay)
+    n, m = B1.shape
+    Q = np.zeros_like(Az)
+    Q[:n, :n] = np.diag([1 / xm[XI_NAMES[i]] ** 2 for i in xs])
+    R = np.diag([1 / um[INPUTS[i]] ** 2 for i in us])
+    P = solve_discrete_are(Az, Bz, Q, R)
+    K = np.linalg.solve(R + Bz.T @ P @ Bz, Bz.T @ P @ Az)
+    return Gain(K=K, multipliers=_sorted(np.linalg.eigvals(Az - Bz @ K)), open_loop=_sorted(np.linalg.eigvals(A)),
+                states=xs, inputs=us, delay=int(delay))

@@ -1,0 +1,162 @@
+"""The controlled plant: a :class:`hawksim.flight.simulator.Simulator` whose two wings follow their own Eq. 1
+kinematics, changed once per wingbeat at phase 0, in a uniform wind.
+
+Commands. A command is the deviation ``du`` (7,) of :data:`INPUTS` from a base kinematics (the orbit's):
+symmetric f (as the ratio f / f_base - 1), phi0, alpha0, theta0 [rad] added to both wings, and antisymmetric
+(left minus right) phi_a, phi0, alpha0 [rad], added half to the left wing and subtracted half from the right
+(:func:`wing_kinematics`). Each wing's parameters saturate at the Table 2 bounds (:func:`saturate`).
+
+Transition. A change of any parameter at phase 0 would jump the prescribed wing pose or rate (at phase 0 the
+sweep is at phi0 - phi_a, the rotation at 90 deg + alpha0 turning at -alpha_a 2 pi f). Beat k therefore blends
+the previous beat's kinematics q_o into the new one q_n over the whole beat, both at the beat's local time
+tau = t - t_k: q = (1 - s) q_o + s q_n with the quintic smoothstep s(tau / T_k) (s, s', s'' = 0 at tau = 0 and
+1, 0, 0 at T_k), and the rates and accelerations by the product rule. The beat lasts T_k = 1 / f_k of the new
+kinematics and the integrator step is T_k / steps_per_cycle (so phase 0 always falls on a step). The one-beat
+map thus depends on the state, the new command and the previous one: x_{k+1} = P(x_k, u_{k-1}, u_k)
+(:mod:`hawksim.control.derivatives`).
+
+With no change (``begin_beat`` never called, or called with the same kinematics) the prescribed motion is
+Eq. 1 of the base kinematics, the same floats as :meth:`Simulator.desired` (tested bit-identical).
+
+Wind: ``air_v`` (3,) world [m/s], a uniform air velocity handed to the backend in every ``state()`` (the
+quasi-steady and UVLM backends take it); zero by default (then the state is the base class's, unchanged).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from hawksim.backends.base import FlightState
+from hawksim.flight.simulator import Simulator
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+
+INPUTS = ("f", "phi0", "alpha0", "theta0", "dphi_a", "dphi0", "dalpha0")
+"""Command channels: symmetric f (relative: f / f_base - 1), phi0, alpha0, theta0 [rad]; antisymmetric
+(left minus right) phi_a, phi0, alpha0 [rad]."""
+
+SYM_INPUTS = (0, 1, 2, 3)
+"""Indices of the symmetric (longitudinal) channels in :data:`INPUTS`."""
+
+ANTI_INPUTS = (4, 5, 6)
+"""Indices of the antisymmetric (lateral) channels."""
+
+_P = {k: i for i, k in enumerate(PARAM_NAMES)}
+
+
+def wing_kinematics(base: Kinematics, du: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(left, right) parameter vectors (7,) SI in PARAM_NAMES order for the command ``du`` (7,), unsaturated."""
+    du = np.asarray(du, float)
+    p = base.as_array()
+    sym = np.zeros(7)
+    sym[_P["f"]] = du[0] * base.f
+    sym[_P["phi0"]], sym[_P["alpha0"]], sym[_P["theta0"]] = du[1], du[2], du[3]
+    anti = np.zeros(7)
+    anti[_P["phi_a"]], anti[_P["phi0"]], anti[_P["alpha0"]] = du[4], du[5], du[6]
+    return p + sym + anti / 2, p + sym - anti / 2
+
+
+def saturate(params: np.ndarray) -> np.ndarray:
+    """A wing's parameters (7,) clipped to Table 2."""
+    lo, hi = bounds_si()
+    return np.clip(params, lo, hi)
+
+
+def command_of(base: Kinematics, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+    """Inverse of :func:`wing_kinematics` for the seven channels (the command actually applied after
+    saturation): sym = (left + right) / 2, anti = left - right, relative to ``base``."""
+    p = base.as_array()
+    s, a = (left + right) / 2 - p, left - right
+    return np.array([s[_P["f"]] / base.f, s[_P["phi0"]], s[_P["alpha0"]], s[_P["theta0"]],
+                     a[_P["phi_a"]], a[_P["phi0"]], a[_P["alpha0"]]])
+
+
+def _smoothstep(x: float) -> tuple[float, float, float]:
+    """Quintic s(x) = 10x^3 - 15x^4 + 6x^5 on [0, 1] and its first two derivatives in x."""
+    x = min(max(x, 0.0), 1.0)
+    x2 = x * x
+    return (x2 * x * (10 - 15 * x + 6 * x2), 30 * x2 * (1 - x) ** 2, 60 * x * (1 - x) * (1 - 2 * x))
+
+
+class ControlledSimulator(Simulator):
+    """A Simulator with per-wing kinematics switched at phase 0 (see the module docstring) and a uniform wind.
+
+    ``kin`` (the base class's) is the base kinematics: both wings follow it until :meth:`begin_beat`.
+    """
+
+    def __init__(self, model, kin: Kinematics, backend, **kw):
+        super().__init__(model, kin, backend, **kw)
+        self.air_v = np.zeros(3)
+        self._new: tuple[Kinematics, Kinematics] | None = None  # None: both wings on self.kin
+        self._old: tuple[Kinematics, Kinematics] | None = None
+        self._same = True
+        self._t0 = 0.0
+        self._T = kin.period
+
+    # ---- commands -------------------------------------------------------------------------------
+    def begin_beat(self, left: Kinematics, right: Kinematics) -> None:
+        """Start a wingbeat now (call at phase 0, i.e. at t = 0 or right after the previous beat's last step):
+        blend from the current kinematics to (left, right) over this beat, whose period is 1 / left.f."""
+        if left.f != right.f:
+            raise ValueError(f"both wings flap at one frequency, got {left.f} and {right.f} Hz")
+        cur = self._new if self._new is not None else (self.kin, self.kin)
+        self._old, self._new = cur, (left, right)
+        self._same = cur == self._new
+        self._t0 = float(self.d.time)
+        self._T = left.period
+        self.dt = self._T / self.steps_per_cycle
+        self.m.opt.timestep = self.dt
+
+    def set_wings(self, left: Kinematics, right: Kinematics) -> None:
+        """Put both wings on (left, right) from t = 0 with no blend (before ``reset``/``set_body_state``): the
+        kinematics of the beat before the first one."""
+        if left.f != right.f:
+            raise ValueError(f"both wings flap at one frequency, got {left.f} and {right.f} Hz")
+        self._old = self._new = (left, right)
+        self._same = True
+        self._t0 = 0.0
+        self._T = left.period
+        self.dt = self._T / self.steps_per_cycle
+        self.m.opt.timestep = self.dt
+
+    @property
+    def wing_params(self) -> tuple[Kinematics, Kinematics]:
+        """The (left, right) kinematics of the current beat's end."""
+        return self._new if self._new is not None else (self.kin, self.kin)
+
+    # ---- prescribed motion ----------------------------------------------------------------------
+    def desired(self, t: float):
+        if self._new is None:
+            return super().desired(t)
+        tau = t - self._t0
+        out_q, out_qd, out_qdd = [], [], []
+        same = self._same
+        s, s1, s2 = _smoothstep(tau / self._T)
+        s1, s2 = s1 / self._T, s2 / (self._T * self._T)
+        for w in (0, 1):
+            kn = self._new[w]
+            wt = 2 * math.pi * kn.f * tau
+            qn, qdn, qddn = kn.eq1(math.cos(wt), math.sin(wt))
+            if same or s >= 1.0:
+                out_q += qn
+                out_qd += qdn
+                out_qdd += qddn
+                continue
+            ko = self._old[w]
+            wt = 2 * math.pi * ko.f * tau
+            qo, qdo, qddo = ko.eq1(math.cos(wt), math.sin(wt))
+            for j in range(3):
+                dq, dqd = qn[j] - qo[j], qdn[j] - qdo[j]
+                out_q.append(qo[j] + s * dq)
+                out_qd.append(qdo[j] + s * dqd + s1 * dq)
+                out_qdd.append(qddo[j] + s * (qddn[j] - qddo[j]) + 2 * s1 * dqd + s2 * dq)
+        return np.array(out_q), np.array(out_qd), np.array(out_qdd)
+
+    # ---- wind -----------------------------------------------------------------------------------
+    def state(self) -> FlightState:
+        st = super().state()
+        if np.any(self.air_v):
+            st = replace(st, air_v=np.array(self.air_v, float))
+        return st

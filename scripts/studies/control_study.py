@@ -1,0 +1,151 @@
+"""Issue 20's targets for the quasi-steady LQR (docs/control.md): writes results/control/control_study.json and
+results/control/controlled_flight.png. ``python scripts/studies/control_study.py`` (~3 min on one core)."""
+
+from __future__ import annotations
+
+import json
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from hawksim.control.closed_loop import SCHEDULE_SPEEDS, Gust, Schedule, body_length, fly_closed_loop
+
+OUT = Path(__file__).resolve().parents[2] / "results" / "control"
+L = body_length()
+BOUNDS = dict(speed_error=0.02, pitch_error_deg=2.0, roll_deg=2.0, horizontal_drift_m=L)
+
+
+def maxabs(beats, key):
+    return float(max(abs(b[key]) for b in beats))
+
+
+def stats(cl, skip=0):
+    b = cl.beats[skip:]
+    return {k: maxabs(b, k) for k in BOUNDS} | {"mean_P_plus": float(np.mean([x["P_plus"] for x in b]))}
+
+
+def within(b):
+    return all(abs(b[k]) <= v for k, v in BOUNDS.items())
+
+
+def recovered_after(cl, end_beat):
+    """Wingbeats after the gust's last beat until every later beat is within the bounds (None: never)."""
+    ok = [within(b) for b in cl.beats]
+    for k in range(len(ok)):
+        if all(ok[k:]):
+            return max(0, cl.beats[k]["beat"] - end_beat)
+    return None
+
+
+def main():
+    t0 = time.time()
+    res = {"host": platform.node(), "date": time.strftime("%Y-%m-%d %H:%M"), "body_length_m": L, "bounds": BOUNDS}
+    sch = {d: Schedule(0, 2, delay=d) for d in (0, 1)}
+    res["schedule"] = {d: [{"speed": p.speed, "orbit_P_plus": p.orbit.P_plus,
+                            "open_loop_max_multiplier_long": float(np.abs(p.long.open_loop).max()),
+                            "open_loop_multipliers_lat": [abs(complex(z)) for z in p.lat.open_loop],
+                            "closed_long": [abs(complex(z)) for z in p.long.multipliers if abs(z) > 1e-12],
+                            "closed_lat": [abs(complex(z)) for z in p.lat.multipliers if abs(z) > 1e-12],
+                            "coupling": p.model.coupling} for p in sch[d].points] for d in (0, 1)}
+    hold = {}
+    for v in SCHEDULE_SPEEDS:
+        cl = fly_closed_loop(v, 100, schedule=sch[0])
+        pert = np.zeros(9)
+        pert[[1, 2, 6, 7]] = 0.05, 0.05, np.deg2rad(1.0), np.deg2rad(1.0)  # v, w [m/s], phi, theta [rad]
+        cp = fly_closed_loop(v, 100, schedule=sch[0], perturbation=pert)
+        ok = [within(b) for b in cp.beats]
+        settle = next((k for k in range(len(ok)) if all(ok[k:])), None)
+        hold[v] = {"from_orbit": stats(cl), "orbit_P_plus": sch[0].points[SCHEDULE_SPEEDS.index(v)].orbit.P_plus,
+                   "wall_s": cl.wall_time_s, "perturbed_start": stats(cp),
+                   "perturbed_start_stats_after_10": stats(cp, 10),
+                   "perturbed_settled_at_beat": None if settle is None else cp.beats[settle]["beat"]}
+        print(v, hold[v], file=sys.stderr)
+    res["hold_100_beats"] = hold
+    prof = fly_closed_loop(0, 40, profile=[(0, 2), (1, 10), (2, 10)], schedule=sch[0])
+    over = max(b["mean_vertical_speed"] - b["speed_command"] for b in prof.beats)
+    res["profile_0_1_2"] = {"overshoot_m_s": float(over), "stats": stats(prof),
+                            "final_10": stats(prof, 30), "speeds": [b["mean_vertical_speed"] for b in prof.beats]}
+    gust = {}
+    for v in SCHEDULE_SPEEDS:
+        cl = fly_closed_loop(v, 30, gusts=[Gust(np.array([0.0, 0.5, 0.0]), 5, 2)], schedule=sch[0])
+        gust[v] = {"recovered_beats_after_gust": recovered_after(cl, 6), "peak": stats(cl),
+                   "mean_P_plus": stats(cl)["mean_P_plus"]}
+    res["gust_0.5_lateral_2_beats"] = gust
+    dl = {}
+    for name, s in (("delay-aware design", sch[1]), ("design without delay", sch[0])):
+        try:
+            cl = fly_closed_loop(1.0, 100, delay=1, schedule=s, gusts=[Gust(np.array([0.0, 0.5, 0.0]), 5, 2)])
+            dl[name] = {"stats": stats(cl), "after_20": stats(cl, 20),
+                        "recovered_beats_after_gust": recovered_after(cl, 6)}
+        except FloatingPointError as exc:
+            dl[name] = {"diverged": str(exc)}
+    res["delay_1_beat_1ms_gust"] = dl
+    ol = fly_closed_loop(1.0, 40, control="none")
+    res["open_loop_1ms"] = {
+        "departed_at_beat": next((b["beat"] for b in ol.beats if abs(b["speed_error"]) > 0.1), None)}
+    res["wall_s"] = time.time() - t0
+    OUT.mkdir(parents=True, exist_ok=True)
+    (OUT / "control_study.json").write_text(json.dumps(res, indent=1, default=float))
+    figure(sch[0])
+    print(json.dumps({k: res[k] for k in ("profile_0_1_2", "gust_0.5_lateral_2_beats", "delay_1_beat_1ms_gust",
+                                          "open_loop_1ms", "wall_s")}, default=float)[:3000])
+
+
+def figure(sch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    cl = fly_closed_loop(0, 40, profile=[(0, 2), (1, 10), (2, 28)], gusts=[Gust(np.array([0.0, 0.5, 0.0]), 28, 2)],
+                         schedule=sch, record=True)
+    r = cl.result
+    b = cl.beats
+    tb = np.cumsum([0.0] + [1 / x["commands"]["f_hz"] for x in b])  # beat boundaries [s]
+    tm = (tb[:-1] + tb[1:]) / 2
+    fig, ax = plt.subplots(4, 1, figsize=(7.5, 9), sharex=True)
+    ax[0].plot(r.t, r.body_v[:, 2], color="0.75", lw=0.6, label="within-beat vz")
+    ax[0].step(tb, np.r_[[x["speed_command"] for x in b], b[-1]["speed_command"]], where="post", color="k",
+               lw=1, label="command")
+    ax[0].step(tb, np.r_[[x["speed_reference"] for x in b], b[-1]["speed_reference"]], where="post", color="C1",
+               lw=1, ls="--", label="reference (rate-limited)")
+    ax[0].plot(tm, [x["mean_vertical_speed"] for x in b], "o", ms=3, color="C0", label="beat-mean vz")
+    ax[0].set_ylabel("vertical speed [m/s]")
+    ax[0].legend(fontsize=7, loc="upper left")
+    ax[1].plot(tm, [x["pitch_error_deg"] for x in b], "o-", ms=3, label="pitch - orbit mean pitch")
+    ax[1].plot(tm, [x["roll_deg"] for x in b], "s-", ms=3, label="roll (right wing down +)")
+    ax[1].plot(tm, [x["yaw_deg"] for x in b], "^-", ms=3, label="yaw (nose right +)")
+    ax[1].axhspan(-2, 2, color="0.92", zorder=0)
+    ax[1].set_ylabel("beat mean [deg]")
+    ax[1].legend(fontsize=7)
+    c = {key: [x["commands"][key] for x in b] for key in b[0]["commands"]}
+    ax2 = ax[2].twinx()
+    ax[2].plot(tm, c["f_hz"], "o-", ms=3, color="C0", label="f [Hz] (left axis)")
+    for key, col in (("phi0_deg", "C1"), ("alpha0_deg", "C2"), ("theta0_deg", "C3")):
+        ax2.plot(tm, c[key], ".-", color=col, label=key.replace("_deg", " [deg]"))
+    ax[2].set_ylabel("f [Hz]")
+    ax2.set_ylabel("symmetric angles [deg]")
+    ax2.legend(fontsize=7, loc="upper right")
+    for key, col in (("dphi_a_deg", "C4"), ("dphi0_deg", "C5"), ("dalpha0_deg", "C6")):
+        ax[3].plot(tm, c[key], ".-", color=col, label=key.replace("_deg", "") + " left - right [deg]")
+    ax3 = ax[3].twinx()
+    ax3.plot(tm, [1e3 * x["horizontal_offset_m"][1] for x in b], "k--", lw=1, label="lateral offset Y [mm]")
+    ax3.set_ylabel("Y (right) [mm]")
+    ax3.legend(fontsize=7, loc="lower right")
+    ax[3].set_ylabel("antisymmetric [deg]")
+    ax[3].legend(fontsize=7, loc="upper right")
+    ax[3].set_xlabel("time [s]")
+    g = cl.gusts[0]
+    for a in ax:
+        a.axvspan(tb[g.start - 1], tb[g.start - 1 + g.beats], color="C3", alpha=0.12, zorder=0)
+    ax[0].set_title("LQR, quasi-steady: profile 0:2,1:10,2:28 m/s:beats, gust 0,0.5,0 m/s @ beats 28-29 (shaded)",
+                    fontsize=9)
+    fig.tight_layout()
+    fig.savefig(OUT / "controlled_flight.png", dpi=300)
+
+
+if __name__ == "__main__":
+    main()
