@@ -346,7 +346,7 @@ def test_interrupt_writes_the_steps_flown(tmp_path, monkeypatch, capsys, signame
     monkeypatch.setattr(cli_fly, "progress_for", progress_for)
     before = signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)
     path = tmp_path / "cut.rrd"
-    assert main(["fly", "--speed", "1", "--cycles", "3", "--rrd", str(path), "--json"]) == 130
+    assert main(["fly", "--speed", "1", "--cycles", "3", "--control", "none", "--rrd", str(path), "--json"]) == 130
     assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before  # handlers restored
     assert [p.name for p in tmp_path.iterdir()] == ["cut.rrd"]
     steps, _ = temporal_column(read_chunks(path), "/world/moth", "Transform3D:quaternion")
@@ -371,7 +371,7 @@ def test_perturbed_flight_ghost(tmp_path, capsys):
     from hawksim.cli import main
 
     path = tmp_path / "ghost.rrd"
-    assert main(["fly", "--speed", "1", "--cycles", "2", "--perturb", "w=0.01", "--perturb", "phi=0.5", "--rrd",
+    assert main(["fly", "--speed", "1", "--cycles", "2", "--control", "none", "--perturb", "w=0.01", "--perturb", "phi=0.5", "--rrd",
                  str(path), "--json", "--no-progress"]) == 0
     chunks = read_chunks(path)
     for e in ("/world/ghost", "/world/ghost/body", "/world/ghost/wings/left", "/world/ghost/wings/right/mesh",
