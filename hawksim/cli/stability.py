@@ -47,7 +47,12 @@ def cmd_stability(args) -> dict:
                   "the multipliers are of the nearest state found", file=sys.stderr)
         fl = monodromy(orbit)
         kin = orbit.kinematics
-        out_orbit = {"orbit": orbit_json(orbit), "floquet": {
+        control = None
+        if args.aero == "quasi-steady":  # issue 20: B matrices beside the monodromy (UVLM: control_uvlm study)
+            from hawksim.control.derivatives import linearize
+
+            control = linearize(orbit).to_json()
+        out_orbit = {"orbit": orbit_json(orbit), "control_derivatives": control, "floquet": {
             **floquet_json(fl), "chart": "level heading axes (u, v horizontal; the averaged A's eigenvectors are in "
                                          "body-fixed stability axes: u_b = u - w_e theta, v_b = v + w_e phi)"}}
     elif kin is None and args.aero == "quasi-steady":

@@ -87,3 +87,29 @@ def test_uvlm_trim_holds_from_the_shipped_orbit():
     for b in beats:
         assert b["mean_vertical_speed"] == pytest.approx(1.0, abs=UVLM_SPEED_TOL)
         assert b["pitch_deg"] == pytest.approx(ref, abs=UVLM_PITCH_TOL_DEG)
+
+
+FLOQUET_EXPONENT_TOL = 1e-3
+"""Per wingbeat: the CLI's longitudinal exponents at 1 m/s against the quasi-steady values recorded in
+docs/free_flight.md (0.389 +- 0.230i, -0.112, -1.01; measured by the orbit study on 2026-12-01, printed to 3
+decimals, hence this tolerance)."""
+
+
+def test_stability_floquet_cli_contract(capsys):
+    import json
+
+    from hawksim.cli import main
+
+    assert main(["stability", "--speed", "1", "--floquet", "--aero", "quasi-steady", "--json", "--no-progress"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("longitudinal", "lateral", "floquet", "orbit", "control_derivatives"):
+        assert key in out
+    for system in ("longitudinal", "lateral"):
+        f = out["floquet"][system]
+        assert len(f["multipliers"]) == len(f["exponents"]) == len(f["modes"]) == 4
+        assert len(out[system]["eigenvalues"]) == 4 and len(out[system]["derivatives"]) == 9
+    ex = sorted(out["floquet"]["longitudinal"]["exponents"], key=lambda z: -z[0])
+    assert ex[0][0] == pytest.approx(0.389, abs=FLOQUET_EXPONENT_TOL)
+    assert abs(ex[0][1]) == pytest.approx(0.230, abs=FLOQUET_EXPONENT_TOL)
+    assert ex[-1][0] == pytest.approx(-1.013, abs=FLOQUET_EXPONENT_TOL)
+    assert len(out["control_derivatives"]["B1"][0]) == len(out["control_derivatives"]["inputs"])
