@@ -371,8 +371,8 @@ def test_perturbed_flight_ghost(tmp_path, capsys):
     from hawksim.cli import main
 
     path = tmp_path / "ghost.rrd"
-    assert main(["fly", "--speed", "1", "--cycles", "2", "--control", "none", "--perturb", "w=0.01", "--perturb", "phi=0.5", "--rrd",
-                 str(path), "--json", "--no-progress"]) == 0
+    assert main(["fly", "--speed", "1", "--cycles", "2", "--control", "none", "--perturb", "w=0.01", "--perturb",
+                 "phi=0.5", "--rrd", str(path), "--json", "--no-progress"]) == 0
     chunks = read_chunks(path)
     for e in ("/world/ghost", "/world/ghost/body", "/world/ghost/wings/left", "/world/ghost/wings/right/mesh",
               "/world/ghost_trajectory", "/world/ghost_legend"):
