@@ -99,5 +99,5 @@ def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=
     if rrd:
         from hawksim.flight.recording import write_rrd
 
-        out["rrd"] = str(write_rrd(rrd, cl.result))
+        out["rrd"] = str(write_rrd(rrd, cl.result, control=ctl["beats"]))
     return out

@@ -130,12 +130,14 @@ def _check_target(path: Path) -> None:
         raise ValueError(f"cannot write recording {path}: directory {path.parent} does not exist")
 
 
-def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, prediction=None,
+def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, prediction=None, control=None,
               application_id: str = "hawksim") -> Path:
     """Write ``result`` as a Rerun recording (with its default blueprint) to ``path``; return the Path.
 
     ``prediction``: a :class:`hawksim.stability.prediction.Prediction` of the flight (ghost body and per-beat
-    plots), or None. Writes to a temporary file in the same directory and renames it at the end, so a failure (or
+    plots), or None. ``control``: the per-beat objects of a controlled flight (`hawksim fly --control lqr` JSON's
+    ``control.beats``: ``commands`` and tracking errors), logged at the end of each beat under ``plots/control``
+    with a view each (:func:`control_views`). Writes to a temporary file in the same directory and renames it at the end, so a failure (or
     an interrupt) leaves nothing half-written. Raises ValueError (one line, naming the path) when the path cannot
     be written.
     """
@@ -149,12 +151,15 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
         raise ValueError(f"cannot write recording {path}: {exc.strerror or exc}") from None
     rec = rr.RecordingStream(application_id)
     try:
+        views = control_views(control) if control else []
         rec.save(tmp, default_blueprint=default_blueprint(uvlm=_uvlm_extras(result) != [],
-                                                           prediction=prediction is not None))
+                                                           prediction=prediction is not None, control=views))
         _log_flight(rec, result, morph)
         _log_extras(rec, result)
         if prediction is not None:
             _log_prediction(rec, result, prediction, morph)
+        if control:
+            _log_control(rec, result, control, views)
         rec.flush()
         rec.disconnect()  # closes the file sink (writes the footer)
         os.replace(tmp, path)
@@ -166,11 +171,45 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
     return path
 
 
-def default_blueprint(*, uvlm: bool = False, prediction: bool = False) -> rrb.Blueprint:
+CONTROL_TRACKING = {"speed_error": "m/s", "pitch_error_deg": "deg", "roll_deg": "deg", "yaw_deg": "deg",
+                    "horizontal_drift_m": "m"}
+"""Tracking errors of a controlled flight's beats that the recording plots, with their units."""
+
+_SUFFIX_UNITS = (("_hz", "Hz"), ("_deg", "deg"), ("_m", "m"))
+
+
+def control_views(beats: list[dict]) -> list[tuple[str, str, str, str]]:
+    """(entity path, key, kind, view name with unit) of every command and tracking error in ``beats``; a command's
+    unit comes from its key's suffix (``f_hz``, ``phi0_deg``)."""
+    out = []
+    for key in beats[0].get("commands", {}):
+        unit = next((u for s, u in _SUFFIX_UNITS if key.endswith(s)), "-")
+        out.append((f"plots/control/commands/{key}", key, "commands", f"command {key} [{unit}]"))
+    for key, unit in CONTROL_TRACKING.items():
+        if key in beats[0]:
+            out.append((f"plots/control/tracking/{key}", key, "tracking", f"{key} [{unit}]"))
+    return out
+
+
+def _log_control(rec: rr.RecordingStream, res: FlightResult, beats: list[dict], views) -> None:
+    T = res.steps_per_cycle * (res.t[1] - res.t[0])
+    t_end = (np.arange(len(beats)) + 1) * T
+    idx = [rr.TimeColumn("time", duration=t_end),
+           rr.TimeColumn("step", sequence=(np.arange(len(beats)) + 1) * res.steps_per_cycle)]
+    for path, key, kind, name in views:
+        vals = [b["commands"][key] if kind == "commands" else b[key] for b in beats]
+        rec.log(path, rr.SeriesPoints(names=name, markers=["circle"], marker_sizes=[3.0]), static=True)
+        rec.send_columns(path, idx, rr.Scalars.columns(scalars=np.asarray(vals, dtype=float)))
+
+
+def default_blueprint(*, uvlm: bool = False, prediction: bool = False, control=()) -> rrb.Blueprint:
     """The 3D view beside tabs: the per-step time series (:data:`VIEWS`), with ``prediction`` the per-beat state
     deviations (one view per :data:`BEAT_STATES` entry, named with its unit) and the ghost's legend, with ``uvlm``
     the colour legend of the panels and wake."""
     tabs = [rrb.Grid(*[rrb.TimeSeriesView(origin=o, name=n) for o, n in VIEWS], name="Per step")]
+    if control:
+        tabs.append(rrb.Grid(*[rrb.TimeSeriesView(origin=path, name=name) for path, _, _, name in control],
+                             name="Control per beat: commands and tracking"))
     if prediction:
         tabs.append(rrb.Grid(*[rrb.TimeSeriesView(origin=f"plots/beats/{k}", name=f"Δ{k} per beat [{u}]")
                                for k, u, _ in BEAT_STATES], name="Per beat: nonlinear vs linear"))

@@ -403,3 +403,19 @@ def test_ghost_skipped_with_a_reason(tmp_path, capsys):
                  str(path), "--json", "--no-progress"]) == 0
     assert "no ghost in the recording" in capsys.readouterr().err
     assert not any(e.startswith("/world/ghost") for e in read_chunks(path))
+
+
+def test_controlled_flight_records_commands_and_tracking(tmp_path):
+    """issue 20 item 6: a controlled flight's commands and tracking errors are series, each in a view with its
+    unit, one point per wingbeat."""
+    from hawksim.cli import main
+
+    path = tmp_path / "ctl.rrd"
+    assert main(["fly", "--speed", "1", "--cycles", "3", "--gust", "0,0.5,0@1:1", "--rrd", str(path), "--json",
+                 "--no-progress"]) == 0
+    chunks = read_chunks(path)
+    check_units_and_views(path, chunks)
+    steps, values = temporal_column(chunks, "/plots/control/commands/f_hz", "Scalars:scalars")
+    assert len(steps) == 3 and all(15 <= v[0] <= 40 for v in values)  # Table 2's f bounds [Hz]
+    assert "/plots/control/tracking/speed_error" in chunks
+    verify(path)
