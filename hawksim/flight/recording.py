@@ -138,8 +138,8 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
     plots), or None. ``control``: the per-beat objects of a controlled flight (`hawksim fly --control lqr` JSON's
     ``control.beats``: ``commands`` and tracking errors), logged at the end of each beat under ``plots/control``
     with a view each (:func:`control_views`). Writes to a temporary file in the same directory and renames it at
-    the end, so a failure (or an interrupt) leaves nothing half-written. Raises ValueError (one line, naming the path) when the path cannot
-    be written.
+    the end, so a failure (or an interrupt) leaves nothing half-written. Raises ValueError (one line, naming the
+    path) when the path cannot be written.
     """
     path = Path(path)
     _check_target(path)
