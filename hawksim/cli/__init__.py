@@ -25,12 +25,42 @@ SUBCOMMANDS = (fly, aero, stability, dataset, train, predict, trim, reproduce)
 """The subcommand modules, in the order `hawksim --help` lists them."""
 
 
-def _print_human(out: dict) -> None:
+UNIT_SUFFIXES = (("_deg_s", "deg/s"), ("_deg", "deg"), ("_hz", "Hz"), ("_m_s", "m/s"), ("_m", "m"), ("_s", "s"),
+                 ("_W", "W"), ("_N", "N"))
+"""Key suffix -> unit of the human-readable output (the JSON keys carry their units the same way)."""
+KEY_UNITS = {"speed": "m/s", "speed_target": "m/s", "mean_vertical_speed": "m/s", "horizontal_drift": "m",
+             "horizontal_speed": "m/s", "mean_velocity": "m/s", "f": "Hz", "u": "m/s", "v": "m/s", "w": "m/s"}
+"""Units of the keys without a suffix (angles of ``kinematics`` are in degrees, see the --help)."""
+
+
+def _unit(key: str, parent: str = "") -> str:
+    if key in KEY_UNITS:
+        return KEY_UNITS[key]
+    if parent.endswith("kinematics") and key != "f":
+        return "deg"
+    for suffix, unit in UNIT_SUFFIXES:
+        if key.endswith(suffix):
+            return unit
+    return ""
+
+
+def _print_human(out: dict, prefix: str = "") -> None:
+    """``key: value unit`` lines; nested objects as dotted keys, long lists summarised (``--json`` has them all)."""
     for k, v in out.items():
-        if isinstance(v, float):
-            print(f"{k:>22}: {v:.6g}")
+        name = f"{prefix}{k}"
+        if isinstance(v, dict):
+            _print_human(v, name + ".")
+        elif isinstance(v, list) and (len(v) > 6 or any(isinstance(x, (dict, list)) for x in v)):
+            print(f"{name:>32}: {len(v)} entries (see --json)")
         else:
-            print(f"{k:>22}: {v}")
+            unit = _unit(k, prefix.rstrip("."))
+            if isinstance(v, float):
+                text = f"{v:.6g}"
+            elif isinstance(v, list):
+                text = "[" + ", ".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in v) + "]"
+            else:
+                text = str(v)
+            print(f"{name:>32}: {text}{' ' + unit if unit else ''}")
 
 
 def build_parser() -> Parser:

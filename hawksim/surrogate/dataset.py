@@ -306,6 +306,7 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
     """
     created = not (Path(path).exists() and Path(path).stat().st_size > 0)
     conn = open_dataset(path, create=True)
+    lock = _writer_lock(path, conn)
     t0 = time.perf_counter()
     try:
         layout = conn.execute("PRAGMA user_version").fetchone()[0]
@@ -338,14 +339,33 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
     except BaseException:
         empty = created and conn.execute("SELECT count(*) FROM samples").fetchone()[0] == 0
         conn.close()
+        lock.close()
         if empty:  # nothing half-written: a file this run created and filled with nothing goes
             for suffix in ("", "-wal", "-shm"):
                 Path(str(path) + suffix).unlink(missing_ok=True)
         raise
     else:
         conn.close()
+        lock.close()
     wall = time.perf_counter() - t0
     return GenerationResult(str(path), samples, new, diverged, wall, new / wall if wall > 0 else 0.0, unsettled)
+
+
+def _writer_lock(path, conn):
+    """An exclusive flock on the data-set file held while this process writes it: a second `hawksim dataset` on the
+    same file is refused (DatasetError) instead of computing the same samples again. (flock is independent of
+    SQLite's own fcntl locks, so readers are unaffected.)"""
+    import fcntl
+
+    fh = open(path, "rb")
+    try:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        fh.close()
+        conn.close()
+        raise DatasetError(f"data set {str(path)!r} is being written by another hawksim dataset: wait for it, or "
+                           "write to another file") from None
+    return fh
 
 
 def _compute(todo, speed, seed, resolution, scheduler, workers):

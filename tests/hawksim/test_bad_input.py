@@ -94,3 +94,22 @@ def test_integers_may_be_written_as_1e5():
 
     args = build_parser().parse_args(["trim", "--speed", "1", "--population", "1e5"])
     assert args.population == 100_000
+
+
+def test_a_second_writer_of_one_data_set_is_refused(tmp, capsys):
+    """Two `hawksim dataset` runs on one file used to compute the same samples twice; a run now holds an exclusive
+    flock on the file while it writes, and a second one exits 2 naming the file (its samples untouched)."""
+    import fcntl
+
+    from hawksim.surrogate.dataset import open_dataset
+
+    path = tmp / "d.sqlite"
+    open_dataset(path, create=True).close()
+    with open(path, "rb") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)  # stands for the first writer
+        before = path.read_bytes()
+        code = main(["dataset", "--speed", "1", "--samples", "2", "--out", str(path), "--workers", "1", "--json",
+                     "--no-progress"])
+        err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "another hawksim dataset" in err[0] and "d.sqlite" in err[0]
+    assert path.read_bytes() == before
