@@ -20,9 +20,11 @@ def _averaged(args, kin, client=None) -> dict:
 
         return {"speed": args.speed, "aero": args.aero, "trim": {"kinematics": kin.to_edge()},
                 **averaged_json(quasi_steady_system(kin, args.speed))}
+    from hawksim.cli.progress import progress_for
     from hawksim.stability.report import stability_report
 
-    return stability_report(args.speed, kinematics=kin, client=client)
+    bar = progress_for(args, f"stability V={args.speed:g} (disturbed UVLM runs)", "run", mininterval=0.1)
+    return stability_report(args.speed, kinematics=kin, client=client, progress=bar)
 
 
 def cmd_stability(args) -> dict:

@@ -110,8 +110,9 @@ def _base_run(kin, speed, res, symmetric, cycles):
 
 def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DERIVATIVE_RESOLUTION, *,
                             delta_velocity: float = DELTA_VELOCITY, delta_rate: float = DELTA_RATE,
-                            client=None) -> DerivativeRuns:
-    """All 18 derivatives of the paper at a trim. With a dask.distributed ``client``
+                            client=None, progress=None) -> DerivativeRuns:
+    """All 18 derivatives of the paper at a trim; progress(done, total) is called as the 12 disturbed runs finish.
+    With a dask.distributed ``client``
     (`hawksim.cluster.dask_client`) the 2 shared starts and the 12 disturbed runs go to its workers (the starts
     stay there as futures); without, they run in this process. The results do not depend on where the runs go."""
     import time
@@ -136,11 +137,22 @@ def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DER
     if client is not None:
         bases = {s: client.submit(_base_run, kin, speed, res, s, warm, pure=False) if warm > 0 else None
                  for s in (True, False)}
-        loads = client.gather([client.submit(_loads_stability, kin, speed, res, c[2], c[3], c[4], bases[c[4]],
-                                             pure=False) for c in cases])
+        futures = [client.submit(_loads_stability, kin, speed, res, c[2], c[3], c[4], bases[c[4]], pure=False)
+                   for c in cases]
+        if progress is not None:
+            from dask.distributed import as_completed
+
+            progress(0, len(futures))
+            for k, _ in enumerate(as_completed(futures), 1):
+                progress(k, len(futures))
+        loads = client.gather(futures)
     else:
         bases = {s: _base_run(kin, speed, res, s, warm) if warm > 0 else None for s in (True, False)}
-        loads = [_loads_stability(kin, speed, res, c[2], c[3], c[4], bases[c[4]]) for c in cases]
+        loads = []
+        for c in cases:
+            loads.append(_loads_stability(kin, speed, res, c[2], c[3], c[4], bases[c[4]]))
+            if progress is not None:
+                progress(len(loads), len(cases))
     got = {(c[0], c[1]): y for c, y in zip(cases, loads)}
     step = {"u": dv, "w": dv, "q": dw, "v": dv, "p": dw, "r": dw}
     out = {}

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 
-def stability_report(speed: float, *, kinematics=None, client=None) -> dict:
+def stability_report(speed: float, *, kinematics=None, client=None, progress=None) -> dict:
     """The CLI contract's JSON for one ascent speed (also used by the studies of `hawksim reproduce`); client: a
     dask.distributed client whose workers run the UVLM cases
     (:func:`hawksim.stability.derivatives.dimensional_derivatives`)."""
@@ -16,7 +16,7 @@ def stability_report(speed: float, *, kinematics=None, client=None) -> dict:
 
     trim = shipped_trim(speed) if kinematics is None else None
     kin = kinematics if kinematics is not None else trim.kinematics
-    runs = dimensional_derivatives(kin, speed, client=client)
+    runs = dimensional_derivatives(kin, speed, client=client, progress=progress)
     mp = mass_properties(kin)
     d, A_long, A_lat, scalars = nondimensional_system(kin, speed, runs.derivatives, mp)
     return {

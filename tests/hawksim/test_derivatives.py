@@ -91,8 +91,12 @@ def test_dask_workers_give_the_same_derivatives():
 
     res = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=2, average_cycles=1)
     kin = table3_kinematics(1.0)
-    here = dimensional_derivatives(kin, 1.0, res).derivatives
+    calls_here, calls_there = [], []
+    here = dimensional_derivatives(kin, 1.0, res, progress=lambda k, n: calls_here.append((k, n))).derivatives
     with dask_client(workers=2) as client:
-        there = dimensional_derivatives(kin, 1.0, res, client=client).derivatives
+        there = dimensional_derivatives(kin, 1.0, res, client=client,
+                                        progress=lambda k, n: calls_there.append((k, n))).derivatives
+    assert calls_here == [(k, 12) for k in range(1, 13)]  # the 12 disturbed runs, as they finish
+    assert calls_there == [(k, 12) for k in range(13)]
     for k, v in here.items():
         assert there[k] == pytest.approx(v, rel=DASK_RTOL, abs=DASK_ATOL)
