@@ -9,7 +9,10 @@ threads).
 
 from __future__ import annotations
 
+import logging
 import os
+import signal
+import threading
 from contextlib import contextmanager
 
 ONE_THREAD = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
@@ -37,10 +40,16 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
         # (LocalCluster's env= alone reached them too late).
         saved = {k: os.environ.get(k) for k in ONE_THREAD}
         os.environ.update(ONE_THREAD)
+        # the workers inherit an ignored SIGINT (Python keeps it ignored), so a Ctrl-C reaches this process only:
+        # it closes the cluster below instead of every worker printing a KeyboardInterrupt traceback
+        main = threading.current_thread() is threading.main_thread()
+        sigint = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
         try:
             cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
                                    dashboard_address=":0", silence_logs=40, death_timeout=10, env=ONE_THREAD)
         finally:
+            if sigint is not None:
+                signal.signal(signal.SIGINT, sigint)
             for k, v in saved.items():
                 if v is None:
                     os.environ.pop(k, None)
@@ -49,6 +58,9 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
         client = Client(cluster)
     try:
         yield client
+    except KeyboardInterrupt:
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)  # a quiet shutdown after Ctrl-C
+        raise
     finally:
         client.close()
         if cluster is not None:

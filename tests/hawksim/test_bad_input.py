@@ -113,3 +113,23 @@ def test_a_second_writer_of_one_data_set_is_refused(tmp, capsys):
         err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "another hawksim dataset" in err[0] and "d.sqlite" in err[0]
     assert path.read_bytes() == before
+
+
+def test_ctrl_c_stops_a_dask_run_quietly(tmp):
+    """A terminal's Ctrl-C (SIGINT to the whole process group) during `hawksim dataset` on a LocalCluster: exit 130,
+    one line, no worker tracebacks (the workers ignore SIGINT; the parent closes them). Issue 18 counted 4."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    exe = os.path.join(os.path.dirname(sys.executable), "hawksim")
+    p = subprocess.Popen([exe, "dataset", "--speed", "1", "--samples", "60", "--out", str(tmp / "d.sqlite"),
+                          "--workers", "2", "--json", "--no-progress"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    time.sleep(8)
+    os.killpg(p.pid, signal.SIGINT)
+    out, err = p.communicate(timeout=120)
+    err = err.decode()
+    assert p.returncode == 130 and out == b""
+    assert "Traceback" not in err and err.strip().splitlines()[-1] == "hawksim: interrupted"
