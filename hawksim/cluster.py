@@ -41,7 +41,8 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
         saved = {k: os.environ.get(k) for k in ONE_THREAD}
         os.environ.update(ONE_THREAD)
         # the workers inherit an ignored SIGINT (Python keeps it ignored), so a Ctrl-C reaches this process only:
-        # it closes the cluster below instead of every worker printing a KeyboardInterrupt traceback
+        # it closes the cluster below instead of every worker printing a KeyboardInterrupt traceback. (A Ctrl-C in the
+        # ~3 s the workers take to start is ignored too; blocking SIGINT instead did not reach dask's spawning thread.)
         main = threading.current_thread() is threading.main_thread()
         sigint = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
         try:

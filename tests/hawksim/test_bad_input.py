@@ -124,10 +124,21 @@ def test_ctrl_c_stops_a_dask_run_quietly(tmp):
     import time
 
     exe = os.path.join(os.path.dirname(sys.executable), "hawksim")
-    p = subprocess.Popen([exe, "dataset", "--speed", "1", "--samples", "60", "--out", str(tmp / "d.sqlite"),
+    p = subprocess.Popen([exe, "dataset", "--speed", "1", "--samples", "400", "--out", str(tmp / "d.sqlite"),
                           "--workers", "2", "--json", "--no-progress"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
-    time.sleep(8)
+    deadline = time.time() + 60  # wait for the first stored sample: the cluster is up and computing
+    while time.time() < deadline and p.poll() is None:
+        if (tmp / "d.sqlite").exists() and os.path.getsize(tmp / "d.sqlite") > 0:
+            import sqlite3
+
+            try:
+                with sqlite3.connect(tmp / "d.sqlite", timeout=1) as c:
+                    if c.execute("SELECT count(*) FROM samples").fetchone()[0] > 0:
+                        break
+            except sqlite3.Error:
+                pass
+        time.sleep(0.5)
     os.killpg(p.pid, signal.SIGINT)
     out, err = p.communicate(timeout=120)
     err = err.decode()
