@@ -203,8 +203,9 @@ def register(sub) -> None:
                    default=STEPS_PER_CYCLE,
                    help=f"integration steps per wingbeat ({STEPS_PER_CYCLE}; at least {MIN_STEPS_PER_CYCLE})")
     f.add_argument("--start", choices=START_CHOICES, default=None,
-                   help="orbit: the free body's periodic orbit (default for quasi-steady); trim: the held-body trim "
-                        "with a calibration wingbeat (default for uvlm and surrogate)")
+                   help="orbit: the free body's periodic orbit (the default where there is one: quasi-steady at any "
+                        "speed, the shipped UVLM orbits); trim: the held-body trim with a calibration wingbeat (the "
+                        "default otherwise, and for the surrogate)")
     from hawksim.control.command import CONTROL_CHOICES, parse_gust, parse_profile
 
     f.add_argument("--control", choices=CONTROL_CHOICES, default=None,
