@@ -30,7 +30,7 @@ import mujoco
 import numpy as np
 
 from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, saturate, wing_kinematics
-from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, _scales, make_orbit_backend, read_body_state, set_body_state
+from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, scales, make_orbit_backend, read_body_state, set_body_state
 from hawksim.frames import STABILITY_TO_WORLD
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
@@ -53,7 +53,7 @@ UVLM_FD_DELTA = 1e-3
 
 def xi_scale(kin: Kinematics) -> np.ndarray:
     """(11,) SI per normalized unit of :data:`XI_NAMES`: U, 1/T, 1 (angles), U T (positions)."""
-    U, T = _scales(kin)
+    U, T = scales(kin)
     return np.array([U, U, U, 1 / T, 1 / T, 1 / T, 1.0, 1.0, 1.0, U * T, U * T])
 
 

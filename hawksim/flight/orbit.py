@@ -59,9 +59,9 @@ import mujoco
 import numpy as np
 
 from hawksim.backends.base import AeroBackend
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, reference_speed
 from hawksim.insect.model import load_model
-from hawksim.insect.morphology import HAWKMOTH, P0_W
+from hawksim.insect.morphology import P0_W
 from hawksim.backends import flight_backend
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE
 from hawksim.frames import STABILITY_TO_WORLD, pitch_of, quat_from_matrix, quat_to_matrix, rot_x, rot_y, rot_z
@@ -149,7 +149,7 @@ def world_to_state(R: np.ndarray, v_world: np.ndarray, omega_world: np.ndarray, 
     """Inverse of :func:`state_to_world`: the state (9,) of a body attitude R (body -> world) and world-frame
     velocity and angular velocity."""
     F = S @ R @ S @ rot_y(-chi_ref)
-    theta = chi_ref - np.arcsin(np.clip(F[2, 0], -1.0, 1.0))
+    theta = chi_ref - pitch_of(F)
     phi = np.arctan2(F[2, 1], F[2, 2])
     psi = np.arctan2(F[1, 0], F[0, 0])
     Ht = rot_z(psi).T
@@ -252,9 +252,8 @@ class _Flight:
 
     def fly(self, kin: Kinematics, x0: np.ndarray, beats: int, chi_ref: float, backend=None) -> Beats:
         if backend is None:
-            backend, every = make_orbit_backend(self.aero, symmetric=self.symmetric)
-        else:
-            every = 1 if backend.name == "quasi-steady" else STEPS_PER_CYCLE // 40
+            backend, _ = make_orbit_backend(self.aero, symmetric=self.symmetric)
+        every = aero_every_for(backend, STEPS_PER_CYCLE)
         sim = Simulator(self.model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
         set_body_state(sim, x0, chi_ref)
         t0 = time.perf_counter()
@@ -340,7 +339,7 @@ class Orbit:
 def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
     """Whether a normalized 6-residual (u, w, q, theta periodicity; mean horizontal and vertical velocity) meets
     :data:`UVLM_TOL_VELOCITY` and :data:`UVLM_TOL_RATE` in SI."""
-    U, T = _scales(kin)
+    U, T = scales(kin)
     r = np.abs(np.asarray(r))
     return bool(max(r[0], r[1], r[4], r[5]) * U <= UVLM_TOL_VELOCITY and r[2] / T <= UVLM_TOL_RATE
                 and r[3] <= UVLM_TOL_RATE * T)
@@ -370,13 +369,15 @@ def orbit_table(orbits: list[Orbit], command: str) -> dict:
             "steps_per_cycle": STEPS_PER_CYCLE, "rows": [o.to_json() for o in orbits]}
 
 
-def _scales(kin: Kinematics) -> tuple[float, float]:
-    return 2 * kin.phi_a * kin.f * HAWKMOTH.r2, kin.period
+def scales(kin: Kinematics) -> tuple[float, float]:
+    """(U [m/s], T [s]): the reference speed of Eq. 8 (:func:`hawksim.insect.kinematics.reference_speed`) and the
+    wingbeat period, the units of the normalized states."""
+    return reference_speed(kin), kin.period
 
 
 def _residual(kin: Kinematics, speed: float, b: Beats, warm: int) -> np.ndarray:
     """Normalized 6-residual of a flight whose beat ``warm`` (0-based) is the candidate periodic beat."""
-    U, T = _scales(kin)
+    U, T = scales(kin)
     xa, xb = b.states[warm], b.states[warm + 1]
     dx = xb - xa
     mv = b.mean_velocity[warm]
@@ -386,7 +387,7 @@ def _residual(kin: Kinematics, speed: float, b: Beats, warm: int) -> np.ndarray:
 def _unpack(z: np.ndarray, base: Kinematics, f_ref: float) -> tuple[Kinematics, np.ndarray]:
     """Normalized unknowns z = (u/U, w/U, q T, theta, f/f_ref, phi0) -> (kinematics, launch state (9,))."""
     kin = replace(base, f=float(z[4] * f_ref), phi0=float(z[5]))
-    U, T = _scales(kin)
+    U, T = scales(kin)
     x = np.zeros(9)
     x[0], x[2], x[4], x[7] = z[0] * U, z[1] * U, z[2] / T, z[3]
     return kin, x
@@ -435,7 +436,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     f_ref = base.f
     if x0 is None:
         x0 = initial_guess(base, speed, fl, 0)
-    U, T = _scales(base)
+    U, T = scales(base)
     z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
 
     def F(zz):

@@ -33,7 +33,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from hawksim.frames import rot_x, rot_y, rot_z
-from hawksim.insect.morphology import STROKE_PLANE_TO_BODY
+from hawksim.insect.morphology import HAWKMOTH, STROKE_PLANE_TO_BODY, Morphology
 
 PARAM_NAMES = ("f", "beta", "phi0", "theta0", "alpha0", "phi_a", "alpha_a")
 """The seven kinematic parameters, in the paper's order (the ANN's input order)."""
@@ -170,6 +170,12 @@ class Kinematics:
     def accelerations(self, t: np.ndarray) -> np.ndarray:
         """Second derivatives (3, *t.shape) of (phi, theta, alpha) [rad/s^2]."""
         return self._eq1_array(t, 2)
+
+
+def reference_speed(kin: Kinematics, morph: Morphology = HAWKMOTH) -> float:
+    """U = 2 phi_a f r2 [m/s], the mean wing speed at the second-moment radius r2 (paper Eq. 8, r2 dimensional):
+    the velocity unit of every nondimensional state and derivative."""
+    return 2 * kin.phi_a * kin.f * morph.r2
 
 
 def bounds_si() -> tuple[np.ndarray, np.ndarray]:

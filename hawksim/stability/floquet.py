@@ -31,7 +31,7 @@ import numpy as np
 
 from hawksim.backends.held import held_flight
 from hawksim.insect.kinematics import Kinematics
-from hawksim.flight.orbit import UVLM_FD_STEP, S, Orbit, _Flight, _scales
+from hawksim.flight.orbit import UVLM_FD_STEP, S, Orbit, _Flight, scales
 from hawksim.frames import cross
 
 FLOQUET_STATES = (0, 1, 2, 3, 4, 5, 6, 7)
@@ -75,7 +75,7 @@ class Floquet:
 
 def state_scale(kin: Kinematics) -> np.ndarray:
     """(8,) SI per normalized unit of the Floquet states: U for velocities, 1/T for rates, 1 for angles."""
-    U, T = _scales(kin)
+    U, T = scales(kin)
     return np.array([U, U, U, 1 / T, 1 / T, 1 / T, 1.0, 1.0])
 
 
@@ -206,7 +206,7 @@ def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int =
     from hawksim.stability.derivatives import mass_properties
     from hawksim.stability.system import nondimensional_system
 
-    U, T = _scales(kin)
+    U, T = scales(kin)
     dv, dw = DERIV_DELTA_VELOCITY * U, DERIV_DELTA_RATE / T
     e = np.eye(3)
     z = np.zeros(3)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.kinematics import Kinematics, reference_speed
 from hawksim.insect.morphology import HAWKMOTH, RHO_AIR, G, Morphology
 
 LONG_DERIVATIVES = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
@@ -46,7 +46,7 @@ class Scales:
 
     @classmethod
     def of(cls, kin: Kinematics, morph: Morphology = HAWKMOTH, rho: float = RHO_AIR) -> Scales:
-        return cls(U=2 * kin.phi_a * kin.f * morph.r2, T=kin.period, S_t=2 * morph.wing_area, cbar=morph.cbar, rho=rho)
+        return cls(U=reference_speed(kin, morph), T=kin.period, S_t=2 * morph.wing_area, cbar=morph.cbar, rho=rho)
 
     @property
     def force(self) -> float:
