@@ -43,6 +43,21 @@ LONG = (0, 2, 4, 7)
 LAT = (1, 3, 5, 6)
 """Lateral (v, p, r, phi) indices into the 8 Floquet states."""
 
+UVLM_CHECK_FACTOR = 3.0
+"""The UVLM's monodromy is computed twice, at UVLM_FD_STEP and at this multiple of it; a mode is RESOLVED when its
+exponent moves by at most :data:`RESOLVE_TOL` between the two (tuned; it decides which modes the validation
+compares, not their values). Why: the launches are perturbed before the warm-up beats (the wake cannot be set), and
+the warm-up beats damp the strongly stable directions by 20-4000x (singular values of d x(w)/d x0 down to 6e-4 at
+2 m/s, lateral), so B A^-1 divides the free wake's irregular response by them: measured 2026-12-01 at 1 m/s
+(lateral), steps 1e-3 and 1e-2: the pair confirmed by the perturbed flights moved 0.153+-0.261i -> 0.202+-0.242i,
+the other pair 1.185+-2.589i -> (0.33+3.14i, -0.65), a mode that no flight shows."""
+
+RESOLVE_TOL = 0.15
+"""Largest |lambda(step) - lambda(UVLM_CHECK_FACTOR step)| / max(|lambda|, RESOLVE_FLOOR) of a resolved mode."""
+
+RESOLVE_FLOOR = 0.1
+"""Exponent magnitude (per wingbeat) below which RESOLVE_TOL is applied in absolute terms (|mu| within ~10 % of 1)."""
+
 FD_DELTA = 1e-5
 """Central-difference step in the normalized states (u/U, q T, rad). The map's round-off is ~1e-13, its
 curvature O(1): the derivative error is ~1e-8 relative (checked by halving the step)."""
@@ -67,10 +82,22 @@ class Floquet:
     eigenvectors_lat: np.ndarray
     delta: float
     wall_time_s: float
+    resolved_long: tuple[bool, ...] = (True, True, True, True)
+    resolved_lat: tuple[bool, ...] = (True, True, True, True)
+    check_exponents_long: np.ndarray | None = None
+    check_exponents_lat: np.ndarray | None = None
+    check_delta: float | None = None
 
     @property
     def max_multiplier(self) -> float:
         return float(max(np.abs(self.multipliers_long).max(), np.abs(self.multipliers_lat).max()))
+
+    @property
+    def max_resolved_multiplier(self) -> float:
+        """Largest |mu| among the resolved modes (all modes for a settable-state backend)."""
+        m = [abs(mu) for mu, ok in zip(np.concatenate([self.multipliers_long, self.multipliers_lat]),
+                                       self.resolved_long + self.resolved_lat) if ok]
+        return float(max(m)) if m else float("nan")
 
 
 def state_scale(kin: Kinematics) -> np.ndarray:
@@ -92,12 +119,33 @@ def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     lattice, the lateral ones both wings; each evaluation is a launch from an empty wake with the orbit's warm-up
     beats (:mod:`hawksim.flight.orbit`), the perturbation applied at the launch and the map measured over the periodic
     beat (the perturbation's evolution over the warm-up beats is included: the Jacobian is then that of
-    ``warm_beats + 1`` beats relative to ``warm_beats``, see :func:`_chain`)."""
+    ``warm_beats + 1`` beats relative to ``warm_beats``, see :func:`_chain`). The UVLM's matrix is computed at a
+    second step too (:data:`UVLM_CHECK_FACTOR`) and each mode flagged ``resolved`` or not (``resolved_long``,
+    ``resolved_lat``); an unresolved exponent is the free wake's irregularity, not a mode of the flight."""
     import time
 
     t0 = time.perf_counter()
     if delta is None:  # the UVLM's free wake amplifies round-off: a 1e-5 step differences noise (docs/free_flight.md)
         delta = UVLM_FD_STEP if orbit.aero == "uvlm" else FD_DELTA
+    M = _monodromy_matrix(orbit, delta, model, lateral)
+    if not orbit.warm_beats:
+        return _floquet(M, delta, time.perf_counter() - t0)
+    d2 = UVLM_CHECK_FACTOR * delta
+    f1, f2 = _floquet(M, delta, 0.0), _floquet(_monodromy_matrix(orbit, d2, model, lateral), d2, 0.0)
+    return replace(f1, wall_time_s=time.perf_counter() - t0, check_delta=d2,
+                   resolved_long=resolved(f1.exponents_long, f2.exponents_long),
+                   resolved_lat=resolved(f1.exponents_lat, f2.exponents_lat) if lateral else (True,) * 4,
+                   check_exponents_long=f2.exponents_long, check_exponents_lat=f2.exponents_lat)
+
+
+def resolved(ex: np.ndarray, check: np.ndarray) -> tuple[bool, ...]:
+    """Per exponent of ``ex``: whether the nearest exponent of ``check`` (the same map at another step) lies within
+    :data:`RESOLVE_TOL` (relative, :data:`RESOLVE_FLOOR` absolute below it)."""
+    return tuple(bool(np.abs(check - z).min() <= RESOLVE_TOL * max(abs(z), RESOLVE_FLOOR)) for z in ex)
+
+
+def _monodromy_matrix(orbit: Orbit, delta: float, model, lateral: bool) -> np.ndarray:
+    """(8, 8) normalized monodromy at central-difference step ``delta`` (see :func:`monodromy`)."""
     kin = orbit.kinematics
     sc = state_scale(kin)
     x0 = orbit.launch_state.as_array()
@@ -120,8 +168,7 @@ def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     if not lateral:
         for j in LAT:
             A[j, j] = B[j, j] = 1.0
-    M = _chain(A, B, w)
-    return _floquet(M, delta, time.perf_counter() - t0)
+    return _chain(A, B, w)
 
 
 def _chain(A: np.ndarray, B: np.ndarray, warm: int) -> np.ndarray:

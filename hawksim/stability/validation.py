@@ -90,6 +90,10 @@ the amplitude (measured at 1 m/s, lateral slow mode: fitted rate -0.017-0.082i a
 LAT_DEV_MAX = 2e-2
 """Target max-norm (normalized) of a lateral deviation at the end of the fit window."""
 
+TARGET_REL_ERROR = 0.05
+"""Issue 19's target: nonlinear vs Floquet exponent within 5 % on every unstable mode (``meets_target`` in the
+JSON: null for a stable or an unresolved mode, see hawksim.stability.floquet.RESOLVE_TOL)."""
+
 MIN_WINDOW = 3
 """Fewest beats (k = 0 .. MIN_WINDOW - 1) in a fit."""
 
@@ -204,6 +208,10 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
         mu, V = mu[order], V[:, order]
         Vinv = np.linalg.inv(V)
         lam_f = np.log(mu.astype(complex))
+        fq_ex = floquet.exponents_long if name == "longitudinal" else floquet.exponents_lat
+        fq_ok = floquet.resolved_long if name == "longitudinal" else floquet.resolved_lat
+        fq_chk = floquet.check_exponents_long if name == "longitudinal" else floquet.check_exponents_lat
+        ok_of = [fq_ok[int(np.argmin(np.abs(fq_ex - z)))] for z in lam_f]
         lam_a = np.linalg.eigvals(A[name])
         pairing = _pair(lam_f, lam_a)
         sym = (name == "longitudinal") if uvlm else None
@@ -259,9 +267,11 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
                 "rel_error_nonlinear_vs_floquet": _rel(lam_nl, lam_f[i]),
                 "rel_error_nonlinear_vs_averaged": _rel(lam_nl, la),
                 "rel_error_averaged_vs_floquet": _rel(la, lam_f[i]),
-                "amplitude": e, "fit_beats": n_fit,
+                "amplitude": e, "fit_beats": n_fit, "resolved": bool(ok_of[i]),
                 "halving": {"nonlinear_half_amplitude": _c(lam_half), "rel_change": _rel(lam_half, lam_nl)},
             }
+            if fq_chk is not None:
+                entry["floquet_check_step"] = _c(fq_chk[int(np.argmin(np.abs(fq_chk - lam_f[i])))])
             if cplx:
                 li, lih = fits["imag"]["full"][0], fits["imag"]["half"][0]
                 entry["nonlinear_from_imag_part"] = _c(li)
@@ -427,6 +437,9 @@ def write(results: list[dict], out_dir: Path, meta: dict, figures: bool = True, 
                 rows.append({"speed": r["speed"], "aero": r["aero"], "system": sysname, **m})
     path = out_dir / name
     old = json.loads(path.read_text()) if path.is_file() else {}
+    rows = [{**e, "meets_target": (e["rel_error_nonlinear_vs_floquet"] <= TARGET_REL_ERROR
+                                   if e["abs_multiplier"] > 1.0 and e.get("resolved", True) else None)}
+            for e in rows]
     keep = [e for e in old.get("entries", []) if e["aero"] not in {r["aero"] for r in results}]
     keep_speeds = [e for e in old.get("speeds", []) if e["aero"] not in {r["aero"] for r in results}]
     doc = {"meta": {**old.get("meta", {}), **meta},
