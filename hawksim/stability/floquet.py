@@ -43,20 +43,18 @@ LONG = (0, 2, 4, 7)
 LAT = (1, 3, 5, 6)
 """Lateral (v, p, r, phi) indices into the 8 Floquet states."""
 
-UVLM_CHECK_FACTOR = 3.0
-"""The UVLM's monodromy is computed twice, at UVLM_FD_STEP and at this multiple of it; a mode is RESOLVED when its
-exponent moves by at most :data:`RESOLVE_TOL` between the two (tuned; it decides which modes the validation
-compares, not their values). Why: the launches are perturbed before the warm-up beats (the wake cannot be set), and
-the warm-up beats damp the strongly stable directions by 20-4000x (singular values of d x(w)/d x0 down to 6e-4 at
-2 m/s, lateral), so B A^-1 divides the free wake's irregular response by them: measured 2026-12-01 at 1 m/s
-(lateral), steps 1e-3 and 1e-2: the pair confirmed by the perturbed flights moved 0.153+-0.261i -> 0.202+-0.242i,
-the other pair 1.185+-2.589i -> (0.33+3.14i, -0.65), a mode that no flight shows."""
+REACH_MIN = 0.1
+"""A Floquet mode of a UVLM orbit is RESOLVED when its REACH is at least this (tuned: it decides which modes the
+validation compares, not their values). The UVLM's launches are perturbed before the warm-up beats (the wake cannot
+be set), so the monodromy is B A^-1 with A = d x(w)/d x0 over the warm-up beats; reach(v) = (|v| / |A^-1 v|) /
+sigma_max(A) is how strongly the launch family reaches the mode's direction v at the periodic beat, relative to
+its best-reached direction. A mode reached only through a small singular value of A is the launch family's
+extrapolation (its wake is not the one a continued flight carries), not a mode of the flight. Measured
+(2026-12-01, shipped orbits, step 1e-3; validation.json): every mode the perturbed flights confirm has reach
+>= 0.12 (1 m/s: 0.37 longitudinal, 0.48 lateral; 2 m/s: 0.64, 0.20, 0.12 longitudinal, 0.29 lateral), every
+one they do not has reach <= 0.042 (1 m/s: -0.176+-0.234i 0.026, 1.185+-2.589i 0.042; 2 m/s: -1.299 0.005,
+1.559 0.0003, -1.376 0.020). A quasi-steady orbit (state settable, A = I) has reach 1 for every mode."""
 
-RESOLVE_TOL = 0.15
-"""Largest |lambda(step) - lambda(UVLM_CHECK_FACTOR step)| / max(|lambda|, RESOLVE_FLOOR) of a resolved mode."""
-
-RESOLVE_FLOOR = 0.1
-"""Exponent magnitude (per wingbeat) below which RESOLVE_TOL is applied in absolute terms (|mu| within ~10 % of 1)."""
 
 FD_DELTA = 1e-5
 """Central-difference step in the normalized states (u/U, q T, rad). The map's round-off is ~1e-13, its
@@ -82,11 +80,18 @@ class Floquet:
     eigenvectors_lat: np.ndarray
     delta: float
     wall_time_s: float
-    resolved_long: tuple[bool, ...] = (True, True, True, True)
-    resolved_lat: tuple[bool, ...] = (True, True, True, True)
-    check_exponents_long: np.ndarray | None = None
-    check_exponents_lat: np.ndarray | None = None
-    check_delta: float | None = None
+    reach_long: tuple[float, ...] = (1.0, 1.0, 1.0, 1.0)
+    reach_lat: tuple[float, ...] = (1.0, 1.0, 1.0, 1.0)
+
+    @property
+    def resolved_long(self) -> tuple[bool, ...]:
+        """Per longitudinal mode: reach >= :data:`REACH_MIN`."""
+        return tuple(r >= REACH_MIN for r in self.reach_long)
+
+    @property
+    def resolved_lat(self) -> tuple[bool, ...]:
+        """Per lateral mode: reach >= :data:`REACH_MIN`."""
+        return tuple(r >= REACH_MIN for r in self.reach_lat)
 
     @property
     def max_multiplier(self) -> float:
@@ -119,33 +124,32 @@ def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     lattice, the lateral ones both wings; each evaluation is a launch from an empty wake with the orbit's warm-up
     beats (:mod:`hawksim.flight.orbit`), the perturbation applied at the launch and the map measured over the periodic
     beat (the perturbation's evolution over the warm-up beats is included: the Jacobian is then that of
-    ``warm_beats + 1`` beats relative to ``warm_beats``, see :func:`_chain`). The UVLM's matrix is computed at a
-    second step too (:data:`UVLM_CHECK_FACTOR`) and each mode flagged ``resolved`` or not (``resolved_long``,
-    ``resolved_lat``); an unresolved exponent is the free wake's irregularity, not a mode of the flight."""
+    ``warm_beats + 1`` beats relative to ``warm_beats``, see :func:`_chain`). Each UVLM mode gets its ``reach``
+    and is ``resolved`` or not (:data:`REACH_MIN`): an unresolved exponent is the launch family's extrapolation,
+    not a mode of the flight."""
     import time
 
     t0 = time.perf_counter()
     if delta is None:  # the UVLM's free wake amplifies round-off: a 1e-5 step differences noise (docs/free_flight.md)
         delta = UVLM_FD_STEP if orbit.aero == "uvlm" else FD_DELTA
-    M = _monodromy_matrix(orbit, delta, model, lateral)
+    M, A = _monodromy_matrix(orbit, delta, model, lateral)
+    fl = _floquet(M, delta, time.perf_counter() - t0)
     if not orbit.warm_beats:
-        return _floquet(M, delta, time.perf_counter() - t0)
-    d2 = UVLM_CHECK_FACTOR * delta
-    f1, f2 = _floquet(M, delta, 0.0), _floquet(_monodromy_matrix(orbit, d2, model, lateral), d2, 0.0)
-    return replace(f1, wall_time_s=time.perf_counter() - t0, check_delta=d2,
-                   resolved_long=resolved(f1.exponents_long, f2.exponents_long),
-                   resolved_lat=resolved(f1.exponents_lat, f2.exponents_lat) if lateral else (True,) * 4,
-                   check_exponents_long=f2.exponents_long, check_exponents_lat=f2.exponents_lat)
+        return fl
+    return replace(fl, reach_long=reach(A[np.ix_(LONG, LONG)], fl.eigenvectors_long),
+                   reach_lat=reach(A[np.ix_(LAT, LAT)], fl.eigenvectors_lat) if lateral else (1.0,) * 4)
 
 
-def resolved(ex: np.ndarray, check: np.ndarray) -> tuple[bool, ...]:
-    """Per exponent of ``ex``: whether the nearest exponent of ``check`` (the same map at another step) lies within
-    :data:`RESOLVE_TOL` (relative, :data:`RESOLVE_FLOOR` absolute below it)."""
-    return tuple(bool(np.abs(check - z).min() <= RESOLVE_TOL * max(abs(z), RESOLVE_FLOOR)) for z in ex)
+def reach(A: np.ndarray, V: np.ndarray) -> tuple[float, ...]:
+    """Per column v of ``V`` (eigenvectors, complex): (|v| / |A^-1 v|) / sigma_max(A), in (0, 1]
+    (:data:`REACH_MIN`)."""
+    smax = np.linalg.svd(A, compute_uv=False)[0]
+    return tuple(float(np.linalg.norm(v) / np.linalg.norm(np.linalg.solve(A, v)) / smax) for v in V.T)
 
 
 def _monodromy_matrix(orbit: Orbit, delta: float, model, lateral: bool) -> np.ndarray:
-    """(8, 8) normalized monodromy at central-difference step ``delta`` (see :func:`monodromy`)."""
+    """(M, A): the (8, 8) normalized monodromy at central-difference step ``delta`` (see :func:`monodromy`) and
+    the launch Jacobian A = d x(w) / d x0 (identity without warm-up beats)."""
     kin = orbit.kinematics
     sc = state_scale(kin)
     x0 = orbit.launch_state.as_array()
@@ -168,7 +172,7 @@ def _monodromy_matrix(orbit: Orbit, delta: float, model, lateral: bool) -> np.nd
     if not lateral:
         for j in LAT:
             A[j, j] = B[j, j] = 1.0
-    return _chain(A, B, w)
+    return _chain(A, B, w), (A if w else np.eye(8))
 
 
 def _chain(A: np.ndarray, B: np.ndarray, warm: int) -> np.ndarray:

@@ -44,24 +44,22 @@ def floquet_json(fl) -> dict:
     from hawksim.stability.system import classify
 
     out = {}
-    for name, mu, ex, vec, ok, chk in (
+    for name, mu, ex, vec, ok, rch in (
             ("longitudinal", fl.multipliers_long, fl.exponents_long, fl.eigenvectors_long, fl.resolved_long,
-             fl.check_exponents_long),
-            ("lateral", fl.multipliers_lat, fl.exponents_lat, fl.eigenvectors_lat, fl.resolved_lat,
-             fl.check_exponents_lat)):
+             fl.reach_long),
+            ("lateral", fl.multipliers_lat, fl.exponents_lat, fl.eigenvectors_lat, fl.resolved_lat, fl.reach_lat)):
         modes = []
         for k in range(len(mu)):
             kind, stable = classify(ex[k])
             modes.append({"multiplier": _pairs([mu[k]])[0], "exponent": _pairs([ex[k]])[0], "abs_multiplier":
                           float(abs(mu[k])), "kind": kind, "stable": bool(abs(mu[k]) < 1.0),
-                          "resolved": bool(ok[k]), "eigenvector_abs": np.abs(vec[:, k]).tolist()})
+                          "resolved": bool(ok[k]), "reach": float(rch[k]),
+                          "eigenvector_abs": np.abs(vec[:, k]).tolist()})
         out[name] = {"multipliers": _pairs(mu), "exponents": _pairs(ex), "modes": modes,
                      "states": list(("u", "w", "q", "theta") if name == "longitudinal" else ("v", "p", "r", "phi"))}
-        if chk is not None:
-            out[name]["check_exponents"] = _pairs(chk)
-    if fl.check_delta is not None:
-        out["resolution"] = (f"each mode's exponent at step {fl.delta:g} against the same map at step "
-                             f"{fl.check_delta:g}; 'resolved': false marks the free wake's irregularity, not a mode")
+    out["resolution"] = ("'reach': how strongly the launches reach the mode at the periodic beat (1 for a settable "
+                         "state); 'resolved': reach >= hawksim.stability.floquet.REACH_MIN, else the launch "
+                         "family's extrapolation, not a mode of the flight")
     out["coupling"] = float(fl.coupling)
     out["max_abs_multiplier"] = fl.max_multiplier
     out["max_abs_resolved_multiplier"] = fl.max_resolved_multiplier

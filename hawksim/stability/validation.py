@@ -210,8 +210,8 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
         lam_f = np.log(mu.astype(complex))
         fq_ex = floquet.exponents_long if name == "longitudinal" else floquet.exponents_lat
         fq_ok = floquet.resolved_long if name == "longitudinal" else floquet.resolved_lat
-        fq_chk = floquet.check_exponents_long if name == "longitudinal" else floquet.check_exponents_lat
-        ok_of = [fq_ok[int(np.argmin(np.abs(fq_ex - z)))] for z in lam_f]
+        fq_reach = floquet.reach_long if name == "longitudinal" else floquet.reach_lat
+        near = [int(np.argmin(np.abs(fq_ex - z))) for z in lam_f]
         lam_a = np.linalg.eigvals(A[name])
         pairing = _pair(lam_f, lam_a)
         sym = (name == "longitudinal") if uvlm else None
@@ -267,11 +267,10 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
                 "rel_error_nonlinear_vs_floquet": _rel(lam_nl, lam_f[i]),
                 "rel_error_nonlinear_vs_averaged": _rel(lam_nl, la),
                 "rel_error_averaged_vs_floquet": _rel(la, lam_f[i]),
-                "amplitude": e, "fit_beats": n_fit, "resolved": bool(ok_of[i]),
+                "amplitude": e, "fit_beats": n_fit, "resolved": bool(fq_ok[near[i]]),
+                "reach": float(fq_reach[near[i]]),
                 "halving": {"nonlinear_half_amplitude": _c(lam_half), "rel_change": _rel(lam_half, lam_nl)},
             }
-            if fq_chk is not None:
-                entry["floquet_check_step"] = _c(fq_chk[int(np.argmin(np.abs(fq_chk - lam_f[i])))])
             if cplx:
                 li, lih = fits["imag"]["full"][0], fits["imag"]["half"][0]
                 entry["nonlinear_from_imag_part"] = _c(li)

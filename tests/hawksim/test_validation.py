@@ -45,14 +45,15 @@ def test_unstable_modes_match_floquet_at_1m_s():
         assert m["fit_beats"] >= 10, m
 
 
-def test_resolved_flags_a_mode_that_moves_with_the_step():
-    from hawksim.stability.floquet import RESOLVE_TOL, resolved
+def test_reach_separates_a_direction_the_launches_barely_reach():
+    from hawksim.stability.floquet import REACH_MIN, reach
 
-    ex = np.array([0.2 + 0.1j, 0.2 - 0.1j, 1.5, -0.01])
-    moved = ex * (1 + 0.5 * RESOLVE_TOL)
-    moved[2] = 0.33 + 3.14j  # the free wake's irregularity: no nearby exponent at the other step
-    moved[3] = -0.01 + 0.9 * RESOLVE_TOL * 0.1  # near-neutral: the absolute floor applies
-    assert resolved(ex, moved) == (True, True, False, True)
+    A = np.diag([2.0, 1.0, 0.5, 1e-3])  # the warm-up beats damp the 4th direction 2000x
+    V = np.eye(4, dtype=complex)
+    V[:, 1] = (np.eye(4)[1] + 1j * np.eye(4)[2]) / np.sqrt(2)
+    r = reach(A, V)
+    assert r[0] == 1.0 and r[3] == 5e-4 and REACH_MIN < r[1] < 1.0
+    assert [x >= REACH_MIN for x in r] == [True, True, True, False]
 
 
 UVLM_LATERAL_2MS = complex(0.2296, 0.1010)
@@ -63,9 +64,9 @@ monodromy at step 1e-3 gave 0.2286+0.0987i)."""
 
 @pytest.mark.slow
 def test_uvlm_floquet_flags_the_wake_mode_and_keeps_the_flight_mode():
-    """UVLM, 2 m/s: the lateral block at step 1e-3 has a real exponent 1.56 (|mu| 4.8) that no perturbed flight
-    shows (docs/free_flight.md) beside the oscillation the flights confirm; the step check flags the first
-    unresolved and keeps the second, within issue 19's 5 % of the flights."""
+    """UVLM, 2 m/s: the lateral block has a real exponent 1.56 (|mu| 4.8) that no perturbed flight shows
+    (docs/free_flight.md) beside the oscillation the flights confirm; its reach (3e-4) flags the first unresolved
+    and keeps the second (0.29), within issue 19's 5 % of the flights."""
     from hawksim.flight.orbit import shipped_orbit
 
     o = shipped_orbit(2.0, "uvlm")
