@@ -11,7 +11,8 @@ import time
 from pathlib import Path
 
 
-from hawksim.control.closed_loop import Schedule, body_length, fly_closed_loop
+from hawksim.control.closed_loop import body_length, fly_closed_loop
+from hawksim.control.schedule import Schedule
 
 OUT = Path(__file__).resolve().parents[2] / "results" / "control"
 

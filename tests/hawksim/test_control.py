@@ -6,7 +6,8 @@ issue's targets (CI: 1 m/s; every speed and the ascent profile are `slow`)."""
 import numpy as np
 import pytest
 
-from hawksim.control.closed_loop import SCHEDULE_SPEEDS, Gust, Schedule, body_length, fly_closed_loop, schedule_point
+from hawksim.control.closed_loop import Gust, body_length, fly_closed_loop
+from hawksim.control.schedule import SCHEDULE_SPEEDS, Schedule, schedule_point
 from hawksim.control.derivatives import LAT_X, LONG_X, one_beat
 from hawksim.control.lqr import augment
 from hawksim.control.plant import ANTI_INPUTS, SYM_INPUTS, ControlledSimulator, command_of, wing_kinematics
