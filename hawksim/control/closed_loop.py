@@ -143,7 +143,8 @@ class ClosedLoop:
         return np.array([b[key] for b in self.beats])
 
     def to_json(self) -> dict:
-        return {"mode": self.control, "delay_beats": self.delay, "speed_rate_m_s_per_beat": SPEED_RATE,
+        return {"mode": self.control, "update_rate": self.schedule.rate, "delay_beats": self.delay,
+                "speed_rate_m_s_per_beat": SPEED_RATE,
                 "body_length_m": body_length(), "schedule": [p.to_json() for p in self.schedule.points],
                 "gusts": [{"velocity": list(map(float, g.velocity)), "start": g.start, "beats": g.beats}
                           for g in self.gusts],
@@ -222,7 +223,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     if nseg == 1:
         sensed = [(x0, np.zeros(2))] * keep
     else:  # the entry m updates before the start was sensed at phase m mod 2 (the orbit's state there)
-        x_h, _, _, _ = schedule.reference(speed, 1)
+        _, x_h, _, _ = schedule.reference(speed, 1)
         pos_h = sum(w * pt.reference_state(1)[1] for w, pt in schedule.weights(speed))
         sensed = [(x0, np.zeros(2)) if (keep - 1 - i) % 2 == 0 else (x_h, pos_h) for i in range(keep)]
     out, refs = [], []

@@ -150,13 +150,13 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     ``rate`` (:data:`RATES`); orbits and linear models are cached per process."""
     if rate not in RATES:
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
+    if rate == "half-stroke" and aero != "quasi-steady":
+        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady (the {aero} state cannot be set at "
+                         "phase 0.5 to linearize the half-stroke maps)")
     orb, lin = _orbit_and_model(speed, aero, model, log)
     long, lat = lqr_gain(lin, "long", delay, x_max, u_max), lqr_gain(lin, "lat", delay, x_max, u_max)
     if rate == "beat":
         return SchedulePoint(float(speed), orb, lin, long, lat)
-    if aero != "quasi-steady":
-        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady (the {aero} state cannot be set at "
-                         "phase 0.5 to linearize the half-stroke maps)")
     key = (float(speed), aero)
     if key not in _HALF:
         _HALF[key] = linearize_half_stroke(orb, model=model)
