@@ -228,16 +228,17 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         sensed = [(x0, np.zeros(2)) if (keep - 1 - i) % 2 == 0 else (x_h, pos_h) for i in range(keep)]
     out, refs = [], []
     v_ref = float(speed)
+    rate_limit = SPEED_RATE / nseg  # the reference moves at each update, SPEED_RATE per beat
     for k in range(1, beats + 1):
-        v_ref += float(np.clip(cmd[k - 1] - v_ref, -SPEED_RATE, SPEED_RATE))
-        refs.append(v_ref)
-        kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
         air = sum((g.at(k) for g in gusts), np.zeros(3))
         sim.air_v = air
         t0, z0 = sim.d.time, sim.d.qpos[2]
         pitch, Rs, pj = np.empty(n), np.empty((n, 3, 3)), np.empty(n)
-        applied, saturated = [], False
+        applied, saturated, pitch_refs = [], False, []
         for seg in range(nseg):
+            v_ref += float(np.clip(cmd[k - 1] - v_ref, -rate_limit, rate_limit))
+            kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
+            pitch_refs.append(pitch_ref)
             if control == "lqr":
                 x_s, pos_s = sensed[-1 - lag]
                 du = schedule.command(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg)
@@ -246,7 +247,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                 lp = rp = p_orbit
             ls, rs = saturate(lp), saturate(rp)
             saturated |= bool(max(np.abs(ls - lp).max(), np.abs(rs - rp).max()) > SATURATION_TOL)
-            applied.append(command_of(kin_ref, ls, rs))
+            applied.append(_edge_command(kin_ref, command_of(kin_ref, ls, rs)))
             if nseg == 1:
                 sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs))
             else:
@@ -269,6 +270,8 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
             flown.append((ls, rs))
             sensed.append((x, pos))
             flown, sensed = flown[-keep:], sensed[-keep:]
+        refs.append(v_ref)
+        pitch_ref = sum(pitch_refs) / nseg
         if progress is not None:
             progress(k, beats)
         T = sim.d.time - t0
@@ -282,10 +285,10 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     "horizontal_drift_m": float(np.hypot(*pos)),
                     "air_velocity": [float(a) for a in air],
                     "state": [float(a) for a in x],
-                    "commands": _edge_command(kin_ref, applied[0]), "saturated": saturated,
+                    "commands": applied[0], "saturated": saturated,
                     "P_plus": float(np.maximum(pj, 0).mean() / P0_W)})
         if nseg > 1:
-            out[-1]["commands_half_stroke"] = _edge_command(kin_ref, applied[1])
+            out[-1]["commands_half_stroke"] = applied[1]
     result = None
     if record:
         a = {k: np.asarray(v) for k, v in rec.items()}

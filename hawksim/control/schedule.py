@@ -11,7 +11,8 @@ speed outside the grid's range is refused (ValueError naming it).
 
 Per beat the gains are :func:`hawksim.control.lqr.lqr_gain` of the one-beat map; per half-stroke
 :func:`hawksim.control.lqr.periodic_lqr_gains` of the two half-stroke maps (a gain for phase 0 and one for
-phase 0.5), with a sensing delay of d wingbeats counted as 2 d half-strokes.
+phase 0.5), with a sensing delay of d wingbeats counted as 2 d half-strokes and the commands weighted
+:data:`HALF_STROKE_COMMAND_WEIGHT` times the per-beat design's.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import numpy as np
 
 from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, xi_scale
 from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_stroke
-from hawksim.control.lqr import Gain, lqr_gain, periodic_lqr_gains
+from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gains
 from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, command_of
 from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
 from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
@@ -37,6 +38,14 @@ docs/free_flight.md)."""
 
 RATES = ("beat", "half-stroke")
 """Control update rates: once per wingbeat (at phase 0) or once per half-stroke (phases 0 and 0.5)."""
+
+HALF_STROKE_COMMAND_WEIGHT = 2.0
+"""The half-stroke LQR's command weight R relative to the per-beat Bryson weights (:data:`hawksim.control.lqr.
+U_MAX` divided by sqrt of this). With equal weights the half-stroke LQR rejects small disturbances harder but, on
+the 0 -> 1 m/s reference ramp (0.2 m/s per beat), drives theta0 to Table 2's -25 deg and phi0 alternately to
++-25 deg and departs; with 2 every command of the 0 -> 1 -> 2 m/s profile stays inside Table 2 and the gust and
+perturbation peaks stay below the per-beat controller's (``scripts/studies/control_rate_study.py``,
+docs/control.md "Per beat or per half-stroke")."""
 
 CONTROL_MODEL_FILES = {"uvlm": "control_models_uvlm.json"}
 """Shipped one-beat control derivatives in ``hawksim/data`` (produced by ``hawksim reproduce --only
@@ -145,9 +154,11 @@ def _orbit_and_model(speed: float, aero: str, model, log) -> tuple[Orbit, BeatMa
 
 
 def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", model=None, log=None,
-                   x_max=None, u_max=None, rate: str = "beat") -> SchedulePoint:
+                   x_max=None, u_max=None, rate: str = "beat", command_weight: float | None = None) -> SchedulePoint:
     """Orbit, linearization and LQR gains at ``speed`` [m/s] for a sensing ``delay`` [wingbeats] and update
-    ``rate`` (:data:`RATES`); orbits and linear models are cached per process."""
+    ``rate`` (:data:`RATES`); orbits and linear models are cached per process. ``x_max``/``u_max`` override
+    Bryson's bounds (:mod:`hawksim.control.lqr`); ``command_weight`` multiplies R of the half-stroke design
+    (default :data:`HALF_STROKE_COMMAND_WEIGHT`)."""
     if rate not in RATES:
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
     if rate == "half-stroke" and aero != "quasi-steady":
@@ -162,8 +173,10 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
         _HALF[key] = linearize_half_stroke(orb, model=model)
     h = _HALF[key]
     d = HALVES * int(delay)
-    gl = periodic_lqr_gains([h.block("long", j) for j in range(HALVES)], LONG_X, SYM_INPUTS, d, x_max, u_max)
-    gt = periodic_lqr_gains([h.block("lat", j) for j in range(HALVES)], LAT_X, ANTI_INPUTS, d, x_max, u_max)
+    cw = HALF_STROKE_COMMAND_WEIGHT if command_weight is None else float(command_weight)
+    um = {k: v / np.sqrt(cw) for k, v in {**U_MAX, **(u_max or {})}.items()}
+    gl = periodic_lqr_gains([h.block("long", j) for j in range(HALVES)], LONG_X, SYM_INPUTS, d, x_max, um)
+    gt = periodic_lqr_gains([h.block("lat", j) for j in range(HALVES)], LAT_X, ANTI_INPUTS, d, x_max, um)
     return SchedulePoint(float(speed), orb, lin, gl[0], gt[0], rate="half-stroke", half=h, long_half=gl[1],
                          lat_half=gt[1])
 
@@ -171,10 +184,12 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
 class Schedule:
     """Gain schedule over the ascent speed: :class:`SchedulePoint` at the grid speeds needed for [v_lo, v_hi]
     (``speeds``: default :data:`SCHEDULE_SPEEDS`, the UVLM's :data:`UVLM_SCHEDULE_SPEEDS`); a range outside the
-    grid's is refused (ValueError). ``rate``: :data:`RATES`; ``delay`` [wingbeats]."""
+    grid's is refused (ValueError). ``rate``: :data:`RATES`; ``delay`` [wingbeats]; the rest as
+    :func:`schedule_point`."""
 
     def __init__(self, v_lo: float, v_hi: float, *, delay: int = 0, aero: str = "quasi-steady", model=None,
-                 log=None, speeds=None, x_max=None, u_max=None, rate: str = "beat"):
+                 log=None, speeds=None, x_max=None, u_max=None, rate: str = "beat",
+                 command_weight: float | None = None):
         if speeds is None:
             speeds = UVLM_SCHEDULE_SPEEDS if aero == "uvlm" else SCHEDULE_SPEEDS
         sp = np.asarray(speeds, float)
@@ -187,7 +202,7 @@ class Schedule:
         self.rate = rate
         self.per_beat = HALVES if rate == "half-stroke" else 1
         self.points = [schedule_point(v, delay=delay, aero=aero, model=model, log=log, x_max=x_max, u_max=u_max,
-                                      rate=rate)
+                                      rate=rate, command_weight=command_weight)
                        for v in sp if lo - 1e-12 <= v <= hi + 1e-12]
         self.speeds = np.array([p.speed for p in self.points])
 

@@ -164,3 +164,37 @@ def test_half_stroke_holds_100_beats_every_speed(speed):
     for x in (None, pert):
         cl = fly_closed_loop(speed, 100, schedule=s, perturbation=x)
         assert all(_within(b) for b in cl.beats[10:])
+
+
+def test_half_stroke_ramp_stays_inside_table2():
+    """The 0 -> 1 m/s ramp (0.2 m/s per beat): with the shipped command weight (HALF_STROKE_COMMAND_WEIGHT) no
+    command reaches a Table 2 bound and the pitch stays within 2 deg; with the per-beat weights the same ramp
+    saturates from beat 7 (theta0 at -25 deg) and the pitch error reaches 28 deg
+    (scripts/studies/control_rate_study.py)."""
+    cl = fly_closed_loop(0.0, 12, profile=[(0, 2), (1, 10)], schedule=Schedule(0.0, 1.0, rate="half-stroke"))
+    assert not any(b["saturated"] for b in cl.beats)
+    assert max(abs(b["pitch_error_deg"]) for b in cl.beats) < 2.0
+    assert max(b["mean_vertical_speed"] - b["speed_command"] for b in cl.beats) < 0.1
+    assert abs(cl.beats[-1]["speed_error"]) < 0.02
+
+
+@pytest.mark.slow
+def test_half_stroke_ascent_profile_without_overshoot():
+    cl = fly_closed_loop(0.0, 40, profile=[(0, 2), (1, 10), (2, 10)], rate="half-stroke")
+    assert max(b["mean_vertical_speed"] - b["speed_command"] for b in cl.beats) < 0.1
+    assert all(_within(b) for b in cl.beats[30:])
+    assert max(abs(b["pitch_error_deg"]) for b in cl.beats) < 2.0
+
+
+def test_cli_half_stroke_json(capsys):
+    import json
+
+    from hawksim.cli import main
+
+    assert main(["fly", "--speed", "1", "--cycles", "3", "--control-rate", "half-stroke", "--gust", "0,0.5,0@2:1",
+                 "--json", "--no-progress"]) == 0
+    cap = capsys.readouterr()
+    ctl = json.loads(cap.out)["control"]
+    assert ctl["update_rate"] == "half-stroke" and all("commands_half_stroke" in b for b in ctl["beats"])
+    assert all("K_long_half" in p for p in ctl["schedule"])
+    assert "updated per half-stroke" in cap.err
