@@ -155,15 +155,22 @@ def _controlled_fly(args, progress):
     control = getattr(args, "control", None) or default_control(args.aero, args.kinematics, args.steps_per_cycle,
                                                                 args.start, STEPS_PER_CYCLE)
     profile, gusts = getattr(args, "ascent_profile", None), getattr(args, "gust", None) or []
+    rate = getattr(args, "control_rate", None)
     if control == "none" and not profile and not gusts:
+        if rate is not None:
+            raise ValueError(f"--control-rate {rate} needs --control lqr")
         return None
-    if args.aero != "quasi-steady" or args.kinematics is not None or args.steps_per_cycle != STEPS_PER_CYCLE \
-            or args.start == "trim":
-        raise ValueError(f"--control {control} / --gust / --ascent-profile need --aero quasi-steady from the orbit "
-                         f"(no --kinematics, --start trim or --steps-per-cycle other than {STEPS_PER_CYCLE})")
+    if args.aero not in ("quasi-steady", "uvlm") or args.kinematics is not None \
+            or args.steps_per_cycle != STEPS_PER_CYCLE or args.start == "trim":
+        raise ValueError(f"--control {control} / --gust / --ascent-profile need --aero quasi-steady or uvlm from the "
+                         f"orbit (no --kinematics, --start trim or --steps-per-cycle other than {STEPS_PER_CYCLE})")
+    if args.aero == "uvlm" and rate == "half-stroke":
+        raise ValueError("--control-rate half-stroke needs --aero quasi-steady (the UVLM's wake cannot be set at "
+                         "phase 0.5 to linearize the half-stroke maps)")
     return fly_command(args.speed, args.cycles, control=control, profile=profile, gusts=gusts,
                        delay=args.sensing_delay, perturb=dict(args.perturb or []), model_path=args.model, rrd=args.rrd,
-                       progress=(lambda k, n: progress(k, n)) if progress is not None else None)
+                       progress=(lambda k, n: progress(k, n)) if progress is not None else None, aero=args.aero,
+                       rate=rate or "beat")
 
 
 def _control_type(parse):
@@ -209,8 +216,14 @@ def register(sub) -> None:
     from hawksim.control.command import CONTROL_CHOICES, parse_gust, parse_profile
 
     f.add_argument("--control", choices=CONTROL_CHOICES, default=None,
-                   help="lqr: the wingbeat-to-wingbeat LQR (default for quasi-steady from the orbit); none: open loop "
+                   help="lqr: the wingbeat-to-wingbeat LQR (default for quasi-steady from the orbit; with --aero uvlm "
+                        "at 1, 1.5 or 2 m/s, the shipped UVLM orbits, scheduled over 1-2 m/s); none: open loop "
                         "(default otherwise)")
+    from hawksim.control.schedule import RATES
+
+    f.add_argument("--control-rate", choices=RATES, default=None,
+                   help="update the kinematics once per wingbeat (beat, the default) or per half-stroke (at phases "
+                        "0 and 0.5; quasi-steady only; docs/control.md compares them)")
     f.add_argument("--ascent-profile", type=_control_type(parse_profile), metavar="V:BEATS,...",
                    help="piecewise-constant speed commands [m/s] for that many wingbeats each, e.g. 0:2,1:10,2:10 "
                         "(the last speed holds after it)")

@@ -1,11 +1,12 @@
 """The controlled flight: the wingbeat-to-wingbeat LQR in the loop of the nonlinear free flight.
 
-Per wingbeat k, at phase 0 (:func:`fly_closed_loop`):
+Per wingbeat k, at phase 0 (:func:`fly_closed_loop`; per half-stroke steps 3-4 run at phases 0 and 0.5, with
+the gains and reference state of each phase):
 
 1. the speed reference V_k moves toward the commanded speed (the ascent profile) by at most
    :data:`SPEED_RATE` m/s per beat (a rate-limited prefilter: a step of 1 m/s is far outside the linear model);
-2. the schedule (:class:`Schedule`, periodic orbits and LQR gains at :data:`SCHEDULE_SPEEDS`) gives the reference
-   at V_k by linear interpolation between the two neighbouring orbits: state, kinematics, gains;
+2. the schedule (:class:`hawksim.control.schedule.Schedule`, periodic orbits and LQR gains at grid speeds) gives
+   the reference at V_k by linear interpolation between the two neighbouring orbits: state, kinematics, gains;
 3. the sensed state (body state and horizontal position of beat k - d, d the sensing delay) and the commands
    already sent make the augmented deviation z (:mod:`hawksim.control.lqr`); each neighbour's gain gives
    u = -K z in its own normalization, and the two are blended with the interpolation weights;
@@ -26,19 +27,15 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from hawksim.control.derivatives import BeatMapModel, linearize, stability_position, xi_scale
-from hawksim.control.lqr import Gain, lqr_gain
-from hawksim.control.plant import INPUTS, ControlledSimulator, command_of, saturate, wing_kinematics
-from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, periodic_orbit, read_body_state, \
-    set_body_state
+from hawksim.control.derivatives import stability_position
+from hawksim.control.plant import ControlledSimulator, command_of, saturate, wing_kinematics
+from hawksim.control.schedule import Schedule
+from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend, read_body_state, set_body_state
 from hawksim.flight.result import FlightResult
 from hawksim.frames import attitude_of, pitch_of, quat_from_matrices
-from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
+from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
 from hawksim.insect.morphology import HAWKMOTH, P0_W
-
-SCHEDULE_SPEEDS = TABLE3_SPEEDS
-"""Ascent speeds [m/s] of the gain schedule's orbits (0, 0.5, 1, 1.5, 2)."""
 
 SPEED_RATE = 0.2
 """Largest change of the speed reference per wingbeat [m/s]."""
@@ -53,106 +50,6 @@ def body_length(morph=HAWKMOTH) -> float:
     lo = min(s.centre[0] - s.semi_axes[0] for s in morph.segments)
     hi = max(s.centre[0] + s.semi_axes[0] for s in morph.segments)
     return float(hi - lo)
-
-
-@dataclass(frozen=True)
-class SchedulePoint:
-    """Orbit, linear model and gains at one speed of the schedule."""
-
-    speed: float
-    orbit: Orbit
-    model: BeatMapModel
-    long: Gain
-    lat: Gain
-
-    def to_json(self) -> dict:
-        def mu(g):
-            return [[float(z.real), float(z.imag)] for z in g.multipliers if abs(z) > 1e-12]
-
-        return {"speed": self.speed, "orbit_f_hz": self.orbit.kinematics.f,
-                "orbit_residual": self.orbit.residual,
-                "open_loop_max_multiplier": float(max(
-                    np.abs(self.long.open_loop).max(),
-                    np.abs(self.lat.open_loop[np.abs(self.lat.open_loop - 1) > 1e-9]).max())),
-                "closed_loop_spectral_radius_long": self.long.spectral_radius,
-                "closed_loop_spectral_radius_lat": self.lat.spectral_radius,
-                "closed_loop_multipliers_long": mu(self.long), "closed_loop_multipliers_lat": mu(self.lat),
-                "K_long": self.long.K.tolist(), "K_lat": self.lat.K.tolist()}
-
-
-UVLM_ORBIT_ITERATIONS = 5
-"""Newton iterations of a UVLM orbit for the schedule (it reaches ~5e-4 in 3-4, then stalls)."""
-
-UVLM_ORBIT_ACCEPT = 1e-3
-"""Largest normalized residual of a UVLM orbit the schedule accepts: its Newton solve stalls at ~2e-4 on the
-wake's beat-to-beat variation (docs/free_flight.md), never reaching the 1e-8 of ``converged``."""
-
-_POINTS: dict = {}
-
-
-def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", model=None, log=None,
-                   x_max=None, u_max=None) -> SchedulePoint:
-    """Orbit (:func:`periodic_orbit`), linearization and LQR gains at ``speed``; orbits and linear models are
-    cached per process (quasi-steady: ~1 s + ~2 s each)."""
-    key = (float(speed), aero)
-    if key not in _POINTS:
-        orb = periodic_orbit(speed, aero, model=model, log=log,
-                             **({"max_iter": UVLM_ORBIT_ITERATIONS} if aero == "uvlm" else {}))
-        if not (orb.converged or (aero == "uvlm" and orb.residual <= UVLM_ORBIT_ACCEPT)):
-            raise FloatingPointError(f"the periodic orbit at {speed:g} m/s did not converge ({orb.residual:.1e})")
-        _POINTS[key] = (orb, linearize(orb, model=model))
-    orb, lin = _POINTS[key]
-    return SchedulePoint(float(speed), orb, lin, lqr_gain(lin, "long", delay, x_max, u_max),
-                         lqr_gain(lin, "lat", delay, x_max, u_max))
-
-
-class Schedule:
-    """Gain schedule over the ascent speed: :class:`SchedulePoint` at the grid speeds needed for [v_lo, v_hi]."""
-
-    def __init__(self, v_lo: float, v_hi: float, *, delay: int = 0, aero: str = "quasi-steady", model=None,
-                 log=None, speeds=SCHEDULE_SPEEDS, x_max=None, u_max=None):
-        sp = np.asarray(speeds, float)
-        lo = sp[max(0, np.searchsorted(sp, v_lo, side="right") - 1)]
-        hi = sp[min(len(sp) - 1, np.searchsorted(sp, v_hi, side="left"))]
-        self.delay = int(delay)
-        self.points = [schedule_point(v, delay=delay, aero=aero, model=model, log=log, x_max=x_max, u_max=u_max)
-                       for v in sp if lo - 1e-12 <= v <= hi + 1e-12]
-        self.speeds = np.array([p.speed for p in self.points])
-
-    def weights(self, v: float) -> list[tuple[float, SchedulePoint]]:
-        """[(weight, point)] of the linear interpolation at v (clamped to the schedule's range)."""
-        sp = self.speeds
-        if len(sp) == 1 or v <= sp[0]:
-            return [(1.0, self.points[0])]
-        if v >= sp[-1]:
-            return [(1.0, self.points[-1])]
-        i = int(np.searchsorted(sp, v, side="right") - 1)
-        a = (v - sp[i]) / (sp[i + 1] - sp[i])
-        return [(w, p) for w, p in ((1 - a, self.points[i]), (a, self.points[i + 1])) if w > 0]
-
-    def reference(self, v: float):
-        """(kinematics (Kinematics), state (9,), chi_ref, mean pitch [rad]) interpolated at v."""
-        ws = self.weights(v)
-        p = sum(w * pt.orbit.kinematics.as_array() for w, pt in ws)
-        x = sum(w * pt.orbit.initial_state.as_array() for w, pt in ws)
-        chi = sum(w * pt.orbit.chi_ref for w, pt in ws)
-        pitch = sum(w * pt.orbit.mean_pitch for w, pt in ws)
-        return Kinematics.from_array(p), x, float(chi), float(pitch)
-
-    def command(self, v: float, x_sensed: np.ndarray, pos_sensed: np.ndarray, past: list) -> np.ndarray:
-        """The command du (7,) (relative to the reference kinematics at v) from the sensed body state (9,) and
-        horizontal position (2,) [m] (deviation from the hold point), and ``past``: the (left, right) parameter
-        vectors actually flown in the last d + 1 beats, oldest first."""
-        kin, x_ref, _, _ = self.reference(v)
-        xi = np.concatenate([x_sensed - x_ref, pos_sensed])
-        past_du = [command_of(kin, l, r) for l, r in past]
-        du = np.zeros(len(INPUTS))
-        for w, pt in self.weights(v):
-            dxi = xi / xi_scale(pt.orbit.kinematics)
-            for g in (pt.long, pt.lat):
-                z = np.concatenate([dxi[list(g.states)]] + [d[list(g.inputs)] for d in past_du])
-                du[list(g.inputs)] += w * (-g.K @ z)
-        return du
 
 
 @dataclass(frozen=True)
@@ -246,7 +143,8 @@ class ClosedLoop:
         return np.array([b[key] for b in self.beats])
 
     def to_json(self) -> dict:
-        return {"mode": self.control, "delay_beats": self.delay, "speed_rate_m_s_per_beat": SPEED_RATE,
+        return {"mode": self.control, "update_rate": self.schedule.rate, "delay_beats": self.delay,
+                "speed_rate_m_s_per_beat": SPEED_RATE,
                 "body_length_m": body_length(), "schedule": [p.to_json() for p in self.schedule.points],
                 "gusts": [{"velocity": list(map(float, g.velocity)), "start": g.start, "beats": g.beats}
                           for g in self.gusts],
@@ -265,15 +163,18 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     perturbation: np.ndarray | None = None, schedule: Schedule | None = None,
                     model: mujoco.MjModel | None = None, record: bool = False, log=None,
                     progress: Callable[[int, int], None] | None = None,
-                    design_delay: int | None = None, aero: str = "quasi-steady") -> ClosedLoop:
+                    design_delay: int | None = None, aero: str = "quasi-steady", rate: str = "beat") -> ClosedLoop:
     """Fly ``beats`` wingbeats from the quasi-steady orbit at ``speed`` [m/s] (plus ``perturbation`` (9,) SI in
     :data:`hawksim.flight.orbit.STATE_NAMES` order) under the LQR (``control='lqr'``) or open loop (``'none'``:
     the orbit's kinematics throughout), commanded by ``profile`` [(speed, beats)] (default: ``speed``), with
     ``gusts``, sensing ``delay`` [beats]. ``design_delay``: the delay the gains were designed for (default
     ``delay``; a smaller one tests a controller unaware of the delay). ``record``: keep the per-step time series
     (``ClosedLoop.result``, a FlightResult for summary() and write_rrd). ``aero='uvlm'``: the schedule's
-    orbits must be UVLM orbits (pass ``schedule``); the flight is launched from the orbit's launch state and
-    flies its warm-up beats open loop before the ``beats`` controlled ones (only those are reported)."""
+    orbits must be UVLM orbits (:class:`Schedule` with ``aero='uvlm'``: the shipped orbits at 1, 1.5, 2 m/s), the
+    flight starts on one of them (``speed`` a schedule speed; a ValueError otherwise) and is launched from the
+    orbit's launch state and flies its warm-up beats open loop before the ``beats`` controlled ones (only those
+    are reported). ``rate``: control updates once per ``'beat'`` or per ``'half-stroke'`` (phases 0 and 0.5,
+    quasi-steady only) for the schedule made here (a given ``schedule`` brings its own)."""
     if control not in ("lqr", "none"):
         raise ValueError(f"--control {control!r}: choose lqr, none")
     t_start = time.perf_counter()
@@ -281,9 +182,14 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     cmd = profile_speeds(profile, speed, beats)
     dd = delay if design_delay is None else design_delay
     if schedule is None:
-        schedule = Schedule(min(speed, cmd.min()), max(speed, cmd.max()), delay=dd, model=model, log=log, aero=aero)
+        schedule = Schedule(min(speed, cmd.min()), max(speed, cmd.max()), delay=dd, model=model, log=log, aero=aero,
+                            rate=rate)
     if any(p.orbit.aero != aero for p in schedule.points):
         raise ValueError(f"the schedule's orbits are not {aero} orbits")
+    if aero == "uvlm" and not any(p.speed == speed for p in schedule.points):
+        raise ValueError(f"--speed {speed:g} with --aero uvlm under control: the flight starts on a shipped UVLM "
+                         f"orbit ({', '.join(f'{p.speed:g}' for p in schedule.points)} m/s here); command speeds in "
+                         "between with --ascent-profile")
     model = model if model is not None else load_model()
     start = schedule.reference(speed)
     kin0, x0, chi0, _ = start
@@ -310,49 +216,65 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     else:
         set_body_state(sim, x0, chi0)
     hold = stability_position(sim.d.qpos[:3])
-    keep = max(delay, schedule.delay) + 2
-    flown = [(p_orbit, p_orbit)] * keep  # (left, right) of the beats before the first
-    sensed = [(x0, np.zeros(2))] * keep
+    nseg = schedule.per_beat  # control updates per beat: 1 (phase 0) or 2 (phases 0 and 0.5)
+    lag, design_lag = delay * nseg, schedule.delay * nseg  # the sensing delay and the gains' one, in updates
+    keep = max(lag, design_lag) + 2 * nseg
+    flown = [(p_orbit, p_orbit)] * keep  # (left, right) of the updates before the first
+    if nseg == 1:
+        sensed = [(x0, np.zeros(2))] * keep
+    else:  # the entry m updates before the start was sensed at phase m mod 2 (the orbit's state there)
+        _, x_h, _, _ = schedule.reference(speed, 1)
+        pos_h = sum(w * pt.reference_state(1)[1] for w, pt in schedule.weights(speed))
+        sensed = [(x0, np.zeros(2)) if (keep - 1 - i) % 2 == 0 else (x_h, pos_h) for i in range(keep)]
     out, refs = [], []
     v_ref = float(speed)
+    rate_limit = SPEED_RATE / nseg  # the reference moves at each update, SPEED_RATE per beat
     for k in range(1, beats + 1):
-        v_ref += float(np.clip(cmd[k - 1] - v_ref, -SPEED_RATE, SPEED_RATE))
-        refs.append(v_ref)
-        kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
-        if control == "lqr":
-            x_s, pos_s = sensed[-1 - delay]
-            du = schedule.command(v_ref, x_s, pos_s, flown[-1 - schedule.delay:])
-            lp, rp = wing_kinematics(kin_ref, du)
-        else:
-            lp = rp = p_orbit
-        ls, rs = saturate(lp), saturate(rp)
-        saturated = bool(max(np.abs(ls - lp).max(), np.abs(rs - rp).max()) > SATURATION_TOL)
-        du_applied = command_of(kin_ref, ls, rs)
-        sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs))
         air = sum((g.at(k) for g in gusts), np.zeros(3))
         sim.air_v = air
         t0, z0 = sim.d.time, sim.d.qpos[2]
         pitch, Rs, pj = np.empty(n), np.empty((n, 3, 3)), np.empty(n)
-        for i in range(n):
-            r = sim.step()
-            st = r.state
-            pitch[i], Rs[i], pj[i] = pitch_of(st.body_R), st.body_R, r.joint_power
-            if record:
-                ld = r.loads
-                for key, val in (("t", st.t), ("pos", st.body_pos), ("R", st.body_R), ("v", st.body_v),
-                                 ("w", st.body_omega), ("wR", st.wing_R), ("wo", st.wing_origin), ("F", ld.force),
-                                 ("M", ld.moment_about(st, st.body_pos)), ("Pa", ld.power), ("Pj", r.joint_power)):
-                    rec[key].append(val)
+        applied, saturated, pitch_refs = [], False, []
+        for seg in range(nseg):
+            v_ref += float(np.clip(cmd[k - 1] - v_ref, -rate_limit, rate_limit))
+            kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
+            pitch_refs.append(pitch_ref)
+            if control == "lqr":
+                x_s, pos_s = sensed[-1 - lag]
+                du = schedule.command(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg)
+                lp, rp = wing_kinematics(kin_ref, du)
+            else:
+                lp = rp = p_orbit
+            ls, rs = saturate(lp), saturate(rp)
+            saturated |= bool(max(np.abs(ls - lp).max(), np.abs(rs - rp).max()) > SATURATION_TOL)
+            applied.append(_edge_command(kin_ref, command_of(kin_ref, ls, rs)))
+            if nseg == 1:
+                sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs))
+            else:
+                sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs), phase=np.pi * seg, span=0.5)
+            for i in range(seg * n // nseg, (seg + 1) * n // nseg):
+                r = sim.step()
+                st = r.state
+                pitch[i], Rs[i], pj[i] = pitch_of(st.body_R), st.body_R, r.joint_power
+                if record:
+                    ld = r.loads
+                    for key, val in (("t", st.t), ("pos", st.body_pos), ("R", st.body_R), ("v", st.body_v),
+                                     ("w", st.body_omega), ("wR", st.wing_R), ("wo", st.wing_origin),
+                                     ("F", ld.force), ("M", ld.moment_about(st, st.body_pos)), ("Pa", ld.power),
+                                     ("Pj", r.joint_power)):
+                        rec[key].append(val)
+            if not np.all(np.isfinite(sim.d.qpos)):
+                raise FloatingPointError(f"controlled flight diverged in beat {k}")
+            x = read_body_state(sim, chi_ref)
+            pos = stability_position(sim.d.qpos[:3]) - hold
+            flown.append((ls, rs))
+            sensed.append((x, pos))
+            flown, sensed = flown[-keep:], sensed[-keep:]
+        refs.append(v_ref)
+        pitch_ref = sum(pitch_refs) / nseg
         if progress is not None:
             progress(k, beats)
-        if not np.all(np.isfinite(sim.d.qpos)):
-            raise FloatingPointError(f"controlled flight diverged in beat {k}")
         T = sim.d.time - t0
-        x = read_body_state(sim, chi_ref)
-        pos = stability_position(sim.d.qpos[:3]) - hold
-        flown.append((ls, rs))
-        sensed.append((x, pos))
-        flown, sensed = flown[-keep:], sensed[-keep:]
         vz = (sim.d.qpos[2] - z0) / T
         att = attitude_of(Rs)  # roll and yaw as the CLI contract's `beats` (pitch-first angles)
         out.append({"beat": k, "speed_command": float(cmd[k - 1]), "speed_reference": v_ref,
@@ -363,8 +285,10 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     "horizontal_drift_m": float(np.hypot(*pos)),
                     "air_velocity": [float(a) for a in air],
                     "state": [float(a) for a in x],
-                    "commands": _edge_command(kin_ref, du_applied), "saturated": saturated,
+                    "commands": applied[0], "saturated": saturated,
                     "P_plus": float(np.maximum(pj, 0).mean() / P0_W)})
+        if nseg > 1:
+            out[-1]["commands_half_stroke"] = applied[1]
     result = None
     if record:
         a = {k: np.asarray(v) for k, v in rec.items()}

@@ -57,8 +57,25 @@ def default_control(aero: str, kinematics, steps_per_cycle: int, start: str | No
     return "lqr" if ok else "none"
 
 
+def check_uvlm_control(speed: float, profile) -> None:
+    """ValueError (one line naming the option) unless a controlled UVLM flight can fly this: it starts on a
+    shipped, converged UVLM orbit (:data:`hawksim.control.schedule.UVLM_SCHEDULE_SPEEDS`) and every commanded
+    speed lies within the UVLM schedule's range (its gains are interpolated between those orbits only)."""
+    from hawksim.control.schedule import UVLM_SCHEDULE_SPEEDS as SP
+
+    grid = ", ".join(f"{v:g}" for v in SP)
+    if not any(abs(speed - v) < 1e-9 for v in SP):
+        raise ValueError(f"--speed {speed:g} with --aero uvlm under control: the UVLM schedule starts on its shipped "
+                         f"converged orbits only ({grid} m/s; hover and 0.5 m/s did not converge)")
+    bad = [v for v, _ in profile or [] if not (SP[0] - 1e-9 <= v <= SP[-1] + 1e-9)]
+    if bad:
+        raise ValueError(f"--ascent-profile speed {bad[0]:g} m/s with --aero uvlm: the UVLM schedule covers "
+                         f"{SP[0]:g} to {SP[-1]:g} m/s")
+
+
 def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=None, delay: int = 0,
-                perturb: dict | None = None, model_path=None, rrd=None, progress=None, log=None) -> dict:
+                perturb: dict | None = None, model_path=None, rrd=None, progress=None, log=None,
+                aero: str = "quasi-steady", rate: str = "beat") -> dict:
     """The JSON object of a `hawksim fly` under control (or open loop with a gust): the FlightResult summary
     (the CLI contract's keys) plus ``control`` (:meth:`ClosedLoop.to_json`: schedule, gains, closed-loop
     multipliers, per-beat commands and tracking errors) and ``rrd``."""
@@ -72,8 +89,11 @@ def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=
     deg = np.pi / 180
     for k, v in parse_perturbations(perturb or {}).items():
         x[STATE_NAMES.index(k)] += v * (deg if k in ("p", "q", "r", "theta", "phi") else 1.0)
+    if aero == "uvlm":
+        check_uvlm_control(speed, profile)
     cl = fly_closed_loop(speed, cycles, profile=profile, gusts=gusts, delay=delay, control=control, perturbation=x,
-                         model=load_model(model_path), record=True, log=log, progress=progress)
+                         model=load_model(model_path), record=True, log=log, progress=progress, aero=aero,
+                         rate=rate)
     out = cl.result.summary()
     ctl = cl.to_json()
     b = cl.beats
@@ -91,7 +111,8 @@ def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=
               file=sys.stderr)
     elif control == "lqr":
         m = ctl["last_beats_max_abs"]
-        print(f"fly: held under LQR control for {cycles} wingbeats; last {len(last)} beats: speed error <= "
+        print(f"fly: held under LQR control for {cycles} wingbeats ({aero}, updated per {rate}); last {len(last)} "
+              "beats: speed error <= "
               f"{m['speed_error']:.4f} m/s, pitch error <= {m['pitch_error_deg']:.2f} deg, roll <= "
               f"{m['roll_deg']:.2f} deg, drift <= {m['horizontal_drift_m'] * 1e3:.1f} mm "
               f"(body length {body_length() * 1e3:.1f} mm)", file=sys.stderr)

@@ -177,6 +177,16 @@ class BeatMapModel:
                 "A": self.A.tolist(), "B0": self.B0.tolist(), "B1": self.B1.tolist(), "scale": self.scale.tolist(),
                 "coupling": self.coupling, "delta": self.delta}
 
+    @staticmethod
+    def from_json(d: dict, orbit: Orbit) -> BeatMapModel:
+        """Inverse of :meth:`to_json` about ``orbit`` (the one it was made about; the caller checks which)."""
+        if tuple(d["states"]) != XI_NAMES or tuple(d["inputs"]) != INPUTS:
+            raise ValueError("control model table: states or inputs differ from this version's")
+        return BeatMapModel(orbit=orbit, A=np.asarray(d["A"], float), B0=np.asarray(d["B0"], float),
+                            B1=np.asarray(d["B1"], float), scale=np.asarray(d["scale"], float),
+                            coupling=float(d["coupling"]), delta=float(d["delta"]),
+                            wall_time_s=float(d.get("wall_time_s", 0.0)))
+
 
 def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None) -> BeatMapModel:
     """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady: each

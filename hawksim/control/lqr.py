@@ -89,3 +89,50 @@ def lqr_gain(lin: BeatMapModel, which: str, delay: int = 0, x_max: dict | None =
     K = np.linalg.solve(R + Bz.T @ P @ Bz, Bz.T @ P @ Az)
     return Gain(K=K, multipliers=_sorted(np.linalg.eigvals(Az - Bz @ K)), open_loop=_sorted(np.linalg.eigvals(A)),
                 states=xs, inputs=us, delay=int(delay))
+
+
+def periodic_lqr_gains(blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]], xs: tuple[int, ...],
+                       us: tuple[int, ...], delay: int = 0, x_max: dict | None = None,
+                       u_max: dict | None = None) -> tuple[Gain, ...]:
+    """LQR of a periodic plant sampled p times per wingbeat (the half-stroke maps: p = 2): ``blocks`` [(A_j,
+    B0_j, B1_j)] of each phase j of one subsystem (states ``xs``, inputs ``us``), a sensing delay of ``delay``
+    SAMPLES, the same Bryson weights at every sample. One Gain per phase, u = -K_j z at phase j.
+
+    Method: each phase augmented as :func:`augment` ((Az_j, Bz_j)); the plant lifted over one beat from phase 0,
+    z_p = Phi z_0 + Gamma (u_0, ..., u_{p-1}), with the cost of every sample folded into the lifted weights
+    (Q_L = sum Phi_j' Q Phi_j, R_L = diag(R) + sum Gamma_j' Q Gamma_j, cross term S_L = sum Phi_j' Q Gamma_j);
+    scipy's solve_discrete_are(A_L, B_L, Q_L, R_L, s=S_L) gives the phase-0 cost-to-go P_0 of the periodic
+    problem, and the per-phase gains follow by the Riccati recursion backward from it over one beat,
+    K_j = (R + Bz_j' P_{j+1} Bz_j)^-1 Bz_j' P_{j+1} Az_j (P_p = P_0). Closed loop: the multipliers per beat are
+    eig(prod_j (Az_j - Bz_j K_j)) (every Gain carries them); ``open_loop``: eig(prod_j A_j)."""
+    xm, um = {**X_MAX, **(x_max or {})}, {**U_MAX, **(u_max or {})}
+    aug = [augment(A, B0, B1, delay) for A, B0, B1 in blocks]
+    n, m = blocks[0][2].shape
+    N, p = aug[0][0].shape[0], len(blocks)
+    Q = np.zeros((N, N))
+    Q[:n, :n] = np.diag([1 / xm[XI_NAMES[i]] ** 2 for i in xs])
+    R = np.diag([1 / um[INPUTS[i]] ** 2 for i in us])
+    Phi, Gam = np.eye(N), np.zeros((N, p * m))
+    QL, RL, SL = np.zeros((N, N)), np.kron(np.eye(p), R), np.zeros((N, p * m))
+    for j, (Az, Bz) in enumerate(aug):
+        QL += Phi.T @ Q @ Phi
+        RL += Gam.T @ Q @ Gam
+        SL += Phi.T @ Q @ Gam
+        Gam = Az @ Gam
+        Gam[:, j * m:(j + 1) * m] += Bz
+        Phi = Az @ Phi
+    P0 = solve_discrete_are(Phi, Gam, QL, RL, s=SL)
+    P, Ks = P0, [None] * p
+    for j in reversed(range(p)):
+        Az, Bz = aug[j]
+        Ks[j] = np.linalg.solve(R + Bz.T @ P @ Bz, Bz.T @ P @ Az)
+        P = Q + Az.T @ P @ (Az - Bz @ Ks[j])
+    M = np.eye(N)
+    for (Az, Bz), K in zip(aug, Ks):
+        M = (Az - Bz @ K) @ M
+    A_beat = np.eye(n)
+    for A, _, _ in blocks:
+        A_beat = A @ A_beat
+    mu, ol = _sorted(np.linalg.eigvals(M)), _sorted(np.linalg.eigvals(A_beat))
+    return tuple(Gain(K=K, multipliers=mu, open_loop=ol, states=tuple(xs), inputs=tuple(us), delay=int(delay))
+                 for K in Ks)

@@ -93,18 +93,26 @@ class ControlledSimulator(Simulator):
         self._old: tuple[Kinematics, Kinematics] | None = None
         self._same = True
         self._t0 = 0.0
+        self._phase, self._span = 0.0, 1.0  # wing phase at _t0 [rad]; blend length in periods
         self._T = kin.period
 
     # ---- commands -------------------------------------------------------------------------------
-    def begin_beat(self, left: Kinematics, right: Kinematics) -> None:
+    def begin_beat(self, left: Kinematics, right: Kinematics, *, phase: float = 0.0, span: float = 1.0) -> None:
         """Start a wingbeat now (call at phase 0, i.e. at t = 0 or right after the previous beat's last step):
-        blend from the current kinematics to (left, right) over this beat, whose period is 1 / left.f."""
+        blend from the current kinematics to (left, right) over this beat, whose period is 1 / left.f.
+
+        Half strokes (:mod:`hawksim.control.halfstroke`): ``phase`` [rad] is the wing phase 2 pi f t at which this
+        segment starts (0 or pi) and ``span`` the fraction of the new period it lasts (1 or 0.5); the blend runs
+        over the segment, span / left.f, and the step stays period / steps_per_cycle, so the segment is
+        span x steps_per_cycle steps."""
         if left.f != right.f:
             raise ValueError(f"both wings flap at one frequency, got {left.f} and {right.f} Hz")
         cur = self._new if self._new is not None else (self.kin, self.kin)
         self._old, self._new = cur, (left, right)
         self._same = cur == self._new
         self._t0 = float(self.d.time)
+        self._phase = float(phase)
+        self._span = float(span)
         self._T = left.period
         self.dt = self._T / self.steps_per_cycle
         self.m.opt.timestep = self.dt
@@ -117,6 +125,7 @@ class ControlledSimulator(Simulator):
         self._old = self._new = (left, right)
         self._same = True
         self._t0 = 0.0
+        self._phase, self._span = 0.0, 1.0
         self._T = left.period
         self.dt = self._T / self.steps_per_cycle
         self.m.opt.timestep = self.dt
@@ -133,11 +142,13 @@ class ControlledSimulator(Simulator):
         tau = t - self._t0
         out_q, out_qd, out_qdd = [], [], []
         same = self._same
-        s, s1, s2 = _smoothstep(tau / self._T)
-        s1, s2 = s1 / self._T, s2 / (self._T * self._T)
+        ph = self._phase
+        Tb = self._T if self._span == 1.0 else self._span * self._T  # the blend's length
+        s, s1, s2 = _smoothstep(tau / Tb)
+        s1, s2 = s1 / Tb, s2 / (Tb * Tb)
         for w in (0, 1):
             kn = self._new[w]
-            wt = 2 * math.pi * kn.f * tau
+            wt = 2 * math.pi * kn.f * tau if ph == 0.0 else ph + 2 * math.pi * kn.f * tau
             qn, qdn, qddn = kn.eq1(math.cos(wt), math.sin(wt))
             if same or s >= 1.0:
                 out_q += qn
@@ -145,7 +156,7 @@ class ControlledSimulator(Simulator):
                 out_qdd += qddn
                 continue
             ko = self._old[w]
-            wt = 2 * math.pi * ko.f * tau
+            wt = 2 * math.pi * ko.f * tau if ph == 0.0 else ph + 2 * math.pi * ko.f * tau
             qo, qdo, qddo = ko.eq1(math.cos(wt), math.sin(wt))
             for j in range(3):
                 dq, dqd = qn[j] - qo[j], qdn[j] - qdo[j]

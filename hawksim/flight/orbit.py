@@ -172,34 +172,41 @@ def _rodrigues(rv: np.ndarray) -> np.ndarray:
     return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
 
 
-def set_body_state(sim: Simulator, x: np.ndarray, chi_ref: float, position=(0.0, 0.0, 0.0)) -> None:
-    """Start ``sim`` at t = 0 in state x (9,): wings at their prescribed phase-0 pose and rates, the free joint's
-    qpos/qvel written directly (no momentum adjustment), backend reset; a quasi-steady backend's added-mass memory
-    is primed by one call at t = -aero_every dt (:func:`_prime_quasi_steady`)."""
+def set_body_state(sim: Simulator, x: np.ndarray, chi_ref: float, position=(0.0, 0.0, 0.0), t: float = 0.0) -> None:
+    """Start ``sim`` at time t (default 0) in state x (9,): wings at their prescribed pose and rates at t
+    (``sim.desired(t)``; phase 0 at t = 0), the free joint's qpos/qvel written directly (no momentum adjustment),
+    backend reset; a quasi-steady backend's added-mass memory is primed by one call at t - aero_every dt
+    (:func:`_prime_quasi_steady`). A t other than 0 starts the flight mid-beat (the half-stroke map of
+    :mod:`hawksim.control.halfstroke` starts at phase 0.5)."""
     R, v_w, om_w = state_to_world(np.asarray(x, float), chi_ref)
     sim.reset(velocity=v_w, quat=quat_from_matrix(R), omega_body=R.T @ om_w, position=np.asarray(position, float))
     m, d = sim.m, sim.d
+    if t != 0.0:
+        d.time = t
+        q, qd, _ = sim.desired(t)
+        d.qpos[sim.wing_qpos] = q
+        d.qvel[sim.wing_dof] = qd
     d.qpos[3:7] = quat_from_matrix(R)
     d.qvel[:3] = v_w
     d.qvel[3:6] = R.T @ om_w
     mujoco.mj_forward(m, d)
     sim.backend.reset(sim.state())
     if getattr(sim.backend, "name", "") == "quasi-steady":
-        _prime_quasi_steady(sim)
+        _prime_quasi_steady(sim, t)
 
 
-def _prime_quasi_steady(sim: Simulator) -> None:
-    """Give the quasi-steady backend the memory (strip normal velocities) of a call at t = -h, h = aero_every dt,
-    as a continuous flight would have: the body state at -h is extrapolated to second order from t = 0 and a
-    probe step to +h (v(-h) = 2 v(0) - v(h), likewise the body-frame angular velocity; position and attitude
-    with the acceleration (v(h) - v(0)) / h), the wings at their prescribed pose at -h."""
+def _prime_quasi_steady(sim: Simulator, t: float = 0.0) -> None:
+    """Give the quasi-steady backend the memory (strip normal velocities) of a call at t - h, h = aero_every dt,
+    as a continuous flight would have: the body state at t - h is extrapolated to second order from t and a
+    probe step to t + h (v(t - h) = 2 v(t) - v(t + h), likewise the body-frame angular velocity; position and
+    attitude with the acceleration (v(t + h) - v(t)) / h), the wings at their prescribed pose at t - h."""
     m, d = sim.m, sim.d
     h = sim.dt * sim.aero_every
     qpos0, qvel0 = d.qpos.copy(), d.qvel.copy()
     for _ in range(sim.aero_every):
         sim.step()
     v_h, w_h = d.qvel[:3].copy(), d.qvel[3:6].copy()
-    d.time = 0.0
+    d.time = t
     d.qpos[:], d.qvel[:] = qpos0, qvel0
     d.qacc_warmstart[:] = 0.0
     mujoco.mj_forward(m, d)
@@ -207,13 +214,13 @@ def _prime_quasi_steady(sim: Simulator) -> None:
     sim.backend.reset(sim.state())
     v0, w0 = qvel0[:3], qvel0[3:6]
     d2 = mujoco.MjData(m)
-    d2.time = -h
+    d2.time = t - h
     d2.qpos[:], d2.qvel[:] = qpos0, qvel0
     d2.qpos[:3] = qpos0[:3] - h * v0 + 0.5 * h * (v_h - v0)
     R0 = quat_to_matrix(qpos0[3:7])
     d2.qpos[3:7] = quat_from_matrix(R0 @ _rodrigues(-h * w0 + 0.5 * h * (w_h - w0)))
     d2.qvel[:3], d2.qvel[3:6] = 2 * v0 - v_h, 2 * w0 - w_h
-    q, qd, _ = sim.desired(-h)
+    q, qd, _ = sim.desired(t - h)
     d2.qpos[sim.wing_qpos] = q
     d2.qvel[sim.wing_dof] = qd
     mujoco.mj_forward(m, d2)

@@ -70,7 +70,39 @@ def orbits_all(out_dir: Path, log=print, aeros=("quasi-steady", "uvlm"), speeds=
     return done
 
 
-STEPS = ("uvlm_table4", "stability", "stability_table3", "orbits", "validation", "validation_uvlm", "trim")
+def control_models_all(out_dir: Path, log=print, aero: str = "uvlm", speeds=None) -> dict:
+    """One-beat control derivatives (:func:`hawksim.control.derivatives.linearize`) about the shipped orbits of
+    ``aero`` at the UVLM schedule's speeds, into ``out_dir/control_models_<aero>.json``
+    (:func:`hawksim.control.schedule.control_model_table`; copy it to ``hawksim/data`` to ship it: the UVLM gains
+    of `hawksim fly --control lqr --aero uvlm` come from it). Resumable: a speed already in the file about the same
+    orbit is kept, each new one is written as soon as it is done."""
+    from hawksim.control.derivatives import BeatMapModel, linearize
+    from hawksim.control.schedule import CONTROL_MODEL_FILES, UVLM_SCHEDULE_SPEEDS, control_model_table
+    from hawksim.flight.orbit import shipped_orbit
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    path = out_dir / CONTROL_MODEL_FILES[aero]
+    rows = {}
+    for r in (json.loads(path.read_text())["rows"] if path.is_file() else []):
+        orb = shipped_orbit(r["speed"], aero)
+        if orb is not None and r["orbit_f_hz"] == orb.kinematics.f and r["orbit_residual"] == orb.residual:
+            rows[r["speed"]] = BeatMapModel.from_json(r, orb)
+    for v in (speeds if speeds is not None else UVLM_SCHEDULE_SPEEDS):
+        if v in rows:
+            continue
+        orb = shipped_orbit(v, aero)
+        if orb is None or not orb.converged:
+            raise ValueError(f"no converged shipped {aero} orbit at {v:g} m/s")
+        log(f"control derivatives {aero} V={v:g} (44 one-beat flights) ...")
+        rows[v] = linearize(orb)
+        log(f"  {aero} V={v:g}: {rows[v].wall_time_s:.0f} s, cross-coupling {rows[v].coupling:.1e}")
+        table = control_model_table([rows[k] for k in sorted(rows)], "hawksim reproduce --only control_uvlm")
+        path.write_text(json.dumps(table, indent=1))
+    return {"path": str(path), "speeds": sorted(rows), "wall_time_s": {f"{k:g}": rows[k].wall_time_s for k in rows}}
+
+
+STEPS = ("uvlm_table4", "stability", "stability_table3", "orbits", "validation", "validation_uvlm", "control_uvlm",
+         "trim")
 """Parts of `hawksim reproduce`, in the order they run."""
 
 
@@ -102,6 +134,9 @@ def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
 
         with dask_client() as client:
             done["validation_uvlm"] = validation(out_dir / "free_flight", aero="uvlm", log=log, client=client)
+    if "control_uvlm" in only:
+        log("control_uvlm (UVLM one-beat control derivatives at 1, 1.5, 2 m/s; minutes per speed) ...")
+        done["control_uvlm"] = control_models_all(out_dir / "control", log=log)
     if "trim" not in only:
         return done
     from hawksim.backends.network import SHIPPED_SPEEDS, shipped_path

@@ -11,7 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from hawksim.control.closed_loop import SCHEDULE_SPEEDS, Gust, Schedule, body_length, fly_closed_loop
+from hawksim.control.closed_loop import Gust, body_length, fly_closed_loop
+from hawksim.control.schedule import SCHEDULE_SPEEDS, Schedule
 
 OUT = Path(__file__).resolve().parents[2] / "results" / "control"
 L = body_length()

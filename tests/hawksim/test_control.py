@@ -6,7 +6,8 @@ issue's targets (CI: 1 m/s; every speed and the ascent profile are `slow`)."""
 import numpy as np
 import pytest
 
-from hawksim.control.closed_loop import SCHEDULE_SPEEDS, Gust, Schedule, body_length, fly_closed_loop, schedule_point
+from hawksim.control.closed_loop import Gust, body_length, fly_closed_loop
+from hawksim.control.schedule import SCHEDULE_SPEEDS, Schedule, schedule_point
 from hawksim.control.derivatives import LAT_X, LONG_X, one_beat
 from hawksim.control.lqr import augment
 from hawksim.control.plant import ANTI_INPUTS, SYM_INPUTS, ControlledSimulator, command_of, wing_kinematics
@@ -179,11 +180,18 @@ def test_ascent_profile_without_overshoot():
     (["--control", "pid"], "--control"),
     (["--control", "lqr", "--aero", "surrogate"], "--control"),
     (["--control", "none", "--ascent-profile", "0:2"], "--ascent-profile"),
+    (["--control", "none", "--control-rate", "half-stroke"], "--control-rate"),
+    (["--control-rate", "quarter"], "--control-rate"),
+    (["--control", "lqr", "--aero", "uvlm", "--control-rate", "half-stroke"], "--control-rate"),
+    (["--control", "lqr", "--aero", "uvlm", "--speed", "0.5"], "--speed"),
+    (["--control", "lqr", "--aero", "uvlm", "--speed", "1.25"], "--speed"),
+    (["--control", "lqr", "--aero", "uvlm", "--ascent-profile", "1:2,0.5:2"], "--ascent-profile"),
 ])
 def test_control_options_bad_input_exit_2(args, needle, capsys):
     from hawksim.cli import main
 
-    assert main(["fly", "--speed", "1", "--cycles", "2", *args, "--json", "--no-progress"]) == 2
+    speed = [] if "--speed" in args else ["--speed", "1"]
+    assert main(["fly", *speed, "--cycles", "2", *args, "--json", "--no-progress"]) == 2
     cap = capsys.readouterr()
     lines = cap.err.strip().splitlines()
     assert cap.out == "" and len(lines) == 1 and needle in lines[0]
@@ -207,13 +215,54 @@ def test_cli_control_json(capsys):
     assert "held under LQR control" in cap.err
 
 
+def test_uvlm_schedule_from_the_shipped_models():
+    """The UVLM schedule: the shipped orbits at 1, 1.5, 2 m/s and the control derivatives shipped about exactly
+    those orbits (hawksim/data/control_models_uvlm.json, with its command), stable in closed loop; other speeds
+    are refused."""
+    import json
+    from importlib import resources
+
+    from hawksim.control.schedule import UVLM_SCHEDULE_SPEEDS, shipped_control_model
+
+    table = json.loads((resources.files("hawksim") / "data" / "control_models_uvlm.json").read_text())
+    assert table["command"] == "hawksim reproduce --only control_uvlm" and "seed" in table
+    for v in UVLM_SCHEDULE_SPEEDS:
+        lin = shipped_control_model(v, "uvlm")
+        assert lin is not None and lin.orbit.converged and lin.coupling < 1e-6
+    s = Schedule(1.0, 2.0, aero="uvlm")
+    assert list(s.speeds) == [1.0, 1.5, 2.0]
+    for p in s.points:
+        assert np.abs(p.long.open_loop).max() > 1.2  # the UVLM orbits are unstable too
+        assert p.long.spectral_radius < 0.98 and p.lat.spectral_radius < 0.98
+    with pytest.raises(ValueError, match="outside"):
+        Schedule(0.5, 1.0, aero="uvlm")
+
+
+def test_cli_uvlm_under_control_json(capsys):
+    """`hawksim fly --aero uvlm --control lqr`: 2 controlled beats from the shipped 2 m/s orbit (after its 2
+    warm-up beats), the UVLM schedule in the JSON."""
+    import json
+
+    from hawksim.cli import main
+
+    assert main(["fly", "--speed", "2", "--cycles", "2", "--aero", "uvlm", "--control", "lqr", "--json",
+                 "--no-progress"]) == 0
+    cap = capsys.readouterr()
+    out = json.loads(cap.out)
+    ctl = out["control"]
+    assert out["aero"] == "uvlm" and ctl["mode"] == "lqr" and ctl["update_rate"] == "beat"
+    assert [p["speed"] for p in ctl["schedule"]] == [2.0] and ctl["schedule"][0]["aero"] == "uvlm"
+    assert all(_within(b) for b in ctl["beats"])
+    assert "held under LQR control" in cap.err and "uvlm" in cap.err
+
+
 @pytest.mark.slow
-def test_uvlm_in_the_loop_20_beats_at_1ms():
-    """The UVLM orbit at 1 m/s, its derivatives and LQR, 20 controlled wingbeats within the bounds (~8 min CPU;
-    15 min wall on a loaded 2-core host)."""
-    s = Schedule(1.0, 1.0, aero="uvlm", speeds=(1.0,))
-    assert s.points[0].long.spectral_radius < 1 and s.points[0].lat.spectral_radius < 1
-    cl = fly_closed_loop(1.0, 20, schedule=s, aero="uvlm")
+@pytest.mark.parametrize("speed", [1.0, 1.5, 2.0])
+def test_uvlm_in_the_loop_20_beats(speed):
+    """The shipped UVLM orbit, its shipped derivatives and LQR, 20 controlled wingbeats within the bounds
+    (~25 s per speed on a quiet machine)."""
+    s = Schedule(1.0, 2.0, aero="uvlm")
+    cl = fly_closed_loop(speed, 20, schedule=s, aero="uvlm")
     assert all(_within(b) for b in cl.beats)
 
 

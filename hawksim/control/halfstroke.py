@@ -1,0 +1,149 @@
+"""Per-half-stroke control: the controlled one-beat map sampled at phase 0 and 0.5, linearized half by half.
+
+Issue 20 asks to update the kinematics once per wingbeat *or* per half-stroke. Per half-stroke the controller
+senses the body at phase 0 (a stroke reversal: the sweep at phi0 - phi_a) and at phase 0.5 (the other
+reversal, phi0 + phi_a), and each half-stroke blends the previous segment's kinematics into the new ones
+over the half (:meth:`hawksim.control.plant.ControlledSimulator.begin_beat` with ``span=0.5``; the quintic
+smoothstep over T/2, C2 at both ends, the step T/200 as in the per-beat plant). The sampled system is periodic
+with two phases, j = 0 (phase 0 -> 0.5) and j = 1 (phase 0.5 -> 1):
+
+    xi_{j+1} = A_j xi_j + B0_j u_{j-1} + B1_j u_j,     (A_j, B0_j, B1_j) alternating between the two halves,
+
+xi, u normalized as the per-beat model (:mod:`hawksim.control.derivatives`: velocities / U, rates x T, rad,
+positions / (U T); f relative, angles in rad). Each half's matrices by central differences about the orbit
+(step :data:`hawksim.control.derivatives.FD_DELTA`) over u .. psi: the first half launched from the orbit's
+phase-0 state, the second from the orbit's phase-0.5 state :attr:`HalfStrokeModel.x_half` (the state set at
+t = T/2 with the quasi-steady memory primed there, :func:`hawksim.flight.orbit.set_body_state`), 46 half-beat
+flights per half. X and Y are neutral (identity columns); psi is not, unlike per beat: the body moves by
+:attr:`HalfStrokeModel.pos_half` (~2 mm back) over a half-stroke, and a heading change turns that displacement
+(dY/dpsi = X displacement), so psi's column is differenced too (over a whole beat the orbit's displacement is
+zero, which is why the per-beat map may take psi as neutral). Quasi-steady backend only: the UVLM's wake cannot be
+set at phase 0.5 from the body state.
+
+The product A_1 A_0 of the two halves' body-state blocks is the one-beat monodromy up to the two half-beats'
+finite-difference and priming errors (tested).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from hawksim.control.derivatives import FD_DELTA, LAT_X, LONG_X, stability_position, xi_scale
+from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, wing_kinematics
+from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state
+from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.model import load_model
+
+HALVES = 2
+"""Control updates per wingbeat in the half-stroke mode (phases 0 and 0.5)."""
+
+
+def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, half: int, *,
+              model: mujoco.MjModel | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """One controlled half-stroke of the quasi-steady flight: from body state x0 (9,) at phase 0 (``half=0``) or
+    0.5 (``half=1``), the wings on the orbit's kinematics + du_prev before and blended into + du over the half:
+    (state (9,) at the half's end, horizontal displacement (2,) [m], stability axes)."""
+    if orbit.warm_beats:
+        raise ValueError("half-stroke maps need a settable state (a quasi-steady orbit); the UVLM's wake is not")
+    if half not in (0, 1):
+        raise ValueError(f"half must be 0 (phase 0 -> 0.5) or 1 (phase 0.5 -> 1), got {half}")
+    model = model if model is not None else load_model()
+    backend, every = make_orbit_backend(orbit.aero, symmetric=False)
+    kin = orbit.kinematics
+    sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
+    lp, rp = (Kinematics.from_array(p) for p in wing_kinematics(kin, du_prev))
+    sim.set_wings(lp, rp)
+    set_body_state(sim, x0, orbit.chi_ref, t=0.5 * lp.period if half else 0.0)
+    p0 = stability_position(sim.d.qpos[:3])
+    ln, rn = (Kinematics.from_array(p) for p in wing_kinematics(kin, du))
+    sim.begin_beat(ln, rn, phase=math.pi * half, span=0.5)
+    for _ in range(STEPS_PER_CYCLE // HALVES):
+        sim.step()
+    if not np.all(np.isfinite(sim.d.qpos)):
+        raise FloatingPointError("controlled half-stroke diverged (non-finite state)")
+    return read_body_state(sim, orbit.chi_ref), stability_position(sim.d.qpos[:3]) - p0
+
+
+@dataclass(frozen=True)
+class HalfStrokeModel:
+    """The linearized half-stroke maps about ``orbit`` (module docstring): ``A``, ``B0``, ``B1`` each a pair
+    (first half, second half) of (11, 11) / (11, 7) normalized matrices; ``x_half`` (9,) SI: the orbit's body
+    state at phase 0.5; ``pos_half`` (2,) [m]: its horizontal displacement (X forward, Y right) over the first
+    half (the phase-0.5 reference of the hold point); ``scale`` (11,); ``coupling``: the largest |entry| of
+    the longitudinal-lateral cross blocks."""
+
+    orbit: Orbit
+    A: tuple[np.ndarray, np.ndarray]
+    B0: tuple[np.ndarray, np.ndarray]
+    B1: tuple[np.ndarray, np.ndarray]
+    x_half: np.ndarray
+    pos_half: np.ndarray
+    scale: np.ndarray
+    coupling: float
+    delta: float
+    wall_time_s: float = 0.0
+
+    def block(self, which: str, half: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(A, B0, B1) of the 'long' (u, w, q, theta, X; f, phi0, alpha0, theta0) or 'lat' (v, p, r, phi, psi, Y;
+        dphi_a, dphi0, dalpha0) subsystem over half ``half`` (0 or 1)."""
+        xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
+        ix, iu = np.ix_(xs, xs), np.ix_(xs, us)
+        return self.A[half][ix], self.B0[half][iu], self.B1[half][iu]
+
+    @property
+    def monodromy(self) -> np.ndarray:
+        """(8, 8) over (u, v, w, p, q, r, phi, theta): the product of the two halves' state maps (one beat)."""
+        return (self.A[1] @ self.A[0])[:8, :8]
+
+    def to_json(self) -> dict:
+        return {"speed": self.orbit.speed, "aero": self.orbit.aero, "inputs": list(INPUTS),
+                "A": [a.tolist() for a in self.A], "B0": [b.tolist() for b in self.B0],
+                "B1": [b.tolist() for b in self.B1], "x_half": self.x_half.tolist(), "pos_half": self.pos_half.tolist(),
+                "scale": self.scale.tolist(), "coupling": self.coupling, "delta": self.delta}
+
+
+def linearize_half_stroke(orbit: Orbit, *, delta: float = FD_DELTA,
+                          model: mujoco.MjModel | None = None) -> HalfStrokeModel:
+    """:class:`HalfStrokeModel` about the quasi-steady ``orbit`` by central differences (module docstring):
+    1 reference half-beat + 2 x 46 half-beat flights (~2-3 s)."""
+    t0 = time.perf_counter()
+    model = model if model is not None else load_model()
+    sc = xi_scale(orbit.kinematics)
+    zero = np.zeros(len(INPUTS))
+    x0 = orbit.launch_state.as_array()
+    x_half, pos_half = half_beat(orbit, x0, zero, zero, 0, model=model)
+    mats = []
+    for half, xs in ((0, x0), (1, x_half)):
+        def xi(out):
+            x, disp = out
+            return np.concatenate([x, disp]) / sc
+
+        def beat(x, du_prev, du, h=half):
+            return half_beat(orbit, x, du_prev, du, h, model=model)
+
+        A = np.eye(11)
+        for j in range(9):  # psi too: it turns the half-stroke's horizontal displacement (X, Y rows)
+            r = []
+            for s in (1, -1):
+                x = xs.copy()
+                x[j] += s * delta * sc[j]
+                r.append(xi(beat(x, zero, zero)))
+            A[:, j] = (r[0] - r[1]) / (2 * delta)
+        B1, Bt = np.zeros((11, 7)), np.zeros((11, 7))
+        for j in range(7):
+            e = np.zeros(7)
+            e[j] = delta
+            B1[:, j] = (xi(beat(xs, zero, e)) - xi(beat(xs, zero, -e))) / (2 * delta)
+            Bt[:, j] = (xi(beat(xs, e, e)) - xi(beat(xs, -e, -e))) / (2 * delta)
+        mats.append((A, Bt - B1, B1))
+    cross = max(np.abs(M[np.ix_(a, b)]).max() for A, B0, B1 in mats for M, (a, b) in
+                ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
+                 (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
+    return HalfStrokeModel(orbit=orbit, A=(mats[0][0], mats[1][0]), B0=(mats[0][1], mats[1][1]),
+                           B1=(mats[0][2], mats[1][2]), x_half=x_half, pos_half=pos_half, scale=sc,
+                           coupling=float(cross), delta=delta, wall_time_s=time.perf_counter() - t0)

@@ -1,0 +1,245 @@
+"""The gain schedule over the ascent speed: periodic orbits, their linear models and LQR gains at grid speeds,
+interpolated linearly in between; updated once per wingbeat or once per half-stroke (:data:`RATES`).
+
+Quasi-steady: the orbits are solved (:func:`hawksim.flight.orbit.periodic_orbit`, ~1 s) and linearized
+(:func:`hawksim.control.derivatives.linearize`, ~2 s; per half-stroke :func:`hawksim.control.halfstroke.
+linearize_half_stroke`, ~3 s) at :data:`SCHEDULE_SPEEDS`, cached per process. UVLM (per beat only): the SHIPPED
+orbits (hawksim/data/orbit_table_uvlm.json, converged at :data:`UVLM_SCHEDULE_SPEEDS`) and their one-beat control
+derivatives shipped in hawksim/data/control_models_uvlm.json (``hawksim reproduce --only control_uvlm``,
+:func:`control_model_table`; linearizing one speed takes minutes), so the schedule covers 1-2 m/s only, and a
+speed outside the grid's range is refused (ValueError naming it).
+
+Per beat the gains are :func:`hawksim.control.lqr.lqr_gain` of the one-beat map; per half-stroke
+:func:`hawksim.control.lqr.periodic_lqr_gains` of the two half-stroke maps (a gain for phase 0 and one for
+phase 0.5), with a sensing delay of d wingbeats counted as 2 d half-strokes and the commands weighted
+:data:`HALF_STROKE_COMMAND_WEIGHT` times the per-beat design's.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import numpy as np
+
+from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, xi_scale
+from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_stroke
+from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gains
+from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, command_of
+from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
+from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
+
+SCHEDULE_SPEEDS = TABLE3_SPEEDS
+"""Ascent speeds [m/s] of the quasi-steady gain schedule's orbits (0, 0.5, 1, 1.5, 2)."""
+
+UVLM_SCHEDULE_SPEEDS = (1.0, 1.5, 2.0)
+"""Speeds [m/s] of the UVLM schedule: the shipped UVLM orbits that converged (hover and 0.5 m/s did not,
+docs/free_flight.md)."""
+
+RATES = ("beat", "half-stroke")
+"""Control update rates: once per wingbeat (at phase 0) or once per half-stroke (phases 0 and 0.5)."""
+
+HALF_STROKE_COMMAND_WEIGHT = 2.0
+"""The half-stroke LQR's command weight R relative to the per-beat Bryson weights (:data:`hawksim.control.lqr.
+U_MAX` divided by sqrt of this). With equal weights the half-stroke LQR rejects small disturbances harder but, on
+the 0 -> 1 m/s reference ramp (0.2 m/s per beat), drives theta0 to Table 2's -25 deg and phi0 alternately to
++-25 deg and departs; with 2 every command of the 0 -> 1 -> 2 m/s profile stays inside Table 2 and the gust and
+perturbation peaks stay below the per-beat controller's (``scripts/studies/control_rate_study.py``,
+docs/control.md "Per beat or per half-stroke")."""
+
+CONTROL_MODEL_FILES = {"uvlm": "control_models_uvlm.json"}
+"""Shipped one-beat control derivatives in ``hawksim/data`` (produced by ``hawksim reproduce --only
+control_uvlm``, copied from ``results/control/``)."""
+
+
+@dataclass(frozen=True)
+class SchedulePoint:
+    """Orbit, linear model(s) and gains at one speed of the schedule. ``long``/``lat``: the gains used at phase 0
+    (per beat: the only ones); per half-stroke also ``half`` (the half-stroke maps) and ``long_half``/``lat_half``
+    (the gains at phase 0.5); the multipliers of every gain are those of one wingbeat."""
+
+    speed: float
+    orbit: Orbit
+    model: BeatMapModel
+    long: Gain
+    lat: Gain
+    rate: str = "beat"
+    half: HalfStrokeModel | None = None
+    long_half: Gain | None = None
+    lat_half: Gain | None = None
+
+    def gains(self, phase: int) -> tuple[Gain, Gain]:
+        """(long, lat) at update ``phase`` (0; per half-stroke also 1 = phase 0.5)."""
+        return (self.long, self.lat) if phase == 0 else (self.long_half, self.lat_half)
+
+    def reference_state(self, phase: int) -> tuple[np.ndarray, np.ndarray]:
+        """(body state (9,) SI, horizontal offset (2,) [m] from the hold point) of the orbit at ``phase``."""
+        if phase == 0:
+            return self.orbit.initial_state.as_array(), np.zeros(2)
+        return self.half.x_half, self.half.pos_half
+
+    def to_json(self) -> dict:
+        def mu(g):
+            return [[float(z.real), float(z.imag)] for z in g.multipliers if abs(z) > 1e-12]
+
+        out = {"speed": self.speed, "aero": self.orbit.aero, "rate": self.rate, "orbit_f_hz": self.orbit.kinematics.f,
+               "orbit_residual": self.orbit.residual,
+               "open_loop_max_multiplier": float(max(
+                   np.abs(self.long.open_loop).max(),
+                   np.abs(self.lat.open_loop[np.abs(self.lat.open_loop - 1) > 1e-9]).max())),
+               "closed_loop_spectral_radius_long": self.long.spectral_radius,
+               "closed_loop_spectral_radius_lat": self.lat.spectral_radius,
+               "closed_loop_multipliers_long": mu(self.long), "closed_loop_multipliers_lat": mu(self.lat),
+               "K_long": self.long.K.tolist(), "K_lat": self.lat.K.tolist()}
+        if self.rate == "half-stroke":
+            out["K_long_half"], out["K_lat_half"] = self.long_half.K.tolist(), self.lat_half.K.tolist()
+        return out
+
+
+def control_model_table(models: list[BeatMapModel], command: str) -> dict:
+    """The layout of a shipped control-derivative table: one row per speed (:meth:`BeatMapModel.to_json` plus
+    the orbit it linearizes, named by its f and residual), with the command that made it. The UVLM is
+    deterministic (no random process), so there is no seed."""
+    from hawksim import __version__
+
+    return {"source": "central differences of the controlled one-beat map about the shipped periodic orbits "
+                      "(hawksim.control.derivatives.linearize)", "command": command, "seed": None,
+            "seed_note": "deterministic: no random process", "hawksim_version": __version__,
+            "aero": models[0].orbit.aero if models else None,
+            "rows": [{**m.to_json(), "orbit_f_hz": m.orbit.kinematics.f, "orbit_residual": m.orbit.residual,
+                      "wall_time_s": m.wall_time_s} for m in models]}
+
+
+def shipped_control_model(speed: float, aero: str) -> BeatMapModel | None:
+    """The shipped one-beat model of ``aero`` at exactly ``speed`` (:data:`CONTROL_MODEL_FILES`) about the shipped
+    orbit there, None if absent (or if the orbit it was made about is not the shipped one)."""
+    from importlib import resources
+
+    name = CONTROL_MODEL_FILES.get(aero)
+    path = resources.files("hawksim") / "data" / name if name else None
+    orbit = shipped_orbit(speed, aero)
+    if path is None or not path.is_file() or orbit is None:
+        return None
+    for row in json.loads(path.read_text())["rows"]:
+        if abs(row["speed"] - speed) < 1e-9 and row["orbit_f_hz"] == orbit.kinematics.f \
+                and row["orbit_residual"] == orbit.residual:
+            return BeatMapModel.from_json(row, orbit)
+    return None
+
+
+_POINTS: dict = {}
+_HALF: dict = {}
+
+
+def _orbit_and_model(speed: float, aero: str, model, log) -> tuple[Orbit, BeatMapModel]:
+    key = (float(speed), aero)
+    if key not in _POINTS:
+        if aero == "uvlm":
+            orb = shipped_orbit(speed, "uvlm")
+            if orb is None or not orb.converged:
+                raise ValueError(f"no converged shipped UVLM orbit at {speed:g} m/s (the UVLM schedule covers "
+                                 f"{', '.join(f'{v:g}' for v in UVLM_SCHEDULE_SPEEDS)} m/s)")
+            lin = shipped_control_model(speed, "uvlm")
+            if lin is None:
+                if log is not None:
+                    log(f"linearizing the UVLM orbit at {speed:g} m/s (no shipped control model; minutes) ...")
+                lin = linearize(orb, model=model)
+        else:
+            orb = periodic_orbit(speed, aero, model=model, log=log)
+            if not orb.converged:
+                raise FloatingPointError(f"the periodic orbit at {speed:g} m/s did not converge ({orb.residual:.1e})")
+            lin = linearize(orb, model=model)
+        _POINTS[key] = (orb, lin)
+    return _POINTS[key]
+
+
+def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", model=None, log=None,
+                   x_max=None, u_max=None, rate: str = "beat", command_weight: float | None = None) -> SchedulePoint:
+    """Orbit, linearization and LQR gains at ``speed`` [m/s] for a sensing ``delay`` [wingbeats] and update
+    ``rate`` (:data:`RATES`); orbits and linear models are cached per process. ``x_max``/``u_max`` override
+    Bryson's bounds (:mod:`hawksim.control.lqr`); ``command_weight`` multiplies R of the half-stroke design
+    (default :data:`HALF_STROKE_COMMAND_WEIGHT`)."""
+    if rate not in RATES:
+        raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
+    if rate == "half-stroke" and aero != "quasi-steady":
+        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady (the {aero} state cannot be set at "
+                         "phase 0.5 to linearize the half-stroke maps)")
+    orb, lin = _orbit_and_model(speed, aero, model, log)
+    long, lat = lqr_gain(lin, "long", delay, x_max, u_max), lqr_gain(lin, "lat", delay, x_max, u_max)
+    if rate == "beat":
+        return SchedulePoint(float(speed), orb, lin, long, lat)
+    key = (float(speed), aero)
+    if key not in _HALF:
+        _HALF[key] = linearize_half_stroke(orb, model=model)
+    h = _HALF[key]
+    d = HALVES * int(delay)
+    cw = HALF_STROKE_COMMAND_WEIGHT if command_weight is None else float(command_weight)
+    um = {k: v / np.sqrt(cw) for k, v in {**U_MAX, **(u_max or {})}.items()}
+    gl = periodic_lqr_gains([h.block("long", j) for j in range(HALVES)], LONG_X, SYM_INPUTS, d, x_max, um)
+    gt = periodic_lqr_gains([h.block("lat", j) for j in range(HALVES)], LAT_X, ANTI_INPUTS, d, x_max, um)
+    return SchedulePoint(float(speed), orb, lin, gl[0], gt[0], rate="half-stroke", half=h, long_half=gl[1],
+                         lat_half=gt[1])
+
+
+class Schedule:
+    """Gain schedule over the ascent speed: :class:`SchedulePoint` at the grid speeds needed for [v_lo, v_hi]
+    (``speeds``: default :data:`SCHEDULE_SPEEDS`, the UVLM's :data:`UVLM_SCHEDULE_SPEEDS`); a range outside the
+    grid's is refused (ValueError). ``rate``: :data:`RATES`; ``delay`` [wingbeats]; the rest as
+    :func:`schedule_point`."""
+
+    def __init__(self, v_lo: float, v_hi: float, *, delay: int = 0, aero: str = "quasi-steady", model=None,
+                 log=None, speeds=None, x_max=None, u_max=None, rate: str = "beat",
+                 command_weight: float | None = None):
+        if speeds is None:
+            speeds = UVLM_SCHEDULE_SPEEDS if aero == "uvlm" else SCHEDULE_SPEEDS
+        sp = np.asarray(speeds, float)
+        if v_lo < sp[0] - 1e-9 or v_hi > sp[-1] + 1e-9:
+            raise ValueError(f"speeds {v_lo:g} to {v_hi:g} m/s are outside the {aero} control schedule's "
+                             f"{sp[0]:g} to {sp[-1]:g} m/s")
+        lo = sp[max(0, np.searchsorted(sp, v_lo, side="right") - 1)]
+        hi = sp[min(len(sp) - 1, np.searchsorted(sp, v_hi, side="left"))]
+        self.delay = int(delay)
+        self.rate = rate
+        self.per_beat = HALVES if rate == "half-stroke" else 1
+        self.points = [schedule_point(v, delay=delay, aero=aero, model=model, log=log, x_max=x_max, u_max=u_max,
+                                      rate=rate, command_weight=command_weight)
+                       for v in sp if lo - 1e-12 <= v <= hi + 1e-12]
+        self.speeds = np.array([p.speed for p in self.points])
+
+    def weights(self, v: float) -> list[tuple[float, SchedulePoint]]:
+        """[(weight, point)] of the linear interpolation at v (clamped to the schedule's range)."""
+        sp = self.speeds
+        if len(sp) == 1 or v <= sp[0]:
+            return [(1.0, self.points[0])]
+        if v >= sp[-1]:
+            return [(1.0, self.points[-1])]
+        i = int(np.searchsorted(sp, v, side="right") - 1)
+        a = (v - sp[i]) / (sp[i + 1] - sp[i])
+        return [(w, p) for w, p in ((1 - a, self.points[i]), (a, self.points[i + 1])) if w > 0]
+
+    def reference(self, v: float, phase: int = 0):
+        """(kinematics (Kinematics), state (9,) at update ``phase``, chi_ref, mean pitch [rad]) interpolated at v."""
+        ws = self.weights(v)
+        p = sum(w * pt.orbit.kinematics.as_array() for w, pt in ws)
+        x = sum(w * pt.reference_state(phase)[0] for w, pt in ws)
+        chi = sum(w * pt.orbit.chi_ref for w, pt in ws)
+        pitch = sum(w * pt.orbit.mean_pitch for w, pt in ws)
+        return Kinematics.from_array(p), x, float(chi), float(pitch)
+
+    def command(self, v: float, x_sensed: np.ndarray, pos_sensed: np.ndarray, past: list,
+                phase: int = 0) -> np.ndarray:
+        """The command du (7,) (relative to the reference kinematics at v) at update ``phase`` from the body state
+        (9,) and horizontal position (2,) [m] (from the hold point) sensed at the same phase (the delay is whole
+        wingbeats), as deviations from the reference interpolated at v, and ``past``: the (left, right) parameter
+        vectors actually flown in the last (d + 1) updates, oldest first (d: the delay in updates)."""
+        kin, x_ref, _, _ = self.reference(v, phase)
+        pos_ref = sum(w * pt.reference_state(phase)[1] for w, pt in self.weights(v))
+        xi = np.concatenate([x_sensed - x_ref, pos_sensed - pos_ref])
+        past_du = [command_of(kin, l, r) for l, r in past]
+        du = np.zeros(len(INPUTS))
+        for w, pt in self.weights(v):
+            dxi = xi / xi_scale(pt.orbit.kinematics)
+            for g in pt.gains(phase):
+                z = np.concatenate([dxi[list(g.states)]] + [d[list(g.inputs)] for d in past_du])
+                du[list(g.inputs)] += w * (-g.K @ z)
+        return du
