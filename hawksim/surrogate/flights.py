@@ -86,9 +86,9 @@ COLUMNS = ("t", "vx", "vy", "vz", "wx", "wy", "wz", *(f"R{i}{j}" for i in range(
            "FLx", "FLy", "FLz", "FRx", "FRy", "FRz", "MLx", "MLy", "MLz", "MRx", "MRy", "MRz",
            "power_aero", "power_joint")
 """Row layout: t [s] from the launch (phase = f t); v (3) [m/s] and omega (3) [rad/s] of the body in body axes
-(relative to the air, which is still); the body's attitude R (body -> world, row-major); force (left, right) [N] and moment about the hinge
-[N m] (left, right) of each wing in its own wing axes; the UVLM's aerodynamic power of both wings [W]; the joint
-power of the six wing joints [W] (at the update's step)."""
+(relative to the air, which is still); the body's attitude R (body -> world, row-major); force (left, right) [N]
+and moment about the hinge [N m] (left, right) of each wing in its own wing axes; the UVLM's aerodynamic power
+of both wings [W]; the joint power of the six wing joints [W] (at the update's step)."""
 
 N_COLUMNS = len(COLUMNS)
 
