@@ -9,7 +9,7 @@ import sys
 
 from hawksim.cli.args import parse_kinematics, positive_int_arg, speed_arg
 
-ORBIT_MODELS = ("uvlm", "quasi-steady")
+ORBIT_MODELS = ("uvlm", "quasi-steady", "surrogate")
 """Aerodynamic models the free-flight orbit and its Floquet analysis support."""
 
 

@@ -243,8 +243,11 @@ class Simulator:
 
 def aero_every_for(backend: AeroBackend, steps_per_cycle: int) -> int:
     """Integrator steps per backend update: the UVLM updates :data:`FLY_UVLM`'s steps per wingbeat (the largest
-    divisor of ``steps_per_cycle`` not above ``steps_per_cycle // FLY_UVLM.steps_per_cycle``), the others every step."""
-    if backend.name != "uvlm":
+    divisor of ``steps_per_cycle`` not above ``steps_per_cycle // FLY_UVLM.steps_per_cycle``), and so does the
+    per-step surrogate ("surrogate"), which learnt the UVLM's loads at those updates from flights that held them in
+    between (holding them changes the cycle means by ~1 %, docs/free_flight.md: the surrogate must hold them the same
+    way to reproduce the UVLM's orbits); the others every step."""
+    if backend.name not in ("uvlm", "surrogate"):
         return 1
     every = max(1, steps_per_cycle // FLY_UVLM.steps_per_cycle)
     while steps_per_cycle % every:
