@@ -17,7 +17,7 @@ exact for the UVLM, checked on its symmetric flights in tests/hawksim/test_step_
 
 Files. safetensors with tensors ``W0, b0, ..., W{L-1}, b{L-1}`` (``W_k`` (n_out_k, n_in_k)), ``x_mean, x_std``
 (n_in,) and ``y_mean, y_std`` (6,) (standardisation of the training data; the network maps standardised inputs
-to standardised outputs), all float32; JSON metadata: ``format`` (:data:`FORMAT`), ``inputs`` (names, lags),
+to standardised outputs), weights float32, standardisation float64; JSON metadata: ``format`` (:data:`FORMAT`), ``inputs`` (names, lags),
 ``outputs`` and ``meta`` (provenance: command, seed, data hash, scores). No pickle. A file of another format, with
 other tensor names or shapes, other input names than its lags imply, or non-finite values is refused with
 :class:`StepNetworkFileError`.
@@ -128,7 +128,7 @@ class StepNetwork:
             tensors[f"W{k}"] = np.ascontiguousarray(W, np.float32)
             tensors[f"b{k}"] = np.ascontiguousarray(b, np.float32)
         for k in ("x_mean", "x_std", "y_mean", "y_std"):
-            tensors[k] = np.ascontiguousarray(getattr(self, k), np.float32)
+            tensors[k] = np.ascontiguousarray(getattr(self, k), np.float64)
         md = {"format": FORMAT, "inputs": json.dumps({"names": list(input_names(self.lags)), "lags": list(self.lags)}),
               "outputs": json.dumps(list(OUTPUTS)), "meta": json.dumps(self.meta)}
         tmp = path.with_name(path.name + ".part")
