@@ -193,7 +193,10 @@ def register(sub) -> None:
     f.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 (hover) to 2")
     f.add_argument("--cycles", type=cycles_arg, required=True, help="number of wingbeats N")
     f.add_argument("--aero", choices=FLIGHT_BACKENDS, default="quasi-steady",
-                   help="aerodynamic model (default quasi-steady)")
+                   help="aerodynamic model (default quasi-steady): uvlm, the extended UVLM in the loop; surrogate, the "
+                        "per-step neural surrogate of the UVLM (each wing's instantaneous loads from the kinematics, "
+                        "phase and body motion); surrogate-mean, the cycle-mean network's averaged L+, D+, M+ (no "
+                        "within-beat loads, no damping)")
     f.add_argument("--rrd", type=writable_file, help="write a Rerun recording to FILE")
     f.add_argument("--perturb", type=perturbation_arg, action="append", metavar="NAME=VALUE",
                    help="initial disturbance: u, v, w [m/s]; p, q, r [deg/s]; theta, phi [deg] (stability axes)")
