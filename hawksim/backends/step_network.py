@@ -17,10 +17,10 @@ exact for the UVLM, checked on its symmetric flights in tests/hawksim/test_step_
 
 Files. safetensors with tensors ``W0, b0, ..., W{L-1}, b{L-1}`` (``W_k`` (n_out_k, n_in_k)), ``x_mean, x_std``
 (n_in,) and ``y_mean, y_std`` (6,) (standardisation of the training data; the network maps standardised inputs
-to standardised outputs), weights float32, standardisation float64; JSON metadata: ``format`` (:data:`FORMAT`), ``inputs`` (names, lags),
-``outputs`` and ``meta`` (provenance: command, seed, data hash, scores). No pickle. A file of another format, with
-other tensor names or shapes, other input names than its lags imply, or non-finite values is refused with
-:class:`StepNetworkFileError`.
+to standardised outputs), weights float32, standardisation float64; JSON metadata: ``format`` (:data:`FORMAT`),
+``inputs`` (names, lags), ``outputs`` and ``meta`` (provenance: command, seed, data hash, scores). No pickle. A
+file of another format, with other tensor names or shapes, other input names than its lags imply, or non-finite
+values is refused with :class:`StepNetworkFileError`.
 
 Inference (:meth:`StepNetwork.folded`): the input standardisation is folded into the first layer and the output
 scaling into the last, so a flight evaluates ``tanh(x W0' + b0') ... W' + b'`` on SI inputs in float32 numpy,

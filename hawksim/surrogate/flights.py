@@ -320,6 +320,30 @@ def read_flights(path: str | Path, seed: int | None = None, *, status: str | Non
     return out
 
 
+def copy_flights(src: str | Path, dst: str | Path, keys: list[tuple[int, int]]) -> int:
+    """Copy the flights (seed, idx) ``keys`` of ``src`` into the data-set file ``dst`` (created if needed; rows
+    already there are kept), e.g. a small held-out set for CI. Returns the number of flights in ``dst``."""
+    conn = open_dataset(dst, create=True)
+    try:
+        ensure_flight_table(conn)
+        s = open_dataset(src)
+        try:
+            cols = [r[1] for r in s.execute("PRAGMA table_info(flights)")]
+            for seed, idx in keys:
+                row = s.execute(f"SELECT {', '.join(cols)} FROM flights WHERE seed=? AND idx=?",
+                                (int(seed), int(idx))).fetchone()
+                if row is None:
+                    raise DatasetError(f"{str(src)!r} holds no flight ({seed}, {idx})")
+                with conn:
+                    conn.execute(f"INSERT OR IGNORE INTO flights ({', '.join(cols)}) VALUES "
+                                 f"({', '.join('?' * len(cols))})", row)
+        finally:
+            s.close()
+        return conn.execute("SELECT count(*) FROM flights").fetchone()[0]
+    finally:
+        conn.close()
+
+
 @dataclass(frozen=True)
 class FlightGenerationResult:
     path: str
@@ -331,10 +355,11 @@ class FlightGenerationResult:
 
 
 def generate_flights(path: str | Path, n: int, *, seed: int = 0, scheduler: str | None = None,
-                     workers: int | None = None, progress=None, log=None) -> FlightGenerationResult:
+                     workers: int | None = None, progress=None, log=None, beats: int = FLIGHT_BEATS
+                     ) -> FlightGenerationResult:
     """Make flights 0..n-1 of ``seed`` present in the file, computing only the missing ones (the machinery of
     :func:`hawksim.surrogate.dataset.generate`: one locked writer, Dask workers, a commit per flight).
-    ``log(text)`` gets one line per stored flight."""
+    ``log(text)`` gets one line per stored flight; ``beats`` (tests only) shortens the flights."""
     created = not (Path(path).exists() and Path(path).stat().st_size > 0)
     conn = open_dataset(path, create=True)
     lock = _writer_lock(path, conn)
@@ -352,7 +377,7 @@ def generate_flights(path: str | Path, n: int, *, seed: int = 0, scheduler: str 
         if progress:
             progress(n - len(todo), n)
         if todo:
-            for s in _compute(todo, functools.partial(evaluate_flight, seed), scheduler, workers):
+            for s in _compute(todo, functools.partial(evaluate_flight, seed, beats=beats), scheduler, workers):
                 insert_flight(conn, s)
                 new += 1
                 diverged += s.status == "diverged"

@@ -210,3 +210,24 @@ def test_shipped_network_meets_the_targets_on_held_out_flights():
         assert sc["r2"][k] >= R2_TARGET, (k, sc["r2"])
     for k, v in sc["cycle_mean_abs_error"].items():
         assert v <= CYCLE_MEAN_TARGET, (k, sc["cycle_mean_abs_error"])
+
+
+# ------------------------------------------------------------------------------------------------ the data
+
+
+def test_flight_data_set_resumes_without_duplicates_and_is_seeded(tmp_path):
+    """`hawksim dataset --kind flights`'s machinery: flight i is a pure function of (seed, i); a second run with a
+    larger n computes only the missing flights; the flock refuses a second writer (tested for samples in
+    test_dataset.py, the same code)."""
+    from hawksim.surrogate.flights import generate_flights, read_flights, sample_flight
+
+    a, b = sample_flight(3, 5), sample_flight(3, 5)
+    assert a == b and sample_flight(3, 6) != a and sample_flight(4, 5) != a
+    assert not sample_flight(0, 3).symmetric and sample_flight(0, 0).symmetric
+    p = tmp_path / "f.sqlite"
+    r1 = generate_flights(p, 1, seed=3, workers=1, beats=1)
+    r2 = generate_flights(p, 2, seed=3, workers=1, beats=1)
+    assert (r1.new, r1.flights, r2.new, r2.flights) == (1, 1, 1, 2)
+    fl = read_flights(p)
+    assert [f.idx for f in fl] == [0, 1]
+    assert fl[0].rows.shape == (40, len(__import__("hawksim.surrogate.flights", fromlist=["x"]).COLUMNS))
