@@ -93,6 +93,13 @@ class StepSurrogateBackend:
         return WingLoads(force=force, moment=moment, power=power)
 
 
+def memory_beats(network: StepNetwork | None = None) -> int:
+    """Whole wingbeats of history the network's inputs reach back (0 without lags): a flight must run that long
+    before its loads are those of a continued flight (the orbit's warm-up beats, :mod:`hawksim.flight.orbit`)."""
+    net = network if network is not None else _shipped()
+    return int(math.ceil(max(net.lags, default=0.0) - 1e-9))
+
+
 _CACHE: dict[str, StepNetwork] = {}
 
 

@@ -92,6 +92,10 @@ UVLM_FD_STEP = 1e-3
 """The same for the UVLM: its free wake amplifies round-off (docs/uvlm.md, kinematics.realization), so a
 1e-6 step differences noise; with 1e-6 the Newton solve stalls at 2e-3."""
 
+SURROGATE_ORBIT_TOL = 1e-6
+"""Newton tolerance (normalized residual) of the per-step surrogate's orbit: its float32 loads (relative round-off
+6e-8 per step) leave a periodicity floor near 1e-7, so :data:`ORBIT_TOL` (1e-8) is out of reach."""
+
 SURROGATE_FD_STEP = 1e-4
 """Finite-difference step of the per-step surrogate (normalized): its float32 network rounds the loads at a relative
 6e-8, so a 1e-6 step would difference round-off (an error ~6e-8 / h in the Jacobian; 1e-4 keeps it ~1e-3 while the
@@ -446,7 +450,11 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         x0 = guess.initial_state.as_array() if x0 is None else x0
     base = kinematics if kinematics is not None else trim_kinematics(speed, aero)
     chi = base.chi
-    warm = warm_beats if warm_beats is not None else (UVLM_WARM_BEATS if aero == "uvlm" else 0)
+    if warm_beats is None:  # beats before the measured one: the UVLM's wake, the surrogate's history inputs
+        from hawksim.backends.step_surrogate import memory_beats
+
+        warm_beats = UVLM_WARM_BEATS if aero == "uvlm" else memory_beats() if aero == "surrogate" else 0
+    warm = warm_beats
     fl = _Flight(aero, symmetric=True, model=model)
     h_fd = fd_step if fd_step is not None else {"uvlm": UVLM_FD_STEP, "surrogate": SURROGATE_FD_STEP}.get(aero, FD_STEP)
     f_ref = base.f
@@ -461,6 +469,8 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         return _residual(kin, speed, b, warm), b
 
     def met(rr, zz) -> bool:
+        if aero == "surrogate" and tol == ORBIT_TOL:
+            return float(np.abs(rr).max()) <= SURROGATE_ORBIT_TOL
         if aero != "uvlm" or tol != ORBIT_TOL:
             return float(np.abs(rr).max()) <= tol
         kin_, _ = _unpack(zz, base, f_ref)

@@ -109,8 +109,8 @@ class TrainConfig:
     epochs: int = 300
     batch: int = 256
     lr: float = 2e-3
-    patience: int = 8
-    stop: int = 25
+    patience: int = 10
+    stop: int = 40
     max_seconds: float = 1800.0
     seed: int = 0
 
@@ -281,13 +281,14 @@ def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
             if len(err) else {}}
 
 
-def fit(path, cfg: TrainConfig, *, command: str = "", max_flights: int | None = None, log=None
-        ) -> tuple[StepNetwork, dict]:
-    """Train on the 'ok' flights of a data-set file (optionally its first ``max_flights``) split by flight with
-    ``cfg.seed``; returns the network (its ``meta``: provenance, split, held-out scores) and the scores."""
+def fit(path, cfg: TrainConfig, *, command: str = "", max_flights: int | None = None, log=None,
+        flights: list[StoredFlight] | None = None) -> tuple[StepNetwork, dict]:
+    """Train on the 'ok' flights of a data-set file (optionally those with idx < ``max_flights``; ``flights``: the
+    flights already read from it) split by flight with ``cfg.seed``; returns the network (its ``meta``: provenance,
+    split, held-out scores) and the scores."""
     from hawksim.surrogate.flights import read_flights
 
-    flights = read_flights(path)
+    flights = read_flights(path) if flights is None else flights
     if max_flights is not None:
         flights = [f for f in flights if f.idx < max_flights]
     if len(flights) < 3:

@@ -14,6 +14,7 @@ from pathlib import Path
 import torch
 
 from hawksim.jsonout import host_info
+from hawksim.surrogate.flights import read_flights
 from hawksim.surrogate.step_train import TrainConfig, fit
 
 VARIANTS = {"none": (), "lags_0.25_0.5": (0.25, 0.5), "lags_0.5_1": (0.5, 1.0)}
@@ -27,16 +28,21 @@ def main():
     ap.add_argument("--epochs", type=int, default=150)
     ap.add_argument("--time-limit", type=float, default=900.0)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--layers", type=int, nargs="+", default=[128, 128, 128])
     ap.add_argument("--only", nargs="*", choices=list(VARIANTS))
     a = ap.parse_args()
     torch.set_num_threads(1)
     out = {"host": host_info(), "data": a.data, "max_flights": a.max_flights, "epochs": a.epochs,
            "time_limit_s": a.time_limit, "seed": a.seed, "variants": {}}
+    flights = read_flights(a.data)  # once: the same flights for every variant while a generation may be adding
+    if a.max_flights is not None:
+        flights = [f for f in flights if f.idx < a.max_flights]
+    out["n_flights"] = len(flights)
     for name, lags in VARIANTS.items():
         if a.only and name not in a.only:
             continue
-        net, sc = fit(a.data, TrainConfig(lags=lags, epochs=a.epochs, max_seconds=a.time_limit, seed=a.seed),
-                      max_flights=a.max_flights)
+        net, sc = fit(a.data, TrainConfig(hidden=tuple(a.layers), lags=lags, epochs=a.epochs,
+                                          max_seconds=a.time_limit, seed=a.seed), flights=flights)
         out["variants"][name] = {"lags": list(lags), "test": sc, "history": net.meta["history"],
                                  "n_train_rows": net.meta["n_train_rows"]}
         print(name, json.dumps(sc["r2"]), json.dumps(sc["cycle_mean_abs_error"]), flush=True)
