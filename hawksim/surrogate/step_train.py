@@ -26,7 +26,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hawksim.backends.step_network import MIRROR_F, MIRROR_M, OUTPUTS, StepNetwork, input_names, mirror_inputs
+from hawksim.backends.step_network import (
+    MIRROR_F,
+    MIRROR_M,
+    MIRROR_V,
+    MIRROR_W,
+    OUTPUTS,
+    StepNetwork,
+    input_names,
+    mirror_inputs,
+)
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.morphology import HAWKMOTH, P0_W
 from hawksim.surrogate.flights import COLUMNS, WARM_BEATS, StoredFlight
@@ -252,33 +261,49 @@ def cycle_means(fl: StoredFlight, loads: dict[str, np.ndarray], power_aero_uvlm:
 
 
 def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
-    """Held-out scores of ``net`` on ``flights`` (module docstring): per-step R^2 per output (both wings of lateral
-    flights), and the cycle-mean errors |network - UVLM| of L+, D+, M+, P+ over complete held-out wingbeats."""
-    rows = rows_of(flights, net.lags)
-    p = net.predict(rows.x)
-    per_step = {k: float(v) for k, v in zip(OUTPUTS, r2(rows.y, p))}
-    uvlm, pred = [], []
+    """Held-out scores of ``net`` on ``flights`` (module docstring): per-step R^2 per output in wing axes (``r2``)
+    and in body axes (``r2_body``: force and moment about the hinge turned to the body frame), over the rows past
+    the warm-up of the left wings and of the right wings of lateral flights (mirrored onto the left); and the
+    cycle-mean errors |network - UVLM| of L+, D+, M+, P+ over the complete held-out wingbeats."""
+    mirror = np.concatenate([MIRROR_F, MIRROR_M])
+    wing_u, wing_p, body_u, body_p, uvlm, pred = [], [], [], [], [], []
     for fl in flights:
-        x, _ = flight_inputs(fl, net.lags)
+        x, keep = flight_inputs(fl, net.lags)
         yl = net.predict(x)
-        yr = net.predict(mirror_inputs(x))
-        yr = np.concatenate([yr[:, :3] * MIRROR_F, yr[:, 3:] * MIRROR_M], axis=1)
+        yr = net.predict(mirror_inputs(x)) * mirror  # the right wing in its own axes
         r = fl.rows
         u_l = r[:, _cols("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
         u_r = r[:, _cols("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
         geom = wing_geometry(Kinematics.from_array(fl.kinematics), r[:, _C["t"]])
+        Rwb = geom[0]
+        sides = [(0, u_l, yl)] + ([] if fl.symmetric else [(1, u_r, yr)])
+        for k, u, y in sides:
+            m = 1.0 if k == 0 else mirror  # onto the left wing
+            wing_u.append((u * m)[keep])
+            wing_p.append((y * m)[keep])
+            mb = 1.0 if k == 0 else np.concatenate([MIRROR_V, MIRROR_W])
+            for dst, a in ((body_u, u), (body_p, y)):
+                b = np.concatenate([np.einsum("nij,nj->ni", Rwb[:, k], a[:, :3]),
+                                    np.einsum("nij,nj->ni", Rwb[:, k], a[:, 3:])], axis=1)
+                dst.append((b * mb)[keep])
         pa = r[:, _C["power_aero"]]
         uvlm.append(cycle_means(fl, flight_loads(fl, u_l, u_r, geom), pa))
         pred.append(cycle_means(fl, flight_loads(fl, yl, yr, geom), pa))
+    wing_u, wing_p = np.concatenate(wing_u), np.concatenate(wing_p)
+    body_u, body_p = np.concatenate(body_u), np.concatenate(body_p)
+    per_step = {k: float(v) for k, v in zip(OUTPUTS, r2(wing_u, wing_p))}
+    per_body = {k: float(v) for k, v in zip(OUTPUTS, r2(body_u, body_p))}
     uvlm, pred = np.concatenate(uvlm), np.concatenate(pred)
     err = np.abs(pred - uvlm)
     names = ("L_plus", "D_plus", "M_plus", "P_plus")
-    return {"n_rows": int(len(rows.y)), "n_flights": len(flights), "n_beats": int(len(uvlm)),
-            "r2": per_step, "r2_min": float(min(per_step.values())),
+    return {"n_rows": int(len(wing_u)), "n_flights": len(flights), "n_beats": int(len(uvlm)),
+            "r2": per_step, "r2_min": float(min(per_step.values())), "r2_body": per_body,
+            "r2_body_min": float(min(per_body.values())),
             "cycle_mean_abs_error": {k: float(v) for k, v in zip(names, err.mean(0))} if len(err) else {},
             "cycle_mean_max_error": {k: float(v) for k, v in zip(names, err.max(0))} if len(err) else {},
             "cycle_mean_p95_error": {k: float(v) for k, v in zip(names, np.percentile(err, 95, axis=0))}
-            if len(err) else {}}
+            if len(err) else {},
+            "cycle_mean_bias": {k: float(v) for k, v in zip(names, (pred - uvlm).mean(0))} if len(err) else {}}
 
 
 def fit(path, cfg: TrainConfig, *, command: str = "", max_flights: int | None = None, log=None,
