@@ -190,6 +190,15 @@ def load(path: str | Path) -> StepNetwork:
                        lags=lags, meta=meta)
 
 
+def network_sha256(path: str | Path | None = None) -> str | None:
+    """SHA-256 of a network file's bytes (default: the shipped one; None if absent): what a table solved with it
+    (the surrogate's orbit table) records."""
+    import hashlib
+
+    p = Path(path) if path is not None else shipped_path()
+    return hashlib.sha256(p.read_bytes()).hexdigest() if p.is_file() else None
+
+
 def shipped_path() -> Path:
     """Package-data path of the shipped per-step network."""
     return Path(str(resources.files("hawksim") / "data" / "surrogates" / SHIPPED_NAME))

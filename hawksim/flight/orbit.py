@@ -370,7 +370,13 @@ def shipped_orbit(speed: float, aero: str) -> Orbit | None:
     path = resources.files("hawksim") / "data" / name if name else None
     if path is None or not path.is_file():
         return None
-    for row in json.loads(path.read_text())["rows"]:
+    table = json.loads(path.read_text())
+    if aero == "surrogate":  # the surrogate's orbits hold for the network they were solved with only
+        from hawksim.backends.step_network import network_sha256
+
+        if table.get("network_sha256") != network_sha256():
+            return None
+    for row in table["rows"]:
         if abs(row["speed"] - speed) < 1e-9:
             return Orbit.from_json(row)
     return None

@@ -78,7 +78,10 @@ def main():
         Path(a.out).parent.mkdir(parents=True, exist_ok=True)
         Path(a.out).write_text(text + "\n")
     if a.table:
-        Path(a.table).write_text(json.dumps(orbit_table(orbits, res["command"]), indent=1) + "\n")
+        from hawksim.backends.step_network import network_sha256
+
+        table = {**orbit_table(orbits, res["command"]), "network_sha256": network_sha256()}
+        Path(a.table).write_text(json.dumps(table, indent=1) + "\n")
     print(text)
 
 
