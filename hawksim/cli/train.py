@@ -33,25 +33,28 @@ def cmd_train_step(args) -> dict:
     """`hawksim train --kind step`: the per-step surrogate on the flights of ``--data``."""
     import sys
 
+    import numpy as np
+
     import torch
 
     from hawksim.surrogate.step_train import TrainConfig, fit
 
     torch.set_num_threads(1)
     cfg = TrainConfig(hidden=args.layers, lags=args.lags, epochs=args.max_iter, seed=args.seed,
-                      max_seconds=args.time_limit)
+                      max_seconds=args.time_limit, weight_decay=args.weight_decay, ensemble=args.ensemble)
     command = ["hawksim", "train", "--kind", "step", "--data", str(args.data), "--out", str(args.out), "--seed",
                str(args.seed), "--layers", ",".join(map(str, args.layers)), "--lags", ",".join(f"{v:g}" for v in
                                                                                            args.lags),
-               "--max-iter", str(args.max_iter), "--time-limit", f"{args.time_limit:g}"]
+               "--max-iter", str(args.max_iter), "--time-limit", f"{args.time_limit:g}",
+               "--weight-decay", f"{args.weight_decay:g}", "--ensemble", str(args.ensemble)]
     net, sc = fit(args.data, cfg, command=shlex.join(command),
                   log=None if args.no_progress else lambda s: print(s, file=sys.stderr, flush=True))
     net.save(args.out)
     return {"kind": "step", "n_train": net.meta["n_train_rows"], "n_val": net.meta["n_val_rows"],
             "n_test": sc["n_rows"], "test_flights": sc["n_flights"], "r2": sc["r2"], "r2_min": sc["r2_min"],
             "cycle_mean_abs_error": sc["cycle_mean_abs_error"], "cycle_mean_max_error": sc["cycle_mean_max_error"],
-            "epochs": net.meta["history"]["epochs"], "out": str(args.out),
-            "wall_time_s": net.meta["history"]["wall_s"]}
+            "r2_body": sc["r2_body"], "epochs": net.meta["history"]["epochs"], "out": str(args.out),
+            "wall_time_s": float(np.sum(net.meta["history"]["wall_s"]))}
 
 
 def cmd_train(args) -> dict:
@@ -119,6 +122,9 @@ def register(sub) -> None:
                    help="--kind step: hidden tanh layer widths (128,128,128)")
     p.add_argument("--lags", type=_floats, default=(),
                    help="--kind step: history lags of the body state [wingbeats], e.g. 0.5,1 (none)")
+    p.add_argument("--weight-decay", type=float, default=0.0, help="--kind step: AdamW weight decay (0: Adam)")
+    p.add_argument("--ensemble", type=positive_int_arg("ensemble"), default=1,
+                   help="--kind step: networks trained from different seeds, folded into one (1)")
     p.add_argument("--data", required=True, help="SQLite data set from `hawksim dataset`")
     p.add_argument("--out", type=writable_file, required=True, help="model file to write (.safetensors)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the split and the initial weights (0)")

@@ -111,7 +111,9 @@ def split_flights(n: int, seed: int, test: float = 0.15, val: float = 0.1) -> tu
 class TrainConfig:
     """hidden: widths of the tanh hidden layers; lags: history lags [periods]; epochs: most epochs; batch: rows per
     step; lr: Adam's initial learning rate; patience: epochs without validation gain before the rate is halved;
-    stop: epochs without gain before training stops; max_seconds: wall-time cap [s]; seed."""
+    stop: epochs without gain before training stops; max_seconds: wall-time cap [s]; seed; weight_decay: AdamW's
+    decoupled weight decay (0: Adam); ensemble: members trained from different initial weights and folded into one
+    network (:func:`fold_ensemble`)."""
 
     hidden: tuple[int, ...] = (128, 128, 128)
     lags: tuple[float, ...] = ()
@@ -122,13 +124,15 @@ class TrainConfig:
     stop: int = 40
     max_seconds: float = 1800.0
     seed: int = 0
+    weight_decay: float = 0.0
+    ensemble: int = 1
 
 
 def train(train_rows: Rows, val_rows: Rows, cfg: TrainConfig, log=None) -> tuple[StepNetwork, dict]:
-    """Fit the network (module docstring); returns it and a history {epochs, best_epoch, val_loss, wall_s}."""
+    """Fit the network (module docstring; ``cfg.ensemble`` members from seeds cfg.seed, cfg.seed + 1, ..., folded
+    into one network); returns it and a history {epochs, best_epoch, val_mse, wall_s} (lists for an ensemble)."""
     import torch
 
-    torch.manual_seed(cfg.seed)
     x_mean, x_std = train_rows.x.mean(0), train_rows.x.std(0)
     x_std = np.where(x_std > 1e-12 * np.maximum(1.0, np.abs(x_mean)), x_std, 1.0)  # constant inputs pass through
     y_mean, y_std = train_rows.y.mean(0), train_rows.y.std(0)
@@ -138,15 +142,58 @@ def train(train_rows: Rows, val_rows: Rows, cfg: TrainConfig, log=None) -> tuple
 
     X, Y = t((train_rows.x - x_mean) / x_std), t((train_rows.y - y_mean) / y_std)
     Xv, Yv = t((val_rows.x - x_mean) / x_std), t((val_rows.y - y_mean) / y_std)
+    members, hists = [], []
+    for k in range(cfg.ensemble):
+        w, h = _train_member(X, Y, Xv, Yv, cfg, cfg.seed + k, log)
+        members.append(w)
+        hists.append(h)
+    weights = members[0] if len(members) == 1 else fold_ensemble(members)
+    sn = StepNetwork(weights, x_mean, x_std, y_mean, y_std, lags=tuple(cfg.lags))
+    if len(hists) == 1:
+        return sn, hists[0]
+    if log:
+        with torch.no_grad():
+            ys = StepNetwork(weights, np.zeros(X.shape[1]), np.ones(X.shape[1]), np.zeros(6), np.ones(6)).predict(
+                Xv.numpy())
+        log(f"ensemble of {len(members)}: val mse {float(np.mean((ys - Yv.numpy()) ** 2)):.3e}")
+    return sn, {k: [h[k] for h in hists] for k in hists[0]}
+
+
+def fold_ensemble(members: list[tuple[tuple[np.ndarray, np.ndarray], ...]]) -> tuple[tuple[np.ndarray, np.ndarray],
+                                                                                        ...]:
+    """The mean of K tanh MLPs of the same shape as ONE MLP: hidden layers side by side (the first layer's weights
+    stacked, the middle ones block-diagonal), the output layer averaging them. Exact."""
+    import scipy.linalg
+
+    K, L = len(members), len(members[0])
+    out = []
+    for li in range(L):
+        Ws = [m[li][0] for m in members]
+        bs = [m[li][1] for m in members]
+        if li == 0:
+            W, b = np.concatenate(Ws, axis=0), np.concatenate(bs)
+        elif li < L - 1:
+            W, b = scipy.linalg.block_diag(*Ws), np.concatenate(bs)
+        else:
+            W, b = np.concatenate(Ws, axis=1) / K, np.mean(bs, axis=0)
+        out.append((W.astype(np.float32), b.astype(np.float32)))
+    return tuple(out)
+
+
+def _train_member(X, Y, Xv, Yv, cfg: TrainConfig, seed: int, log):
+    import torch
+
+    torch.manual_seed(seed)
     layers, n_in = [], X.shape[1]
     for h in cfg.hidden:
         layers += [torch.nn.Linear(n_in, h), torch.nn.Tanh()]
         n_in = h
     layers.append(torch.nn.Linear(n_in, len(OUTPUTS)))
     net = torch.nn.Sequential(*layers)
-    opt = torch.optim.Adam(net.parameters(), lr=cfg.lr)
+    opt = (torch.optim.AdamW(net.parameters(), lr=cfg.lr, weight_decay=cfg.weight_decay) if cfg.weight_decay
+           else torch.optim.Adam(net.parameters(), lr=cfg.lr))
     sched = torch.optim.lr_scheduler.ReduceLROnPlateau(opt, factor=0.5, patience=cfg.patience)
-    gen = torch.Generator().manual_seed(cfg.seed)
+    gen = torch.Generator().manual_seed(seed)
     best, best_state, best_epoch, t0 = math.inf, None, -1, time.perf_counter()
     epoch = 0
     for epoch in range(cfg.epochs):
@@ -167,15 +214,15 @@ def train(train_rows: Rows, val_rows: Rows, cfg: TrainConfig, log=None) -> tuple
             best_state = {k: v.detach().clone() for k, v in net.state_dict().items()}
         if log and epoch % 10 == 0:
             lr = opt.param_groups[0]["lr"]
-            log(f"epoch {epoch}: val mse {vl:.3e} (best {best:.3e} at {best_epoch}), lr {lr:.1e}")
+            log(f"seed {seed} epoch {epoch}: val mse {vl:.3e} (best {best:.3e} at {best_epoch}), lr {lr:.1e}")
         if epoch - best_epoch > cfg.stop or time.perf_counter() - t0 > cfg.max_seconds:
             break
     net.load_state_dict(best_state)
     lin = [m for m in net if isinstance(m, torch.nn.Linear)]
     weights = tuple((m.weight.detach().numpy().astype(np.float32), m.bias.detach().numpy().astype(np.float32))
                     for m in lin)
-    sn = StepNetwork(weights, x_mean, x_std, y_mean, y_std, lags=tuple(cfg.lags))
-    return sn, {"epochs": epoch + 1, "best_epoch": best_epoch, "val_mse": best, "wall_s": time.perf_counter() - t0}
+    return weights, {"epochs": epoch + 1, "best_epoch": best_epoch, "val_mse": best,
+                     "wall_s": time.perf_counter() - t0}
 
 
 # ------------------------------------------------------------------------------------------------- scores

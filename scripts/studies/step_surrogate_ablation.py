@@ -29,6 +29,8 @@ def main():
     ap.add_argument("--time-limit", type=float, default=900.0)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--layers", type=int, nargs="+", default=[128, 128, 128])
+    ap.add_argument("--weight-decay", type=float, default=0.0)
+    ap.add_argument("--ensemble", type=int, default=1)
     ap.add_argument("--only", nargs="*", choices=list(VARIANTS))
     a = ap.parse_args()
     torch.set_num_threads(1)
@@ -42,7 +44,8 @@ def main():
         if a.only and name not in a.only:
             continue
         net, sc = fit(a.data, TrainConfig(hidden=tuple(a.layers), lags=lags, epochs=a.epochs,
-                                          max_seconds=a.time_limit, seed=a.seed), flights=flights)
+                                          max_seconds=a.time_limit, seed=a.seed, weight_decay=a.weight_decay,
+                                          ensemble=a.ensemble), flights=flights)
         out["variants"][name] = {"lags": list(lags), "test": sc, "history": net.meta["history"],
                                  "n_train_rows": net.meta["n_train_rows"]}
         print(name, json.dumps(sc["r2"]), json.dumps(sc["cycle_mean_abs_error"]), flush=True)

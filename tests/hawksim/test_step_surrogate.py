@@ -231,3 +231,15 @@ def test_flight_data_set_resumes_without_duplicates_and_is_seeded(tmp_path):
     fl = read_flights(p)
     assert [f.idx for f in fl] == [0, 1]
     assert fl[0].rows.shape == (40, len(__import__("hawksim.surrogate.flights", fromlist=["x"]).COLUMNS))
+
+
+def test_an_ensemble_folds_exactly_into_one_network():
+    from hawksim.surrogate.step_train import fold_ensemble
+
+    nets = [_random_net(hidden=(8, 8, 8), seed=s) for s in range(3)]
+    x = _inputs(nets[0])
+    ref = np.mean([StepNetwork(n.weights, nets[0].x_mean, nets[0].x_std, nets[0].y_mean, nets[0].y_std).predict(x)
+                   for n in nets], axis=0)
+    folded = StepNetwork(fold_ensemble([n.weights for n in nets]), nets[0].x_mean, nets[0].x_std, nets[0].y_mean,
+                         nets[0].y_std)
+    assert np.allclose(folded.predict(x), ref, rtol=1e-5, atol=1e-9)
