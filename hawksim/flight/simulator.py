@@ -60,6 +60,12 @@ def _computed_torque(t, p, kp, kd, q, qd, a0, minv_ww):
     return np.linalg.solve(minv_ww, rhs)
 
 
+@njit(cache=True)
+def _computed_torque_given(q_des, qd_des, qdd_des, kp, kd, q, qd, a0, minv_ww):
+    """As :func:`_computed_torque` for a desired motion (6,) computed elsewhere (a subclass's ``desired``)."""
+    return np.linalg.solve(minv_ww, qdd_des + kp * (q_des - q) + kd * (qd_des - qd) - a0)
+
+
 @dataclass(frozen=True)
 class StepRecord:
     """What one step produced (world frame, SI)."""
@@ -146,6 +152,7 @@ class Simulator:
             return slice(int(ix[0]), int(ix[0]) + len(ix))
         self._qslice, self._vslice = as_slice(self.wing_qpos), as_slice(self.wing_dof)
         self._p = np.array([kin.f, kin.phi0, kin.theta0, kin.alpha0, kin.phi_a, kin.alpha_a])
+        self._eq1_compiled = type(self).desired is Simulator.desired  # the compiled stage evaluates Eq. 1 itself
         self._warn_ids = [int(getattr(mujoco.mjtWarning, w)) for w in UNSTABLE_WARNINGS]
         route_mujoco_warnings()
 
@@ -165,8 +172,13 @@ class Simulator:
         mujoco.mj_fwdActuation(m, d)
         mujoco.mj_fwdAcceleration(m, d)
         mujoco.mj_solveM(m, d, self._minv, self._unit)
-        tau = _computed_torque(d.time, self._p, self._kp, self._kd, d.qpos[qs], d.qvel[vs], d.qacc_smooth[vs],
-                               self._minv[:, vs])
+        if self._eq1_compiled:
+            tau = _computed_torque(d.time, self._p, self._kp, self._kd, d.qpos[qs], d.qvel[vs], d.qacc_smooth[vs],
+                                   self._minv[:, vs])
+        else:  # a subclass prescribes another motion (hawksim.control.plant: kinematics changed between beats)
+            q, qd, qdd = self.desired(d.time)
+            tau = _computed_torque_given(q, qd, qdd, self._kp, self._kd, d.qpos[qs], d.qvel[vs], d.qacc_smooth[vs],
+                                         self._minv[:, vs])
         d.qfrc_applied[vs] = tau
         if self._capture:
             self._tau[:] = tau
