@@ -3,7 +3,9 @@ flight state in, wing loads out, world frame, SI).
 
 Modules: ``base`` (the protocol, :class:`FlightState`, :class:`WingLoads`, vacuum), ``averages`` (the paper's
 Eq. 2 cycle averages every model is compared in), ``resolution`` (lattices and time steps), ``quasi_steady``,
-``uvlm``, ``network`` (the ANN surrogate's files and inference) and ``surrogate`` (the network as a flight backend).
+``uvlm``, ``network`` (the cycle-mean ANN surrogate's files and inference), ``surrogate`` (that network as the
+``surrogate-mean`` flight backend), ``step_network`` and ``step_surrogate`` (the per-step surrogate of the UVLM, the
+``surrogate`` flight backend).
 :func:`make_backend` builds any of them by the name the CLI uses.
 """
 
@@ -11,13 +13,15 @@ from __future__ import annotations
 
 from hawksim.backends.resolution import DEFAULT, FLY_UVLM, FLY_WAKE_CYCLES, Resolution
 
-FLIGHT_BACKENDS = ("quasi-steady", "uvlm", "surrogate")
-"""Names of the backends `hawksim fly` accepts (``--aero``); "none" (vacuum) is for tests."""
+FLIGHT_BACKENDS = ("quasi-steady", "uvlm", "surrogate", "surrogate-mean")
+"""Names of the backends `hawksim fly` accepts (``--aero``): "surrogate" is the per-step network of the UVLM's
+instantaneous wing loads (:mod:`hawksim.backends.step_surrogate`), "surrogate-mean" the cycle-mean network's averaged
+loads (:mod:`hawksim.backends.surrogate`); "none" (vacuum) is for tests."""
 
 
 def make_backend(name: str, *, resolution: Resolution | None = None, symmetric: bool = True, freestream=None,
                  keep_panels: bool = False, max_wake_rows: int | None = None, kinematics=None):
-    """The backend called ``name`` ("quasi-steady", "uvlm", "surrogate" or "none"). ValueError for an unknown one.
+    """The backend called ``name`` (:data:`FLIGHT_BACKENDS` or "none"). ValueError for an unknown one.
 
     Args:
         resolution: the UVLM lattice (n_chord x n_span rings per wing; default :data:`DEFAULT`).
@@ -25,7 +29,7 @@ def make_backend(name: str, *, resolution: Resolution | None = None, symmetric: 
         freestream: an ``aero.uvlm.FreeStream`` disturbance field (UVLM only).
         keep_panels: keep panel pressure and the wake for recordings (UVLM only).
         max_wake_rows: truncate the UVLM wake to this many newest rows (None: keep all).
-        kinematics: the flight's kinematics (the surrogate backend's network input).
+        kinematics: the flight's kinematics (the surrogate backends' network input).
     """
     if name == "quasi-steady":
         from hawksim.backends.quasi_steady import QuasiSteadyBackend
@@ -42,10 +46,16 @@ def make_backend(name: str, *, resolution: Resolution | None = None, symmetric: 
         return UVLMBackend(n_chord=res.n_chord, n_span=res.n_span, symmetric=symmetric, freestream=freestream,
                            keep_panels=keep_panels, max_wake_rows=max_wake_rows)
     if name == "surrogate":
-        from hawksim.backends.surrogate import SurrogateBackend
+        from hawksim.backends.step_surrogate import StepSurrogateBackend
 
         if kinematics is None:
             raise ValueError("the surrogate backend needs the flight's kinematics")
+        return StepSurrogateBackend(kinematics)
+    if name == "surrogate-mean":
+        from hawksim.backends.surrogate import SurrogateBackend
+
+        if kinematics is None:
+            raise ValueError("the surrogate-mean backend needs the flight's kinematics")
         return SurrogateBackend(kinematics)
     raise ValueError(f"unknown --aero {name!r}; choose {', '.join(FLIGHT_BACKENDS)}")
 

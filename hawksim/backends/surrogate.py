@@ -1,4 +1,6 @@
-"""`hawksim fly --aero surrogate`: cycle-averaged loads from the speed-input surrogate network.
+"""`hawksim fly --aero surrogate-mean`: cycle-averaged loads from the speed-input surrogate network.
+
+(`--aero surrogate` is the per-step surrogate of :mod:`hawksim.backends.step_surrogate`.)
 
 The network (:mod:`hawksim.backends.network`, the shipped ``uvlm_all_speeds`` file) predicts the cycle averages
 L+, D+, M+, P+ (paper Eq. 2) of the UVLM for the flight's wing kinematics at an ascent speed V in [0, 2] m/s.
@@ -27,13 +29,13 @@ from hawksim.insect.morphology import HAWKMOTH, P0_W, Morphology
 class SurrogateBackend:
     """Mean loads of ``network`` (a speed-input :class:`Surrogate`; default: the shipped one) for ``kin``."""
 
-    name = "surrogate"
+    name = "surrogate-mean"
 
     def __init__(self, kin: Kinematics, network: Surrogate | None = None, morph: Morphology = HAWKMOTH):
         net = network if network is not None else load(shipped_path(None))
         if net.inputs.speed is not None:
-            raise ValueError("--aero surrogate needs the speed-input network (the ascent speed changes in flight), "
-                             f"not one trained at {net.inputs.speed:g} m/s only")
+            raise ValueError("--aero surrogate-mean needs the speed-input network (the ascent speed changes in "
+                             f"flight), not one trained at {net.inputs.speed:g} m/s only")
         self.net, self.x, self.morph = net, kin.as_array()[None, :], morph
         self._cache: tuple[float, np.ndarray] | None = None
 

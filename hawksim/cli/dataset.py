@@ -9,8 +9,27 @@ from hawksim.cli.args import add_resolution_args, positive_int_arg, resolution_f
 from hawksim.cli.progress import progress_for
 
 
+def cmd_flights(args) -> dict:
+    """`hawksim dataset --kind flights`: UVLM-in-the-loop free flights recorded every UVLM update."""
+    import sys
+
+    from hawksim.surrogate.flights import generate_flights
+
+    progress = progress_for(args, "dataset flights", "flight", mininterval=1.0, smoothing=0.05)
+    r = generate_flights(args.out, args.samples, seed=args.seed, scheduler=args.scheduler, workers=args.workers,
+                         progress=progress, log=lambda s: print(s, file=sys.stderr, flush=True))
+    return {"path": str(Path(r.path)), "kind": "flights", "samples": r.flights, "new": r.new,
+            "diverged_new": r.diverged, "rows_new": r.rows_new, "seed": args.seed, "wall_time_s": r.wall_time_s}
+
+
 def cmd_dataset(args) -> dict:
+    from hawksim.cli.args import UsageError
     from hawksim.surrogate.dataset import generate
+
+    if args.kind == "flights":
+        return cmd_flights(args)
+    if args.speed is None:
+        raise UsageError("--speed is required for --kind samples")
 
     res = resolution_from(args, TRAINING)
     progress = progress_for(args, f"dataset V={args.speed:g}", "sample", mininterval=1.0, smoothing=0.05)
@@ -23,9 +42,13 @@ def cmd_dataset(args) -> dict:
 
 def register(sub) -> None:
     p = sub.add_parser("dataset", help="resumable generation of UVLM training samples (SQLite, Dask)")
-    p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
+    p.add_argument("--kind", choices=("samples", "flights"), default="samples",
+                   help="samples: held-body cycle averages at --speed (the cycle-mean surrogate's data); flights: "
+                        "UVLM-in-the-loop free flights around the orbits at 0-2 m/s recorded every UVLM update "
+                        "(the per-step surrogate's data; hawksim.surrogate.flights)")
+    p.add_argument("--speed", type=speed_arg, help="ascent speed V [m/s], 0 to 2 (--kind samples)")
     p.add_argument("--samples", type=positive_int_arg("samples"), required=True,
-                   help="samples 0..N-1 of (seed, speed) present in the file when done")
+                   help="samples (or flights) 0..N-1 of (seed, speed) present in the file when done")
     p.add_argument("--out", type=writable_file, required=True, help="SQLite file (created or continued)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the kinematics draw (0)")
     p.add_argument("--scheduler", help="address of a running Dask scheduler (default: a LocalCluster)")

@@ -41,7 +41,7 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
                                      f"{shipped.residual:.2e}, the wake's beat-to-beat floor {shipped.floor:.2e}): "
                                      "fly with --start trim")
         shipped = None
-    solvable = aero == "quasi-steady"
+    solvable = aero in ("quasi-steady", "surrogate")  # orbits solved in ~1 s (quasi-steady), ~10 s (surrogate)
     if start is None:
         start = ("orbit" if steps_per_cycle == STEPS_PER_CYCLE and kinematics is None and (shipped or solvable)
                  else "trim")
@@ -200,7 +200,10 @@ def register(sub) -> None:
     f.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 (hover) to 2")
     f.add_argument("--cycles", type=cycles_arg, required=True, help="number of wingbeats N")
     f.add_argument("--aero", choices=FLIGHT_BACKENDS, default="quasi-steady",
-                   help="aerodynamic model (default quasi-steady)")
+                   help="aerodynamic model (default quasi-steady): uvlm, the extended UVLM in the loop; surrogate, the "
+                        "per-step neural surrogate of the UVLM (each wing's instantaneous loads from the kinematics, "
+                        "phase and body motion); surrogate-mean, the cycle-mean network's averaged L+, D+, M+ (no "
+                        "within-beat loads, no damping)")
     f.add_argument("--rrd", type=writable_file, help="write a Rerun recording to FILE")
     f.add_argument("--perturb", type=perturbation_arg, action="append", metavar="NAME=VALUE",
                    help="initial disturbance: u, v, w [m/s]; p, q, r [deg/s]; theta, phi [deg] (stability axes)")
@@ -210,9 +213,9 @@ def register(sub) -> None:
                    default=STEPS_PER_CYCLE,
                    help=f"integration steps per wingbeat ({STEPS_PER_CYCLE}; at least {MIN_STEPS_PER_CYCLE})")
     f.add_argument("--start", choices=START_CHOICES, default=None,
-                   help="orbit: the free body's periodic orbit (the default where there is one: quasi-steady at any "
-                        "speed, the shipped UVLM orbits); trim: the held-body trim with a calibration wingbeat (the "
-                        "default otherwise, and for the surrogate)")
+                   help="orbit: the free body's periodic orbit (the default where there is one: quasi-steady and "
+                        "surrogate at any speed, the shipped UVLM orbits); trim: the held-body trim with a "
+                        "calibration wingbeat (the default otherwise, and for surrogate-mean)")
     from hawksim.control.command import CONTROL_CHOICES, parse_gust, parse_profile
 
     f.add_argument("--control", choices=CONTROL_CHOICES, default=None,

@@ -7,9 +7,9 @@ from __future__ import annotations
 import math
 import sys
 
-from hawksim.cli.args import parse_kinematics, positive_int_arg, speed_arg
+from hawksim.cli.args import UsageError, parse_kinematics, positive_int_arg, speed_arg
 
-ORBIT_MODELS = ("uvlm", "quasi-steady")
+ORBIT_MODELS = ("uvlm", "quasi-steady", "surrogate")
 """Aerodynamic models the free-flight orbit and its Floquet analysis support."""
 
 
@@ -59,6 +59,11 @@ def cmd_stability(args) -> dict:
                                          "body-fixed stability axes: u_b = u - w_e theta, v_b = v + w_e phi)"}}
     elif kin is None and args.aero == "quasi-steady":
         kin = shipped_trim(args.speed, "quasi-steady").kinematics
+    if args.aero == "surrogate":  # the per-step surrogate: Floquet only (its averaged A is not implemented)
+        if out_orbit is None:
+            raise UsageError("--aero surrogate: only --floquet (the monodromy of the surrogate's orbit); the "
+                             "cycle-averaged A matrices are the UVLM's (--aero uvlm) or the quasi-steady model's")
+        return {"speed": args.speed, "aero": args.aero, **out_orbit}
     if args.aero == "quasi-steady" or (args.workers == 1 and not args.scheduler):
         out = _averaged(args, kin)
     else:

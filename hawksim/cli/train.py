@@ -1,4 +1,5 @@
-"""`hawksim train`: the surrogate network trained by Levenberg-Marquardt on a UVLM data set."""
+"""`hawksim train`: the cycle-mean surrogate network trained by Levenberg-Marquardt on a UVLM data set, or
+(``--kind step``) the per-step surrogate trained by Adam on UVLM flights (:mod:`hawksim.surrogate.step_train`)."""
 
 from __future__ import annotations
 
@@ -8,8 +9,59 @@ from hawksim.cli.args import UsageError, positive_int_arg, seconds_arg, seed_arg
 from hawksim.cli.progress import progress_for
 
 
+def _floats(text: str) -> tuple[float, ...]:
+    try:
+        v = tuple(float(x) for x in text.split(",") if x.strip())
+    except ValueError:
+        raise ValueError(f"{text!r} is not a comma-separated list of numbers") from None
+    if any(not (x > 0) for x in v):
+        raise ValueError(f"{text!r}: lags must be > 0 wingbeats")
+    return v
+
+
+def _ints(text: str) -> tuple[int, ...]:
+    try:
+        v = tuple(int(x) for x in text.split(",") if x.strip())
+    except ValueError:
+        raise ValueError(f"{text!r} is not a comma-separated list of integers") from None
+    if not v or any(x < 1 for x in v):
+        raise ValueError(f"{text!r}: layer widths must be positive integers")
+    return v
+
+
+def cmd_train_step(args) -> dict:
+    """`hawksim train --kind step`: the per-step surrogate on the flights of ``--data``."""
+    import sys
+
+    import numpy as np
+
+    import torch
+
+    from hawksim.surrogate.step_train import TrainConfig, fit
+
+    torch.set_num_threads(1)
+    cfg = TrainConfig(hidden=args.layers, lags=args.lags, epochs=args.max_iter, seed=args.seed,
+                      max_seconds=args.time_limit, weight_decay=args.weight_decay, ensemble=args.ensemble)
+    command = ["hawksim", "train", "--kind", "step", "--data", str(args.data), "--out", str(args.out), "--seed",
+               str(args.seed), "--layers", ",".join(map(str, args.layers)), "--lags", ",".join(f"{v:g}" for v in
+                                                                                           args.lags),
+               "--max-iter", str(args.max_iter), "--time-limit", f"{args.time_limit:g}",
+               "--weight-decay", f"{args.weight_decay:g}", "--ensemble", str(args.ensemble)]
+    net, sc = fit(args.data, cfg, command=shlex.join(command),
+                  log=None if args.no_progress else lambda s: print(s, file=sys.stderr, flush=True))
+    net.save(args.out)
+    return {"kind": "step", "n_train": net.meta["n_train_rows"], "n_val": net.meta["n_val_rows"],
+            "n_test": sc["n_rows"], "test_flights": sc["n_flights"], "r2": sc["r2"], "r2_min": sc["r2_min"],
+            "cycle_mean_abs_error": sc["cycle_mean_abs_error"], "cycle_mean_max_error": sc["cycle_mean_max_error"],
+            "r2_body": sc["r2_body"], "epochs": net.meta["history"]["epochs"], "out": str(args.out),
+            "wall_time_s": float(np.sum(net.meta["history"]["wall_s"]))}
+
+
 def cmd_train(args) -> dict:
     import numpy as np
+
+    if args.kind == "step":
+        return cmd_train_step(args)
 
     from hawksim.backends.network import InputDefinition
     from hawksim.surrogate.dataset import file_sha256, read_samples, speeds_in
@@ -61,7 +113,18 @@ def cmd_train(args) -> dict:
 
 
 def register(sub) -> None:
-    p = sub.add_parser("train", help="train the surrogate (7-500-4 sigmoid network, Levenberg-Marquardt)")
+    p = sub.add_parser("train", help="train the cycle-mean surrogate (7-500-4 sigmoid network, Levenberg-Marquardt) "
+                                     "or, with --kind step, the per-step surrogate (tanh MLP, Adam)")
+    p.add_argument("--kind", choices=("mean", "step"), default="mean",
+                   help="mean: the cycle-mean network on held-body samples (--aero surrogate-mean); step: the "
+                        "per-step network on UVLM flights from `hawksim dataset --kind flights` (--aero surrogate)")
+    p.add_argument("--layers", type=_ints, default=(128, 128, 128),
+                   help="--kind step: hidden tanh layer widths (128,128,128)")
+    p.add_argument("--lags", type=_floats, default=(),
+                   help="--kind step: history lags of the body state [wingbeats], e.g. 0.5,1 (none)")
+    p.add_argument("--weight-decay", type=float, default=0.0, help="--kind step: AdamW weight decay (0: Adam)")
+    p.add_argument("--ensemble", type=positive_int_arg("ensemble"), default=1,
+                   help="--kind step: networks trained from different seeds, folded into one (1)")
     p.add_argument("--data", required=True, help="SQLite data set from `hawksim dataset`")
     p.add_argument("--out", type=writable_file, required=True, help="model file to write (.safetensors)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the split and the initial weights (0)")
@@ -71,7 +134,8 @@ def register(sub) -> None:
                    help="one network with the ascent speed as an 8th input, on all speeds in the file")
     p.add_argument("--data-seed", type=seed_arg, help="use only the samples drawn with this seed")
     p.add_argument("--hidden", type=positive_int_arg("hidden"), default=500, help="hidden sigmoid units (500)")
-    p.add_argument("--max-iter", type=positive_int_arg("max-iter"), default=300, help="LM iterations at most (300)")
+    p.add_argument("--max-iter", type=positive_int_arg("max-iter"), default=300,
+                   help="LM iterations (--kind step: epochs) at most (300)")
     p.add_argument("--time-limit", type=seconds_arg, default=3600.0,
                    help="stop after this many seconds, keeping the best weights (3600)")
     p.add_argument("--validation-png", type=writable_file,

@@ -92,6 +92,15 @@ UVLM_FD_STEP = 1e-3
 """The same for the UVLM: its free wake amplifies round-off (docs/uvlm.md, kinematics.realization), so a
 1e-6 step differences noise; with 1e-6 the Newton solve stalls at 2e-3."""
 
+SURROGATE_ORBIT_TOL = 1e-6
+"""Newton tolerance (normalized residual) of the per-step surrogate's orbit: its float32 loads (relative round-off
+6e-8 per step) leave a periodicity floor near 1e-7, so :data:`ORBIT_TOL` (1e-8) is out of reach."""
+
+SURROGATE_FD_STEP = 1e-4
+"""Finite-difference step of the per-step surrogate (normalized): its float32 network rounds the loads at a relative
+6e-8, so a 1e-6 step would difference round-off (an error ~6e-8 / h in the Jacobian; 1e-4 keeps it ~1e-3 while the
+truncation error, ~h times the map's curvature, stays ~1e-4)."""
+
 MAX_STEP = 0.2
 """Largest Newton step in any normalized unknown (u/U, w/U, q T, theta [rad], f/f_trim, phi0 [rad])."""
 
@@ -105,7 +114,8 @@ reach) ..."""
 UVLM_TOL_RATE = 1e-2
 """... its pitch-rate periodicity within this [rad/s] and its pitch periodicity within this times T [rad]."""
 
-ORBIT_TABLE_FILES = {"quasi-steady": "orbit_table_quasi_steady.json", "uvlm": "orbit_table_uvlm.json"}
+ORBIT_TABLE_FILES = {"quasi-steady": "orbit_table_quasi_steady.json", "uvlm": "orbit_table_uvlm.json",
+                     "surrogate": "orbit_table_surrogate.json"}
 """Shipped orbit tables in ``hawksim/data`` (produced by `hawksim reproduce --only orbits`, copied from
 ``results/orbits/``), the start of `hawksim fly` for each backend."""
 
@@ -227,12 +237,18 @@ def _prime_quasi_steady(sim: Simulator, t: float = 0.0) -> None:
     sim.backend.loads(read_state(m, d2, sim.body_id, sim.wing_ids, h))
 
 
-def make_orbit_backend(aero: str, *, symmetric: bool = True) -> tuple[AeroBackend, int]:
+ORBIT_BACKENDS = ("quasi-steady", "uvlm", "surrogate")
+"""Backends whose periodic orbits can be solved (the per-step surrogate needs the flight's kinematics)."""
+
+
+def make_orbit_backend(aero: str, *, symmetric: bool = True, kinematics: Kinematics | None = None
+                       ) -> tuple[AeroBackend, int]:
     """(backend, aero_every) of `hawksim fly --aero NAME` (:func:`hawksim.backends.flight_backend`) for
-    ``STEPS_PER_CYCLE`` integrator steps per beat: quasi-steady every step, the UVLM at ``FLY_UVLM``'s rate."""
-    if aero not in ("quasi-steady", "uvlm"):
-        raise ValueError(f"orbit backend must be 'quasi-steady' or 'uvlm', got {aero!r}")
-    backend = flight_backend(aero, symmetric=symmetric)
+    ``STEPS_PER_CYCLE`` integrator steps per beat: quasi-steady and the surrogate every step, the UVLM at
+    ``FLY_UVLM``'s rate."""
+    if aero not in ORBIT_BACKENDS:
+        raise ValueError(f"orbit backend must be one of {', '.join(ORBIT_BACKENDS)}, got {aero!r}")
+    backend = flight_backend(aero, symmetric=symmetric, kinematics=kinematics)
     return backend, aero_every_for(backend, STEPS_PER_CYCLE)
 
 
@@ -259,7 +275,7 @@ class _Flight:
 
     def fly(self, kin: Kinematics, x0: np.ndarray, beats: int, chi_ref: float, backend=None) -> Beats:
         if backend is None:
-            backend, _ = make_orbit_backend(self.aero, symmetric=self.symmetric)
+            backend, _ = make_orbit_backend(self.aero, symmetric=self.symmetric, kinematics=kin)
         every = aero_every_for(backend, STEPS_PER_CYCLE)
         sim = Simulator(self.model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
         set_body_state(sim, x0, chi_ref)
@@ -361,7 +377,13 @@ def shipped_orbit(speed: float, aero: str) -> Orbit | None:
     path = resources.files("hawksim") / "data" / name if name else None
     if path is None or not path.is_file():
         return None
-    for row in json.loads(path.read_text())["rows"]:
+    table = json.loads(path.read_text())
+    if aero == "surrogate":  # the surrogate's orbits hold for the network they were solved with only
+        from hawksim.backends.step_network import network_sha256
+
+        if table.get("network_sha256") != network_sha256():
+            return None
+    for row in table["rows"]:
         if abs(row["speed"] - speed) < 1e-9:
             return Orbit.from_json(row)
     return None
@@ -435,11 +457,19 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     line per iteration.
     """
     t_start = time.perf_counter()
+    guess = shipped_orbit(speed, "uvlm") if aero == "surrogate" else None  # the surrogate mimics the UVLM
+    if kinematics is None and guess is not None:
+        kinematics = guess.kinematics
+        x0 = guess.initial_state.as_array() if x0 is None else x0
     base = kinematics if kinematics is not None else trim_kinematics(speed, aero)
     chi = base.chi
-    warm = warm_beats if warm_beats is not None else (UVLM_WARM_BEATS if aero == "uvlm" else 0)
+    if warm_beats is None:  # beats before the measured one: the UVLM's wake, the surrogate's history inputs
+        from hawksim.backends.step_surrogate import memory_beats
+
+        warm_beats = UVLM_WARM_BEATS if aero == "uvlm" else memory_beats() if aero == "surrogate" else 0
+    warm = warm_beats
     fl = _Flight(aero, symmetric=True, model=model)
-    h_fd = fd_step if fd_step is not None else (UVLM_FD_STEP if aero == "uvlm" else FD_STEP)
+    h_fd = fd_step if fd_step is not None else {"uvlm": UVLM_FD_STEP, "surrogate": SURROGATE_FD_STEP}.get(aero, FD_STEP)
     f_ref = base.f
     if x0 is None:
         x0 = initial_guess(base, speed, fl, 0)
@@ -452,6 +482,8 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         return _residual(kin, speed, b, warm), b
 
     def met(rr, zz) -> bool:
+        if aero == "surrogate" and tol == ORBIT_TOL:
+            return float(np.abs(rr).max()) <= SURROGATE_ORBIT_TOL
         if aero != "uvlm" or tol != ORBIT_TOL:
             return float(np.abs(rr).max()) <= tol
         kin_, _ = _unpack(zz, base, f_ref)

@@ -41,6 +41,31 @@ def _solve6(A, b):
     return np.linalg.solve(A, b)
 
 
+@njit(cache=True)
+def _computed_torque(t, p, kp, kd, q, qd, a0, minv_ww):
+    """The six wing-joint torques of one RK4 stage, compiled (one call instead of a dozen numpy operations per
+    stage): Eq. 1 at time t for both wings (p = (f, phi0, theta0, alpha0, phi_a, alpha_a), SI; the arithmetic of
+    :meth:`Kinematics.eq1`), the PD-corrected desired acceleration a_des = qdd + kp (q_des - q) + kd (qd_des - qd)
+    of the joint angles q (6,) and rates qd (6,), and tau = ([M^-1]_ww)^-1 (a_des - a0)."""
+    f, phi0, theta0, alpha0, phi_a, alpha_a = p[0], p[1], p[2], p[3], p[4], p[5]
+    w = 2.0 * math.pi * f
+    c, s = math.cos(w * t), math.sin(w * t)
+    qs = (phi0 - phi_a * c, theta0, 0.5 * math.pi + alpha0 - alpha_a * s)
+    qds = (phi_a * w * s, 0.0, -alpha_a * w * c)
+    qdds = (phi_a * w * w * c, 0.0, alpha_a * w * w * s)
+    rhs = np.empty(6)
+    for k in range(6):
+        j = k % 3
+        rhs[k] = qdds[j] + kp * (qs[j] - q[k]) + kd * (qds[j] - qd[k]) - a0[k]
+    return np.linalg.solve(minv_ww, rhs)
+
+
+@njit(cache=True)
+def _computed_torque_given(q_des, qd_des, qdd_des, kp, kd, q, qd, a0, minv_ww):
+    """As :func:`_computed_torque` for a desired motion (6,) computed elsewhere (a subclass's ``desired``)."""
+    return np.linalg.solve(minv_ww, qdd_des + kp * (q_des - q) + kd * (qd_des - qd) - a0)
+
+
 @dataclass(frozen=True)
 class StepRecord:
     """What one step produced (world frame, SI)."""
@@ -119,6 +144,15 @@ class Simulator:
         self._kp, self._kd = wc * wc, 2 * wc
         self._capture = False
         self._tau = np.zeros(6)
+        # the wing joints' qpos / dof ranges as slices (contiguous in the generated model): views, not copies
+        def as_slice(ix):
+            ix = np.asarray(ix)
+            if not np.array_equal(ix, np.arange(ix[0], ix[0] + len(ix))):
+                raise ValueError(f"wing joints must be contiguous in the model, got {ix}")
+            return slice(int(ix[0]), int(ix[0]) + len(ix))
+        self._qslice, self._vslice = as_slice(self.wing_qpos), as_slice(self.wing_dof)
+        self._p = np.array([kin.f, kin.phi0, kin.theta0, kin.alpha0, kin.phi_a, kin.alpha_a])
+        self._eq1_compiled = type(self).desired is Simulator.desired  # the compiled stage evaluates Eq. 1 itself
         self._warn_ids = [int(getattr(mujoco.mjtWarning, w)) for w in UNSTABLE_WARNINGS]
         route_mujoco_warnings()
 
@@ -133,15 +167,19 @@ class Simulator:
         return np.array(q + q), np.array(qd + qd), np.array(qdd + qdd)
 
     def _control(self, m, d):
-        q, qd, qdd = self.desired(d.time)
-        a_des = qdd + self._kp * (q - d.qpos[self.wing_qpos]) + self._kd * (qd - d.qvel[self.wing_dof])
-        d.qfrc_applied[self.wing_dof] = 0.0
+        qs, vs = self._qslice, self._vslice
+        d.qfrc_applied[vs] = 0.0
         mujoco.mj_fwdActuation(m, d)
         mujoco.mj_fwdAcceleration(m, d)
-        a0 = d.qacc_smooth[self.wing_dof]
         mujoco.mj_solveM(m, d, self._minv, self._unit)
-        tau = _solve6(self._minv[:, self.wing_dof], a_des - a0)
-        d.qfrc_applied[self.wing_dof] = tau
+        if self._eq1_compiled:
+            tau = _computed_torque(d.time, self._p, self._kp, self._kd, d.qpos[qs], d.qvel[vs], d.qacc_smooth[vs],
+                                   self._minv[:, vs])
+        else:  # a subclass prescribes another motion (hawksim.control.plant: kinematics changed between beats)
+            q, qd, qdd = self.desired(d.time)
+            tau = _computed_torque_given(q, qd, qdd, self._kp, self._kd, d.qpos[qs], d.qvel[vs], d.qacc_smooth[vs],
+                                         self._minv[:, vs])
+        d.qfrc_applied[vs] = tau
         if self._capture:
             self._tau[:] = tau
             self._capture = False
@@ -243,8 +281,11 @@ class Simulator:
 
 def aero_every_for(backend: AeroBackend, steps_per_cycle: int) -> int:
     """Integrator steps per backend update: the UVLM updates :data:`FLY_UVLM`'s steps per wingbeat (the largest
-    divisor of ``steps_per_cycle`` not above ``steps_per_cycle // FLY_UVLM.steps_per_cycle``), the others every step."""
-    if backend.name != "uvlm":
+    divisor of ``steps_per_cycle`` not above ``steps_per_cycle // FLY_UVLM.steps_per_cycle``), and so does the
+    per-step surrogate ("surrogate"), which learnt the UVLM's loads at those updates from flights that held them in
+    between (holding them changes the cycle means by ~1 %, docs/free_flight.md: the surrogate must hold them the same
+    way to reproduce the UVLM's orbits); the others every step."""
+    if backend.name not in ("uvlm", "surrogate"):
         return 1
     every = max(1, steps_per_cycle // FLY_UVLM.steps_per_cycle)
     while steps_per_cycle % every:

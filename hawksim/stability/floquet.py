@@ -31,7 +31,7 @@ import numpy as np
 
 from hawksim.backends.held import held_flight
 from hawksim.insect.kinematics import Kinematics
-from hawksim.flight.orbit import UVLM_FD_STEP, S, Orbit, _Flight, scales
+from hawksim.flight.orbit import SURROGATE_FD_STEP, UVLM_FD_STEP, S, Orbit, _Flight, scales
 from hawksim.frames import cross
 
 FLOQUET_STATES = (0, 1, 2, 3, 4, 5, 6, 7)
@@ -131,7 +131,7 @@ def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
 
     t0 = time.perf_counter()
     if delta is None:  # the UVLM's free wake amplifies round-off: a 1e-5 step differences noise (docs/free_flight.md)
-        delta = UVLM_FD_STEP if orbit.aero == "uvlm" else FD_DELTA
+        delta = {"uvlm": UVLM_FD_STEP, "surrogate": SURROGATE_FD_STEP}.get(orbit.aero, FD_DELTA)
     M, A = _monodromy_matrix(orbit, delta, model, lateral)
     fl = _floquet(M, delta, time.perf_counter() - t0)
     if not orbit.warm_beats:

@@ -23,6 +23,7 @@ version; the evaluation's wall time [s]. Layout 1 files (hawksim 0.2's data sets
 
 from __future__ import annotations
 
+import functools
 import itertools
 import json
 import math
@@ -328,7 +329,8 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
             progress(done0, n)
         new = diverged = unsettled = 0
         if todo:
-            for s in _compute(todo, speed, seed, resolution, scheduler, workers):
+            for s in _compute(todo, functools.partial(evaluate_sample, seed, speed, resolution=resolution),
+                              scheduler, workers):
                 insert_sample(conn, s, resolution)
                 new += 1
                 diverged += s.status == "diverged"
@@ -368,8 +370,10 @@ def _writer_lock(path, conn):
     return fh
 
 
-def _compute(todo, speed, seed, resolution, scheduler, workers):
-    """Yield evaluated samples as they finish (any order)."""
+def _compute(todo, evaluate, scheduler, workers):
+    """Yield ``evaluate(i)`` for the indices ``todo`` as they finish (any order), on Dask workers. ``evaluate`` is
+    a picklable callable of the index (a module-level function bound by functools.partial): the held-body samples
+    (:func:`evaluate_sample`) and the per-step flights (:func:`hawksim.surrogate.flights.evaluate_flight`)."""
     from dask.distributed import as_completed
 
     from hawksim.cluster import dask_client
@@ -378,7 +382,7 @@ def _compute(todo, speed, seed, resolution, scheduler, workers):
         # Submit in a bounded window: results stream back and are committed one by one.
         window = 4 * max(1, len(client.scheduler_info()["workers"]))
         it = iter(todo)
-        futures = [client.submit(evaluate_sample, seed, speed, i, resolution, pure=False)
+        futures = [client.submit(evaluate, i, pure=False)
                    for i in itertools.islice(it, window)]
         ac = as_completed(futures)
         for fut in ac:
@@ -386,7 +390,7 @@ def _compute(todo, speed, seed, resolution, scheduler, workers):
             fut.release()
             nxt = next(it, None)
             if nxt is not None:
-                ac.add(client.submit(evaluate_sample, seed, speed, nxt, resolution, pure=False))
+                ac.add(client.submit(evaluate, nxt, pure=False))
 
 
 def file_sha256(path: str | Path, speed: float | None = None, seed: int | None = None) -> str:

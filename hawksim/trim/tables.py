@@ -19,7 +19,7 @@ from hawksim.insect.kinematics import PARAM_NAMES, TABLE3_DEG, TABLE3_SPEEDS, Ki
 from hawksim.trim.point import Trim
 
 TABLE_FILES = {"uvlm": "trim_table.json", "quasi-steady": "trim_table_quasi_steady.json",
-               "surrogate": "trim_table_surrogate.json"}
+               "surrogate-mean": "trim_table_surrogate.json", "surrogate": "trim_table.json"}
 
 
 @lru_cache(maxsize=4)

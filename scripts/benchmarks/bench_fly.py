@@ -6,6 +6,11 @@ after a warm-up that compiles/loads the numba kernels), the whole command's wall
 Python start-up and imports), and the real-time factors (simulated time / wall time; >= 1 is real time).
 
     python scripts/benchmarks/bench_fly.py [--speed 1] [--cycles 20] [--aero quasi-steady] [--repeat 3]
+
+``time_split_s`` says where the flight loop's time goes (one more flight under cProfile, whose overhead inflates the
+Python parts: read it as proportions): the MuJoCo step without the computed-torque callback, the callback (four per
+step, one per RK4 stage), the backend's loads, the rest of ``Simulator.step`` (state read-out, xfrc_applied) and the
+recording in ``fly`` (issue 21's target for `--aero surrogate`: >= 10x real time over 20 wingbeats).
 """
 
 import argparse
@@ -43,6 +48,7 @@ def main():
         t0 = time.perf_counter()
         subprocess.run(cmd, check=True, capture_output=True)
         wall_cmd.append(time.perf_counter() - t0)
+    split = _time_split(a)
     best_loop = min(x[0] for x in loop)
     best_fly = min(x[1] for x in loop)
     print(json.dumps({
@@ -60,9 +66,35 @@ def main():
         "wingbeats_per_s_loop": a.cycles / best_loop,
         "wingbeats_per_s_fly_call": a.cycles / best_fly,
         "target_wingbeats_per_s": 1.0 if a.aero == "uvlm" else None,  # issue 19, item 8
+        "target_realtime_factor": 10.0 if a.aero == "surrogate" else None,  # issue 21, item 5
+        "time_split_s": split,
         "start": r.trim_source,
         "machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "processor": platform.machine()},
     }))
+
+
+def _time_split(a) -> dict:
+    import cProfile
+    import pstats
+
+    from hawksim.cli.fly import fly_named
+
+    prof = cProfile.Profile()
+    prof.enable()
+    fly_named(a.speed, a.cycles, a.aero)
+    prof.disable()
+    st = pstats.Stats(prof).stats  # {(file, line, name): (cc, nc, tottime, cumtime, callers)}
+
+    def cum(name, file_part=""):
+        return sum(v[3] for k, v in st.items() if k[2] == name and file_part in k[0])
+
+    step, mj_step, control = cum("step", "simulator.py"), cum("<built-in method mujoco._functions.mj_step>"), \
+        cum("_control", "simulator.py")
+    loads = sum(v[3] for k, v in st.items() if k[2] == "loads" and "backends" in k[0])
+    fly_total = cum("fly", "flight/fly.py")
+    return {"fly_total": fly_total, "mujoco_step_without_callback": mj_step - control, "computed_torque_callback":
+            control, "backend_loads": loads, "simulator_step_rest": step - mj_step - loads,
+            "recording_in_fly": fly_total - step}
 
 
 if __name__ == "__main__":

@@ -1,5 +1,6 @@
-"""`--aero surrogate`: the mean loads land on the body as predicted, and a flight on a surrogate that balances the
-insect at V holds V over several wingbeats."""
+"""`--aero surrogate-mean` (the cycle-mean network; `--aero surrogate` is the per-step one,
+tests/hawksim/test_step_surrogate.py): the mean loads land on the body as predicted, and a flight on a
+surrogate that balances the insect at V holds V over several wingbeats."""
 
 import numpy as np
 import pytest
@@ -85,7 +86,7 @@ def test_flight_on_a_balancing_surrogate_holds_its_speed(monkeypatch):
 
     net = _speed_net(L0=1.0, dLdV=-0.5, D=0.0, M=0.0, v0=1.0)
     monkeypatch.setattr(surrogate_backend, "load", lambda path: net)
-    r = fly_named(1.0, 6, aero="surrogate", kinematics=table3_kinematics(1.0), steps_per_cycle=100)
+    r = fly_named(1.0, 6, aero="surrogate-mean", kinematics=table3_kinematics(1.0), steps_per_cycle=100)
     s = r.summary()
     assert s["mean_vertical_speed"] == pytest.approx(1.0, abs=HOLD_SPEED_TOL)
     assert abs(s["horizontal_drift"]) < DRIFT_TOL
@@ -101,8 +102,8 @@ def test_shipped_surrogate_trim_holds_over_ten_wingbeats(speed):
     from hawksim.cli.fly import fly_named
     from hawksim.trim.tables import trim_source
 
-    assert "surrogate" in trim_source("surrogate")
-    r = fly_named(speed, 10, "surrogate", steps_per_cycle=100)
+    assert "surrogate" in trim_source("surrogate-mean")
+    r = fly_named(speed, 10, "surrogate-mean", steps_per_cycle=100)
     n = r.steps_per_cycle
     z = r.body_pos[:, 2]
     for c in range(10):

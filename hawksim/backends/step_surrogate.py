@@ -1,0 +1,110 @@
+"""`hawksim fly --aero surrogate`: the per-step neural surrogate of the UVLM as a flight backend.
+
+Every call evaluates the left-wing network of :mod:`hawksim.backends.step_network` (shipped:
+``hawksim/data/surrogates/uvlm_step.safetensors``) for both wings in one (2, n_in) float32 batch, the right wing at
+the mirrored inputs, in numpy with the normalisation folded into the weights. Inputs: the flight's kinematics, the
+phase 2 pi f t, the body's velocity relative to the air and its angular velocity in body axes (and, for a network
+with history lags, the same at t - lag T from this backend's own record of past calls, linearly interpolated; before
+the flight's start the first call's state). Outputs: each wing's force and moment about its hinge in its wing axes,
+turned to the world frame with the flight state's wing attitude. Power: P = -sum_wings (omega_wing - omega_body) .
+M_hinge [W], the UVLM's definition for a rigid wing hinged on the body (:mod:`hawksim.backends.base`).
+
+Where it holds: the states of the training flights (:mod:`hawksim.surrogate.flights`: the shipped UVLM orbits at
+0-2 m/s, kinematics within +-2.5 % of Table 2's ranges about them, perturbations up to ~1 m/s and 45 deg); outside
+it extrapolates without warning, like any regression.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from hawksim.backends.base import FlightState, WingLoads
+from hawksim.backends.step_network import MIRROR_F, MIRROR_M, MIRROR_V, MIRROR_W, StepNetwork, load, shipped_path
+from hawksim.insect.kinematics import Kinematics
+
+
+class StepSurrogateBackend:
+    """Per-step surrogate loads for kinematics ``kin`` (network: default the shipped one)."""
+
+    name = "surrogate"
+
+    def __init__(self, kin: Kinematics, network: StepNetwork | None = None):
+        self.net = network if network is not None else _shipped()
+        self.layers = self.net.folded()
+        self.kin = kin
+        self.lags = tuple(self.net.lags)
+        self._x = np.zeros((2, self.net.n_in), dtype=np.float32)
+        self._x[:, :7] = kin.as_array()
+        self._omega_f = 2.0 * math.pi * kin.f
+        self._hist_t: list[float] = []
+        self._hist_s: list[np.ndarray] = []
+
+    def reset(self, state: FlightState) -> None:
+        self._hist_t, self._hist_s = [], []
+
+    def _lagged(self, t: float, s: np.ndarray) -> list[np.ndarray]:
+        """States (6,) at t - lag T for each lag (interpolated in this backend's record of calls)."""
+        self._hist_t.append(t)
+        self._hist_s.append(s)
+        T = 1.0 / self.kin.f
+        keep = max(self.lags) * T * 1.05 + 1e-12
+        while len(self._hist_t) > 2 and self._hist_t[1] < t - keep:
+            self._hist_t.pop(0)
+            self._hist_s.pop(0)
+        ts = np.asarray(self._hist_t)
+        S = np.asarray(self._hist_s)
+        return [np.array([np.interp(t - lag * T, ts, S[:, j]) for j in range(6)]) for lag in self.lags]
+
+    def evaluate(self, x: np.ndarray) -> np.ndarray:
+        """The folded network at SI inputs x (n, n_in) float32 -> (n, 6)."""
+        h = x
+        last = len(self.layers) - 1
+        for k, (WT, b) in enumerate(self.layers):
+            h = h @ WT
+            h += b
+            if k < last:
+                np.tanh(h, out=h)
+        return h
+
+    def loads(self, state: FlightState) -> WingLoads:
+        R = state.body_R
+        v = R.T @ (state.body_v - state.air_v)
+        w = R.T @ state.body_omega
+        x = self._x
+        ph = self._omega_f * state.t
+        x[:, 7] = math.sin(ph)
+        x[:, 8] = math.cos(ph)
+        x[0, 9:12], x[0, 12:15] = v, w
+        x[1, 9:12], x[1, 12:15] = v * MIRROR_V, w * MIRROR_W
+        if self.lags:
+            for k, s in enumerate(self._lagged(state.t, np.concatenate([v, w]))):
+                j = 15 + 6 * k
+                x[0, j:j + 3], x[0, j + 3:j + 6] = s[:3], s[3:]
+                x[1, j:j + 3], x[1, j + 3:j + 6] = s[:3] * MIRROR_V, s[3:] * MIRROR_W
+        y = self.evaluate(x).astype(np.float64)
+        F_w = np.stack([y[0, :3], y[1, :3] * MIRROR_F])
+        M_w = np.stack([y[0, 3:], y[1, 3:] * MIRROR_M])
+        WR = state.wing_R
+        force = np.einsum("kij,kj->ki", WR, F_w)
+        moment = np.einsum("kij,kj->ki", WR, M_w)
+        power = -float(np.sum((state.wing_omega - state.body_omega) * moment))
+        return WingLoads(force=force, moment=moment, power=power)
+
+
+def memory_beats(network: StepNetwork | None = None) -> int:
+    """Whole wingbeats of history the network's inputs reach back (0 without lags): a flight must run that long
+    before its loads are those of a continued flight (the orbit's warm-up beats, :mod:`hawksim.flight.orbit`)."""
+    net = network if network is not None else _shipped()
+    return int(math.ceil(max(net.lags, default=0.0) - 1e-9))
+
+
+_CACHE: dict[str, StepNetwork] = {}
+
+
+def _shipped() -> StepNetwork:
+    p = str(shipped_path())
+    if p not in _CACHE:
+        _CACHE[p] = load(p)
+    return _CACHE[p]

@@ -1,0 +1,89 @@
+"""Periodic orbits and Floquet multipliers of the free body with the per-step surrogate (`--aero surrogate`)
+against the UVLM's (issue 21, item 5).
+
+For each speed: Newton shooting on the surrogate's one-beat map (:func:`hawksim.flight.orbit.periodic_orbit`,
+started from the shipped UVLM orbit), its monodromy by central differences (:func:`hawksim.stability.floquet.
+monodromy`), and beside them the shipped UVLM orbit (hawksim/data/orbit_table_uvlm.json) and the UVLM's Floquet
+multipliers (results/free_flight/validation.json, `hawksim reproduce --only validation_uvlm`).
+
+    python scripts/studies/step_surrogate_orbits.py --speeds 1 2 --out results/surrogate/step_orbits.json \
+        [--table hawksim/data/orbit_table_surrogate.json]
+
+Prints (and writes) one JSON object.
+"""
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from hawksim.flight.orbit import orbit_table, periodic_orbit, shipped_orbit
+from hawksim.jsonout import host_info
+from hawksim.stability.floquet import monodromy
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def uvlm_multipliers(speed):
+    p = ROOT / "results" / "free_flight" / "validation.json"
+    if not p.is_file():
+        return None
+    out = {"longitudinal": [], "lateral": []}
+    for e in json.loads(p.read_text())["entries"]:
+        if e["aero"] == "uvlm" and abs(e["speed"] - speed) < 1e-9:
+            out[e["system"]].append(e["multiplier"])
+    return out
+
+
+def c2(z):
+    return [float(np.real(z)), float(np.imag(z))]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--speeds", type=float, nargs="+", default=[1.0, 2.0])
+    ap.add_argument("--out")
+    ap.add_argument("--table", help="also write the orbits as a shipped orbit table")
+    ap.add_argument("--no-floquet", action="store_true")
+    a = ap.parse_args()
+    res = {"host": host_info(), "command": "python scripts/studies/step_surrogate_orbits.py " + " ".join(sys.argv[1:]),
+           "speeds": []}
+    orbits = []
+    for v in a.speeds:
+        t0 = time.perf_counter()
+        o = periodic_orbit(v, "surrogate", log=lambda s, v=v: print(f"V={v:g}: {s}", file=sys.stderr, flush=True))
+        orbits.append(o)
+        row = {"speed": v, "orbit": o.to_json(), "orbit_wall_s": time.perf_counter() - t0}
+        u = shipped_orbit(v, "uvlm")
+        if u is not None:
+            ks, ku = o.kinematics.to_edge(), u.kinematics.to_edge()
+            row["uvlm_orbit"] = {"kinematics": ku, "P_plus": u.P_plus, "converged": u.converged,
+                                 "initial_state": u.initial_state.to_dict()}
+            row["kinematics_rel_diff"] = {k: (ks[k] - ku[k]) / abs(ku[k]) if ku[k] else None for k in ("f",)}
+            row["kinematics_abs_diff_deg"] = {"phi0": ks["phi0"] - ku["phi0"]}
+            row["P_plus_diff"] = o.P_plus - u.P_plus
+        if not a.no_floquet:
+            fq = monodromy(o)
+            row["floquet"] = {"longitudinal": [c2(z) for z in fq.multipliers_long],
+                              "lateral": [c2(z) for z in fq.multipliers_lat], "coupling": fq.coupling,
+                              "wall_s": fq.wall_time_s, "delta": fq.delta}
+            row["uvlm_floquet"] = uvlm_multipliers(v)
+        print(json.dumps({k: row[k] for k in row if k != "orbit"}), file=sys.stderr, flush=True)
+        res["speeds"].append(row)
+    text = json.dumps(res, indent=1)
+    if a.out:
+        Path(a.out).parent.mkdir(parents=True, exist_ok=True)
+        Path(a.out).write_text(text + "\n")
+    if a.table:
+        from hawksim.backends.step_network import network_sha256
+
+        table = {**orbit_table(orbits, res["command"]), "network_sha256": network_sha256()}
+        Path(a.table).write_text(json.dumps(table, indent=1) + "\n")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

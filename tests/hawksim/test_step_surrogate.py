@@ -1,0 +1,245 @@
+"""The per-step surrogate (`--aero surrogate`): its file format, its inference, the mirror symmetry it relies on,
+and its held-out accuracy against the UVLM on committed flights."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hawksim.backends.base import FlightState
+from hawksim.backends.step_network import (
+    MIRROR_F,
+    MIRROR_M,
+    OUTPUTS,
+    StepNetwork,
+    StepNetworkFileError,
+    input_names,
+    load,
+    mirror_inputs,
+    shipped_path,
+)
+from hawksim.backends.step_surrogate import StepSurrogateBackend
+from hawksim.frames import rot_x, rot_y, rot_z
+from hawksim.insect.kinematics import table3_kinematics
+
+ROOT = Path(__file__).resolve().parents[2]
+FLIGHTS = ROOT / "data" / "uvlm_flights_0.2.0.sqlite"
+
+FOLD_RTOL = 1e-4
+"""Relative (to the largest output): the folded float32 network against the float64 reference. float32 carries 24
+bits (6e-8); three hidden layers of 128 sums of products accumulate ~sqrt(128) * 6e-8 * (sum of |terms|) per
+layer, and the standardisation spans y_std ~ the outputs' size: measured 3e-6; 1e-4 leaves 30x."""
+
+
+def _random_net(lags=(), hidden=(16, 16), seed=0) -> StepNetwork:
+    rng = np.random.default_rng(seed)
+    n_in = len(input_names(lags))
+    sizes = [n_in, *hidden, len(OUTPUTS)]
+    weights = tuple((rng.normal(0, 1 / math.sqrt(a), (b, a)).astype(np.float32), rng.normal(0, 0.1, b).astype(
+        np.float32)) for a, b in zip(sizes[:-1], sizes[1:]))
+    return StepNetwork(weights, rng.normal(0, 1, n_in), rng.uniform(0.5, 2, n_in), rng.normal(0, 1e-3, 6),
+                       rng.uniform(1e-3, 1e-2, 6), lags=lags, meta={"test": True})
+
+
+def _inputs(net, n=7, seed=1):
+    return np.random.default_rng(seed).normal(net.x_mean, net.x_std, (n, net.n_in))
+
+
+# ---------------------------------------------------------------------------------------------- the file
+
+
+def test_round_trip_and_folded_inference(tmp_path):
+    net = _random_net(lags=(0.5,))
+    p = net.save(tmp_path / "n.safetensors")
+    back = load(p)
+    assert back.lags == (0.5,) and back.meta == {"test": True}
+    x = _inputs(net)
+    ref = net.predict(x)
+    assert np.array_equal(back.predict(x), ref)
+    b = StepSurrogateBackend(table3_kinematics(1.0), back)
+    y = b.evaluate(x.astype(np.float32))
+    assert np.abs(y - ref).max() <= FOLD_RTOL * np.abs(ref).max()
+
+
+def test_missing_and_foreign_files_are_refused(tmp_path):
+    with pytest.raises(StepNetworkFileError, match="does not exist"):
+        load(tmp_path / "nope.safetensors")
+    junk = tmp_path / "junk.safetensors"
+    junk.write_bytes(b"not a safetensors file at all")
+    with pytest.raises(StepNetworkFileError, match="not a safetensors"):
+        load(junk)
+    from hawksim.backends.network import shipped_path as mean_path
+
+    if mean_path(None).is_file():  # the cycle-mean network: another format, named
+        with pytest.raises(StepNetworkFileError, match="surrogate-mean"):
+            load(mean_path(None))
+
+
+def _save_raw(path, tensors, md):
+    from safetensors.numpy import save_file
+
+    save_file({k: np.ascontiguousarray(v, np.float32) for k, v in tensors.items()}, str(path), metadata=md)
+
+
+def _raw(net):
+    t = {f"{p}{k}": a for k, (W, b) in enumerate(net.weights) for p, a in (("W", W), ("b", b))}
+    t.update(x_mean=net.x_mean, x_std=net.x_std, y_mean=net.y_mean, y_std=net.y_std)
+    md = {"format": "hawksim-step-surrogate-1", "inputs": json.dumps({"names": list(input_names(()))
+                                                                     , "lags": []}),
+          "outputs": json.dumps(list(OUTPUTS)), "meta": "{}"}
+    return t, md
+
+
+@pytest.mark.parametrize("break_it, message", [
+    (lambda t, md: t.update(W0=np.zeros((16, 5))), "layer 0 has W"),
+    (lambda t, md: t.update(W2=np.zeros((5, 16)), b2=np.zeros(5)), "layer 2 has W"),
+    (lambda t, md: t.update(x_std=np.zeros(15)), "non-positive"),
+    (lambda t, md: t.update(b1=np.full(16, np.nan)), "non-finite"),
+    (lambda t, md: t.pop("y_std"), "holds tensors"),
+    (lambda t, md: md.update(outputs=json.dumps(["L_plus"])), "predicts"),
+    (lambda t, md: md.update(inputs=json.dumps({"names": ["f"], "lags": []})), "has inputs"),
+    (lambda t, md: md.update(format="hawksim-surrogate-1"), "not a hawksim-step-surrogate-1"),
+])
+def test_wrong_shapes_and_metadata_give_a_clear_error(tmp_path, break_it, message):
+    t, md = _raw(_random_net())
+    break_it(t, md)
+    p = tmp_path / "bad.safetensors"
+    _save_raw(p, t, md)
+    with pytest.raises(StepNetworkFileError, match=message):
+        load(p)
+
+
+# ---------------------------------------------------------------------------------------------- the backend
+
+
+def _state(seed=0):
+    rng = np.random.default_rng(seed)
+    R = rot_z(0.2) @ rot_y(-1.0) @ rot_x(0.1)
+    wR = np.stack([rot_z(0.5) @ rot_x(0.3), rot_z(-0.5) @ rot_x(-0.3)])
+    return FlightState(t=0.0123, dt=1e-4, body_pos=np.zeros(3), body_R=R, body_v=rng.normal(0, 0.5, 3),
+                       body_omega=rng.normal(0, 5, 3), wing_R=wR, wing_origin=rng.normal(0, 1e-3, (2, 3)),
+                       wing_v=rng.normal(0, 0.1, (2, 3)), wing_omega=rng.normal(0, 100, (2, 3)))
+
+
+LOADS_RTOL = 1e-4
+"""The backend's world loads against the float64 network turned by hand: the float32 fold (FOLD_RTOL)."""
+
+
+def test_backend_applies_both_wings_by_mirror_symmetry_and_its_power_identity():
+    net = _random_net()
+    kin = table3_kinematics(1.0)
+    b = StepSurrogateBackend(kin, net)
+    st = _state()
+    ld = b.loads(st)
+    R = st.body_R
+    ph = 2 * math.pi * kin.f * st.t
+    x = np.concatenate([kin.as_array(), [math.sin(ph), math.cos(ph)], R.T @ st.body_v, R.T @ st.body_omega])[None]
+    yl, yr = net.predict(x)[0], net.predict(mirror_inputs(x))[0]
+    F = np.stack([st.wing_R[0] @ yl[:3], st.wing_R[1] @ (MIRROR_F * yr[:3])])
+    M = np.stack([st.wing_R[0] @ yl[3:], st.wing_R[1] @ (MIRROR_M * yr[3:])])
+    assert np.abs(ld.force - F).max() <= LOADS_RTOL * np.abs(F).max()
+    assert np.abs(ld.moment - M).max() <= LOADS_RTOL * np.abs(M).max()
+    p = -sum(float((st.wing_omega[k] - st.body_omega) @ ld.moment[k]) for k in range(2))
+    assert ld.power == pytest.approx(p, rel=1e-12)
+
+
+def test_history_lags_interpolate_the_backends_own_record():
+    """With a lag of half a beat, the lagged inputs at t are the state the backend saw T/2 earlier."""
+    net = _random_net(lags=(0.5,))
+    kin = table3_kinematics(1.0)
+    b = StepSurrogateBackend(kin, net)
+    st0 = _state(0)
+    b.reset(st0)
+    T = 1.0 / kin.f
+    seen = []
+    for i in range(41):
+        st = FlightState(**{**st0.__dict__, "t": i * T / 40, "body_v": st0.body_v + 0.01 * i})
+        b.loads(st)
+        seen.append(st.body_R.T @ st.body_v)
+    assert np.allclose(b._x[0, 15:18], seen[20], atol=1e-6)
+
+
+# ------------------------------------------------------------------------------------ accuracy vs the UVLM
+
+
+def _shipped():
+    return load(shipped_path())
+
+
+@pytest.mark.skipif(not (FLIGHTS.is_file() and shipped_path().is_file()),
+                    reason="the flights data set or the shipped per-step network is not in this checkout")
+def test_uvlm_right_wing_is_the_mirror_image_of_the_left_in_symmetric_flights():
+    """The exact symmetry the network's use for the right wing rests on (MIRROR_F, MIRROR_M)."""
+    from hawksim.surrogate.flights import COLUMNS, read_flights
+
+    c = {n: i for i, n in enumerate(COLUMNS)}
+    fl = next(f for f in read_flights(FLIGHTS) if f.symmetric)
+    r = fl.rows
+    for a, b, m in (("FL", "FR", MIRROR_F), ("ML", "MR", MIRROR_M)):
+        L = r[:, [c[a + k] for k in "xyz"]]
+        R = r[:, [c[b + k] for k in "xyz"]]
+        assert np.abs(R - m * L).max() <= 1e-6 * np.abs(L).max()
+
+
+CI_FLIGHTS = 12
+"""Held-out flights scored in CI (the first of the shipped network's test flights): ~2000 rows, ~20 s."""
+
+R2_TARGET = 0.98
+"""Issue 21's per-step target on held-out flights, for the three large components (the normal force and the two
+moment components with an arm along the span and the chord); see STEP_R2_SMALL for the in-plane ones."""
+
+CYCLE_MEAN_TARGET = 0.02
+"""Issue 21's target for |L+, D+, M+, P+ network - UVLM| (absolute), here on the mean over held-out wingbeats."""
+
+
+@pytest.mark.skipif(not (FLIGHTS.is_file() and shipped_path().is_file()),
+                    reason="the flights data set or the shipped per-step network is not in this checkout")
+def test_shipped_network_meets_the_targets_on_held_out_flights():
+    from hawksim.surrogate.flights import read_flights
+    from hawksim.surrogate.step_train import _flights_sha256, score
+
+    net = _shipped()
+    assert net.meta["data_sha256"] == _flights_sha256(FLIGHTS), "the shipped network was trained on other data"
+    test = set(net.meta["test_flights"][:CI_FLIGHTS])
+    assert not test & set(net.meta["val_flights"])
+    flights = [f for f in read_flights(FLIGHTS) if f.idx in test]
+    sc = score(net, flights)
+    for k in ("Fz", "Mx", "My"):
+        assert sc["r2"][k] >= R2_TARGET, (k, sc["r2"])
+    for k, v in sc["cycle_mean_abs_error"].items():
+        assert v <= CYCLE_MEAN_TARGET, (k, sc["cycle_mean_abs_error"])
+
+
+# ------------------------------------------------------------------------------------------------ the data
+
+
+def test_flight_data_set_resumes_without_duplicates_and_is_seeded(tmp_path):
+    """`hawksim dataset --kind flights`'s machinery: flight i is a pure function of (seed, i); a second run with a
+    larger n computes only the missing flights; the flock refuses a second writer (tested for samples in
+    test_dataset.py, the same code)."""
+    from hawksim.surrogate.flights import generate_flights, read_flights, sample_flight
+
+    a, b = sample_flight(3, 5), sample_flight(3, 5)
+    assert a == b and sample_flight(3, 6) != a and sample_flight(4, 5) != a
+    assert not sample_flight(0, 3).symmetric and sample_flight(0, 0).symmetric
+    p = tmp_path / "f.sqlite"
+    r1 = generate_flights(p, 1, seed=3, workers=1, beats=1)
+    r2 = generate_flights(p, 2, seed=3, workers=1, beats=1)
+    assert (r1.new, r1.flights, r2.new, r2.flights) == (1, 1, 1, 2)
+    fl = read_flights(p)
+    assert [f.idx for f in fl] == [0, 1]
+    assert fl[0].rows.shape == (40, len(__import__("hawksim.surrogate.flights", fromlist=["x"]).COLUMNS))
+
+
+def test_an_ensemble_folds_exactly_into_one_network():
+    from hawksim.surrogate.step_train import fold_ensemble
+
+    nets = [_random_net(hidden=(8, 8, 8), seed=s) for s in range(3)]
+    x = _inputs(nets[0])
+    ref = np.mean([StepNetwork(n.weights, nets[0].x_mean, nets[0].x_std, nets[0].y_mean, nets[0].y_std).predict(x)
+                   for n in nets], axis=0)
+    folded = StepNetwork(fold_ensemble([n.weights for n in nets]), nets[0].x_mean, nets[0].x_std, nets[0].y_mean,
+                         nets[0].y_std)
+    assert np.allclose(folded.predict(x), ref, rtol=1e-5, atol=1e-9)
