@@ -2,7 +2,7 @@
 shared machine), then combined into results/free_flight/validation.json by the same writer.
 
     python scripts/studies/validation_by_speed.py --speed 1 --part /tmp/v1.json      # one per speed, in parallel
-    python scripts/studies/validation_by_speed.py --combine /tmp/v0.json /tmp/v1.json /tmp/v2.json --out results/free_flight
+    python scripts/studies/validation_by_speed.py --combine /tmp/v0.json /tmp/v1.json /tmp/v2.json
 """
 
 from __future__ import annotations
