@@ -109,13 +109,14 @@ def _fly_open_loop(args, progress, guard) -> dict:
                                           if args.rrd and args.aero == "uvlm" else 0),
                        progress=progress, start=args.start, **({"partial_on_interrupt": True} if args.rrd else {}))
     interrupted = len(result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
-    out = {} if interrupted else result.summary()
-    if out and out["departed_at_beat"] is not None:
+    rrd = _write_recording(args, result, guard, interrupted) if args.rrd else None  # first: a failure says one line
+    out = result.summary()
+    if out["departed_at_beat"] is not None:
         b = out["beats"][out["departed_at_beat"] - 1]
         print(f"fly: departed at beat {out['departed_at_beat']} of {args.cycles} (mean vertical speed "
               f"{b['mean_vertical_speed']:.3f} m/s against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): "
               "an open-loop flight of this unstable model leaves its trim", file=sys.stderr)
-    out["rrd"] = _write_recording(args, result, guard, interrupted) if args.rrd else None
+    out["rrd"] = rrd
     return out
 
 
@@ -129,9 +130,10 @@ def _fly_controlled(args, control: str, progress, guard) -> dict:
                      perturb=dict(args.perturb or []), model_path=args.model, progress=progress,
                      partial_on_interrupt=bool(args.rrd))
     interrupted = len(cl.result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
-    out = {} if interrupted else command_summary(cl, args.cycles, control)
-    out["rrd"] = (_write_recording(args, cl.result, guard, interrupted, control=cl.beats, ghost=False)
-                  if args.rrd else None)
+    rrd = (_write_recording(args, cl.result, guard, interrupted, control=cl.beats, ghost=False)
+           if args.rrd else None)  # first: a failure (disk full) says one line, not a verdict and then the error
+    out = command_summary(cl, args.cycles, control)
+    out["rrd"] = rrd
     return out
 
 
