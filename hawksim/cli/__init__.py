@@ -74,9 +74,21 @@ def build_parser() -> Parser:
     return p
 
 
+def _interrupted(exc: BaseException) -> bool:
+    """Whether ``exc`` is, or was raised while handling or because of, a KeyboardInterrupt (a Ctrl-C inside an
+    extension module's import surfaces as ImportError("initialization failed") chained to it)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
     try:
+        parser = build_parser()  # imports the subcommands' modules (mujoco, ...): a Ctrl-C may come here too
         apply_vector_width(strict=True)  # checks HAWKSIM_VECTOR_WIDTH (importing aero applied it)
         args = parser.parse_args(argv)
         spc = getattr(args, "steps_per_cycle", None)
@@ -100,6 +112,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"hawksim: {exc.strerror or exc}{where}".splitlines()[0], file=sys.stderr)
         return 1
     except KeyboardInterrupt:
+        print("hawksim: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:
+        if not _interrupted(exc):
+            raise
         print("hawksim: interrupted", file=sys.stderr)
         return 130
     if args.json:

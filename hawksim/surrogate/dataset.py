@@ -325,14 +325,11 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
     """
     created = not (Path(path).exists() and Path(path).stat().st_size > 0)
     new = diverged = unsettled = 0
-    try:
-        conn = open_dataset(path, create=True)
-    except sqlite3.OperationalError as exc:
-        _remove_unfilled(path, created)
-        raise environment_error(path, exc) or exc from None
-    lock = _writer_lock(path, conn)
+    conn = lock = None
     t0 = time.perf_counter()
     try:
+        conn = open_dataset(path, create=True)
+        lock = _writer_lock(path, conn)
         layout = conn.execute("PRAGMA user_version").fetchone()[0]
         if layout != SCHEMA_VERSION:
             raise DatasetError(f"data set {str(path)!r} has layout {layout} (hawksim 0.2.0, without the wingbeat "
@@ -360,13 +357,14 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
                     progress(done0 + new, n)
         samples = len(stored_indices(conn, speed, seed))
     except BaseException as exc:
-        for close in (conn.rollback, conn.close, lock.close):  # a failed commit is rolled back from the journal
-            try:
-                close()
+        for close in (conn and conn.rollback, conn and conn.close, lock and lock.close):
+            try:  # a failed commit is rolled back from the journal
+                if close:
+                    close()
             except sqlite3.Error:
                 pass
-        if new == 0:  # nothing half-written: a file this run created and filled with nothing goes
-            _remove_unfilled(path, created)
+        if new == 0 and (lock is not None or not isinstance(exc, DatasetError)):
+            _remove_unfilled(path, created)  # nothing half-written: a file this run made and left empty goes
         env = environment_error(path, exc) if isinstance(exc, sqlite3.OperationalError) else None
         if env is not None:
             raise env from None
