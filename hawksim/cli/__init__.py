@@ -116,7 +116,9 @@ def failure(exc: BaseException) -> tuple[int, str]:
     one). Anything else is re-raised."""
     if isinstance(exc, UsageError):
         return 2, str(exc).splitlines()[0]
-    if isinstance(exc, KeyboardInterrupt) or (isinstance(exc, Exception) and _interrupted(exc)):
+    if isinstance(exc, KeyboardInterrupt):  # its text, if any, says what was saved (fly --rrd)
+        return 130, f"hawksim: {str(exc).splitlines()[0] if str(exc) else 'interrupted'}"
+    if isinstance(exc, Exception) and _interrupted(exc):
         return 130, "hawksim: interrupted"
     if isinstance(exc, ValueError):
         return 2, f"hawksim: {str(exc).splitlines()[0]}"

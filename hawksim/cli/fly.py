@@ -140,7 +140,7 @@ def _fly_controlled(args, control: str, progress, guard) -> dict:
 def _write_recording(args, result, guard, interrupted: bool, *, control=None, ghost: bool = True) -> str:
     """`--rrd`: the recording (with the linear prediction's ghost for a perturbed open-loop quasi-steady flight from
     its orbit; ``control``: the per-beat commands of a controlled flight); after an interrupt (Ctrl-C, SIGTERM) the
-    steps flown, then KeyboardInterrupt (exit 130)."""
+    steps flown, then KeyboardInterrupt saying so (exit 130, that one line)."""
     import sys
 
     from hawksim.flight.recording import write_rrd
@@ -161,11 +161,10 @@ def _write_recording(args, result, guard, interrupted: bool, *, control=None, gh
                   file=sys.stderr)
     with guard.deferred():
         path = str(write_rrd(args.rrd, result, prediction=prediction, control=control))
-    if interrupted or guard.signum is not None:
+    if interrupted or guard.signum is not None:  # the CLI's one line (exit 130) says where and what was saved
         n = len(result.t)
-        print(f"fly: interrupted at step {n} of {args.cycles * args.steps_per_cycle} (t = {result.t[-1]:.5f} s); "
-              f"{path} holds steps 0 to {n - 1}", file=sys.stderr)
-        raise KeyboardInterrupt
+        raise KeyboardInterrupt(f"interrupted at step {n} of {args.cycles * args.steps_per_cycle} (t = "
+                                f"{result.t[-1]:.5f} s); {path} holds steps 0 to {n - 1}")
     return path
 
 

@@ -24,14 +24,14 @@ of 0.1-12 s on the 2-core development machine under a load average of 5-9 (befor
 and the cluster's shutdown took 3.6-5 s); the limit leaves room for a slower CI machine."""
 
 
-def interrupt_after(argv: list[str], delay: float, cwd: Path) -> tuple[int, float, list[str]]:
-    """Run `hawksim ARGV` in its own process group, SIGINT the group after ``delay`` s: (exit status, seconds from
-    the signal to the exit, stderr lines)."""
+def interrupt_after(argv: list[str], delay: float, cwd: Path, signum=signal.SIGINT) -> tuple[int, float, list[str]]:
+    """Run `hawksim ARGV` in its own process group, signal the group after ``delay`` s (SIGINT: a terminal's
+    Ctrl-C): (exit status, seconds from the signal to the exit, stderr lines)."""
     p = subprocess.Popen([HAWKSIM, *argv], stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=cwd,
                          start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     time.sleep(delay)
     t0 = time.perf_counter()
-    os.killpg(p.pid, signal.SIGINT)
+    os.killpg(p.pid, signum)
     try:
         out, err = p.communicate(timeout=60)
     except subprocess.TimeoutExpired:
@@ -41,10 +41,12 @@ def interrupt_after(argv: list[str], delay: float, cwd: Path) -> tuple[int, floa
     return p.returncode, time.perf_counter() - t0, err.decode().strip().splitlines()
 
 
-@pytest.mark.parametrize("delay", [0.2, 0.7, 1.5, 2.5, 3.5])
-def test_ctrl_c_at_any_moment_of_a_dataset_run(tmp_path, delay):
+@pytest.mark.parametrize("signum,delay", [(signal.SIGINT, d) for d in (0.2, 0.7, 1.5, 2.5, 3.5)]
+                         + [(signal.SIGTERM, 2.5)])
+def test_ctrl_c_at_any_moment_of_a_dataset_run(tmp_path, signum, delay):
+    """SIGTERM (a batch system's stop) is an interrupt as Ctrl-C is (hawksim.__main__.run)."""
     code, took, err = interrupt_after(["dataset", "--speed", "1", "--samples", "400", "--out", "d.sqlite",
-                                       "--workers", "2", "--json", "--no-progress"], delay, tmp_path)
+                                       "--workers", "2", "--json", "--no-progress"], delay, tmp_path, signum)
     assert code == 130 and err == ["hawksim: interrupted"], err
     assert took < EXIT_LIMIT_S
     left = sorted(p.name for p in tmp_path.iterdir())
