@@ -31,17 +31,16 @@ its unit, one view per group (:func:`default_blueprint`), plus a text view of ea
 
 from __future__ import annotations
 
-import errno
 import os
 import signal
 import threading
-import uuid
 from pathlib import Path
 
 import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
+from hawksim.atomic import ENVIRONMENT_ERRNOS, temporary_beside
 from hawksim.flight.orbit import STATE_NAMES
 from hawksim.flight.result import FlightResult
 from hawksim.frames import quat_from_matrices
@@ -124,11 +123,6 @@ def wing_mesh(morph: Morphology = HAWKMOTH, side: str = "left") -> tuple[np.ndar
     return verts, tris.astype(np.uint32)
 
 
-ENVIRONMENT_ERRNOS = frozenset({errno.ENOSPC, errno.EFBIG, errno.EDQUOT, errno.EIO, errno.EROFS})
-"""errno values of a write that fail for the environment (disk full, file-size or quota limit, I/O error,
-read-only file system), not for the path the user named: reported as OSError (the CLI's exit status 1)."""
-
-
 def _check_target(path: Path) -> None:
     if path.is_dir():
         raise ValueError(f"cannot write recording {path}: it is a directory")
@@ -155,14 +149,15 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
     The recording is encoded in memory (Rerun's binary stream: about 130 kB per quasi-steady wingbeat, 1.3 MB per
     UVLM wingbeat with its panels and wake) and written by this process to a temporary file in the same directory,
     fsync'ed and renamed at the end, so a failure (a full disk, an interrupt) leaves nothing half-written and is
-    reported with its cause: OSError naming ``path`` when the environment fails (:data:`ENVIRONMENT_ERRNOS`: disk
-    full, file too large, quota, I/O error, read-only file system), ValueError (one line, naming the path) when the
-    path cannot be written. (Rerun's own file sink writes from a thread of its own, and a full disk there surfaced as
-    "File-writer thread shut down prematurely" with log lines on stderr and no errno.)
+    reported with its cause: OSError naming ``path`` when the environment fails
+    (:data:`hawksim.atomic.ENVIRONMENT_ERRNOS`: disk full, file too large, quota, I/O error, read-only file system),
+    ValueError (one line, naming the path) when the path cannot be written. (Rerun's own file sink writes from a
+    thread of its own, and a full disk there surfaced as "File-writer thread shut down prematurely" with log lines
+    on stderr and no errno.)
     """
     path = Path(path)
     _check_target(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
+    tmp = temporary_beside(path)
     try:
         fh = open(tmp, "xb")  # probes writability; created with the usual umask permissions
     except OSError as exc:

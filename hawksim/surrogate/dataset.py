@@ -188,8 +188,8 @@ def open_dataset(path: str | Path, *, create: bool = False) -> sqlite3.Connectio
         version = conn.execute("PRAGMA user_version").fetchone()[0]
         n_tables = conn.execute("SELECT count(*) FROM sqlite_master").fetchone()[0]
     except sqlite3.DatabaseError as exc:
-        env = environment_error(path, exc) if isinstance(exc, sqlite3.OperationalError) else None
-        if env is not None:  # e.g. a WAL file on a full disk: its -shm cannot be made
+        env = environment_error(path, exc, writing=create) if isinstance(exc, sqlite3.OperationalError) else None
+        if env is not None:  # e.g. a WAL file (hawksim <= 0.3) on a full disk: its -shm cannot be made
             raise env from None
         raise DatasetError(f"{str(path)!r} is not a readable SQLite file: {exc}") from None
     if app_id == 0 and version == 0 and n_tables == 0:
@@ -376,14 +376,16 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
     return GenerationResult(str(path), samples, new, diverged, wall, new / wall if wall > 0 else 0.0, unsettled)
 
 
-def environment_error(path, exc: sqlite3.Error) -> OSError | None:
+def environment_error(path, exc: sqlite3.Error, writing: bool = True) -> OSError | None:
     """The one-line OSError naming ``path`` for a SQLite failure of the environment (SQLITE_FULL: the disk is
-    full; SQLITE_IOERR*: a write or sync failed, e.g. at a file-size limit; SQLITE_READONLY*; SQLITE_CANTOPEN),
-    None for other errors."""
+    full; SQLITE_IOERR*: a write or sync failed, e.g. at a file-size limit, or a reader could not make a WAL file's
+    -shm; SQLITE_READONLY*; SQLITE_CANTOPEN), None for other errors."""
     name = getattr(exc, "sqlite_errorname", "") or ""
     if not name.startswith(("SQLITE_FULL", "SQLITE_IOERR", "SQLITE_READONLY", "SQLITE_CANTOPEN")):
         return None
     code = errno.ENOSPC if name == "SQLITE_FULL" else errno.EIO
+    if not writing:
+        return OSError(code, f"cannot read data set {path}: {exc} ({name}); is its disk full or read-only?")
     return OSError(code, f"cannot write data set {path}: {exc} ({name}); the samples stored before are kept and the "
                          "same command continues once the disk has room")
 

@@ -119,6 +119,14 @@ def _dataset_with_rows(tmp: Path, rows: int = 1000) -> None:
     conn.close()
 
 
+def _rollback_copy(tmp: Path) -> None:
+    """The shipped training set, copied and turned to the rollback journal (reading it then writes nothing; the
+    shipped file is in WAL mode, whose readers make a -shm file)."""
+    shutil.copy(DATA, tmp / "d.sqlite")
+    with sqlite3.connect(tmp / "d.sqlite") as c:
+        c.execute("PRAGMA journal_mode=DELETE")
+
+
 def _rows_intact(rows: int = 1000):
     def check(tmp: Path, r: Result):
         with sqlite3.connect(tmp / "d.sqlite") as c:
@@ -160,8 +168,10 @@ def _human(*needles: str):
     return check
 
 
-def _stage_shown(tmp: Path, r: Result):
-    return None if "stage=" in r.stderr else "no stage on the bar in the first seconds"
+def _bar_shows(text: str):
+    def check(tmp: Path, r: Result):
+        return None if text in r.stderr else f"the bar did not show {text!r} before the Ctrl-C"
+    return check
 
 
 # ---------------------------------------------------------------------------------------------- the cases
@@ -254,6 +264,8 @@ def cases() -> list[Case]:
              130, signal=(signal.SIGINT, 2.5), max_s=3),
         Case("stability Ctrl-C while computing", ("stability", "--speed", "1", "--workers", "2", "--no-progress"),
              130, signal=(signal.SIGINT, 9.0), max_s=3),
+        Case("stability has a progress bar", ("stability", "--speed", "1", "--workers", "2"), 130,
+             signal=(signal.SIGINT, 12.0), pty=True, check=_bar_shows("disturbed UVLM runs"), max_s=3),
         Case("stability SIGTERM", ("stability", "--speed", "1", "--workers", "2", "--no-progress"), 130,
              signal=(signal.SIGTERM, 4.0), max_s=3),
         # dataset
@@ -300,10 +312,17 @@ def cases() -> list[Case]:
              2, "m.safetensors"),
         Case("train hidden 0", ("train", "--data", "{data}", "--out", "m.safetensors", "--hidden", "0"), 2,
              "--hidden"),
+        Case("train out full disk", ("train", "--data", "d.sqlite", "--out", "m.safetensors", "--speed", "1",
+                                     "--hidden", "300", "--max-iter", "1", "--no-progress"), 1, "m.safetensors",
+             left=("d.sqlite",), setup=_rollback_copy, fsize=16000),
+        Case("train validation-png full disk", ("train", "--data", "d.sqlite", "--out", "m.safetensors", "--speed",
+                                                "1", "--hidden", "300", "--max-iter", "1", "--validation-png",
+                                                "v.png", "--no-progress"), 1, "v.p",
+             left=("d.sqlite", "m.safetensors", "v.pdf"), setup=_rollback_copy, fsize=60000),
         Case("train Ctrl-C", ("train", "--data", "{data}", "--out", "m.safetensors", "--speed", "1",
                               "--no-progress"), 130, signal=(signal.SIGINT, 8.0), max_s=10),
         Case("train bar shows its stage", ("train", "--data", "{data}", "--out", "m.safetensors", "--speed", "1"),
-             130, signal=(signal.SIGINT, 6.0), pty=True, check=_stage_shown, max_s=10),
+             130, signal=(signal.SIGINT, 6.0), pty=True, check=_bar_shows("stage="), max_s=10),
         # predict
         Case("predict kinematics bad", ("predict", "--speed", "1", "--kinematics", "f=1"), 2, "--kinematics"),
         Case("predict speed 3", ("predict", "--speed", "3", "--kinematics", KIN), 2, "--speed"),

@@ -175,3 +175,22 @@ def test_a_really_full_file_system(tmp_path):
     assert f["files"] == ["d.sqlite", "filler"]
     assert r["sha99"] == sha  # the rows committed before the disk filled: unchanged
     assert r["rerun"]["rc"] == 0 and json.loads(r["rerun"]["stdout"])["new"] == 2, r["rerun"]
+
+
+def test_a_full_disk_under_a_trained_network(tmp_path):
+    """`hawksim train --out` (safetensors, encoded in memory and written all or nothing by hawksim.atomic): exit 1,
+    one line naming the file, no model file and no temporary file (safetensors' own writer raised SafetensorError
+    with a traceback). The data set (rollback journal) is read without writing anything."""
+    data = tmp_path / "d.sqlite"
+    conn = open_dataset(data, create=True)
+    for i in range(60):  # stand-in rows: the fit does not matter here
+        u = ((i * 37) % 60) / 60  # every input and output varies (R^2 needs a spread)
+        insert_sample(conn, Sample(1.0, 0, i, (20.0 + 0.1 * i, 0.1 * u, 0.2, 0.1 * u, 0.0, 1.0 - 0.1 * u, 0.8),
+                                   (1.0 + 0.01 * i, 0.1 + u, u * u, 0.9 - u), 0.08, 0.5, peak_cf=1.5), TINY_RES)
+    conn.close()
+    out = tmp_path / "m.safetensors"
+    p = run_limited(["train", "--data", str(data), "--out", str(out), "--hidden", "20", "--max-iter", "1", "--json",
+                     "--no-progress"], limit=1024)  # the 7-20-4 network takes ~2.6 kB
+    line = one_line(p)
+    assert p.returncode == 1 and str(out) in line and "File too large" in line, p.stderr
+    assert [q.name for q in tmp_path.iterdir()] == ["d.sqlite"]
