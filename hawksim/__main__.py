@@ -5,8 +5,34 @@ import signal
 import sys
 
 
+REDELIVERY_DELAY_S = 0.01
+"""Seconds after a dropped KeyboardInterrupt that it is delivered again (:func:`redeliver_dropped_interrupts`)."""
+
+
 def _terminate(signum, frame):
     raise KeyboardInterrupt
+
+
+def redeliver_dropped_interrupts(unraisable) -> None:
+    """``sys.unraisablehook``: a KeyboardInterrupt that Python had to drop is delivered again (at the main thread's
+    next check), so a Ctrl-C or SIGTERM is never lost; other unraisable exceptions go to the default hook.
+
+    A signal handler raises in whatever frame is running; inside a weakref callback or ``__del__`` (importlib's
+    module-lock callback ``_get_module_lock.<locals>.cb`` during an import, measured in the issue-18 trial) Python
+    prints "Exception ignored in ..." and carries on: `hawksim trim` then ran to the end (exit 0, 72 s after the
+    Ctrl-C) and `hawksim dataset`, its start-up stalled, failed with a traceback 10 s later."""
+    if unraisable.exc_type is not None and issubclass(unraisable.exc_type, KeyboardInterrupt):
+        import _thread
+        import threading
+
+        # not from here: a handler run inside this hook would be dropped too ("Exception ignored in
+        # sys.unraisablehook"); 10 ms later the main thread is past it (and were it in another such callback, the
+        # interrupt would come back here)
+        timer = threading.Timer(REDELIVERY_DELAY_S, _thread.interrupt_main, args=(signal.SIGINT,))
+        timer.daemon = True
+        timer.start()
+        return
+    sys.__unraisablehook__(unraisable)
 
 
 def run() -> int:
@@ -15,6 +41,7 @@ def run() -> int:
     flown, a Dask cluster is shut down quietly) and exits with status 130 and one line. A Ctrl-C before the CLI has
     its own handler (while its modules are imported, ~0.5 s) also exits 130 with one line."""
     signal.signal(signal.SIGTERM, _terminate)
+    sys.unraisablehook = redeliver_dropped_interrupts
     # The CLI never renders: without this, importing mujoco imports glfw, which starts a Python subprocess to read
     # glfw's version, and a Ctrl-C that reached that subprocess printed its traceback. (A user's own setting stays.)
     os.environ.setdefault("MUJOCO_GL", "disable")

@@ -41,18 +41,21 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
             raise ConnectionError(f"--scheduler {scheduler}: no Dask scheduler answered within "
                                   f"{SCHEDULER_TIMEOUT_S:g} s ({type(exc).__name__})") from None
     else:
-        cluster = _start_local_cluster(workers or os.cpu_count() or 1)
+        import multiprocessing
+
+        others = {p.pid for p in multiprocessing.active_children()}  # not ours to kill on a Ctrl-C
+        cluster = _start_local_cluster(workers or os.cpu_count() or 1, others)
         try:
             client = Client(cluster)
         except KeyboardInterrupt:
-            _abandon_local_workers()
+            _abandon_local_workers(others)
             cluster.close()
             raise
     try:
         yield client
     except KeyboardInterrupt:
         if cluster is not None:
-            _abandon_local_workers()
+            _abandon_local_workers(others)
         else:
             _quiet()
         raise
@@ -62,8 +65,9 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
             cluster.close()
 
 
-def _start_local_cluster(workers: int):
-    """A LocalCluster of ``workers`` single-threaded processes whose SIGINT is blocked from birth.
+def _start_local_cluster(workers: int, others: set):
+    """A LocalCluster of ``workers`` single-threaded processes whose SIGINT is blocked from birth (``others``: the
+    pids of multiprocessing children that are not the cluster's, spared on a Ctrl-C).
 
     A signal mask is inherited by threads from the thread that creates them and by processes across fork and exec,
     so the cluster is built in a thread started with SIGINT blocked: dask's event-loop thread, the threads that
@@ -99,7 +103,7 @@ def _start_local_cluster(workers: int):
             while thread.is_alive():
                 thread.join(0.05)
         except KeyboardInterrupt:
-            _abandon_local_workers()
+            _abandon_local_workers(others)
             raise
     finally:
         for k, v in saved.items():
@@ -123,11 +127,13 @@ def _quiet() -> None:
         logging.getLogger(name).setLevel(logging.CRITICAL)
 
 
-def _abandon_local_workers() -> None:
-    """After a Ctrl-C: silence the logs (:data:`QUIET_AFTER_INTERRUPT`) and kill this process's worker processes
-    (SIGKILL: their work is lost anyway), so that closing the cluster does not wait for them."""
+def _abandon_local_workers(others: set) -> None:
+    """After a Ctrl-C: silence the logs (:data:`QUIET_AFTER_INTERRUPT`) and kill the cluster's worker processes
+    (the multiprocessing children but ``others``; SIGKILL: their work is lost anyway), so that closing the cluster
+    does not wait for them."""
     import multiprocessing
 
     _quiet()
     for p in multiprocessing.active_children():
-        p.kill()
+        if p.pid not in others:
+            p.kill()

@@ -63,3 +63,36 @@ def test_ctrl_c_at_any_moment_of_a_stability_run(tmp_path, delay):
     assert code == 130 and err == ["hawksim: interrupted"], err  # no "Task exception was never retrieved"
     assert took < EXIT_LIMIT_S
     assert list(tmp_path.iterdir()) == []
+
+
+DROPPED = r"""
+import os, signal, sys, time, weakref
+from hawksim.__main__ import redeliver_dropped_interrupts
+if sys.argv[1] == "hook":
+    sys.unraisablehook = redeliver_dropped_interrupts
+class A:
+    pass
+a = A()
+def callback(ref):  # a Ctrl-C that lands in a weakref callback, as in importlib's module-lock callback
+    os.kill(os.getpid(), signal.SIGINT)
+    time.sleep(0.2)
+r = weakref.ref(a, callback)
+try:
+    del a
+    time.sleep(1.0)
+    print("lost")
+except KeyboardInterrupt:
+    print("interrupted")
+"""
+
+
+@pytest.mark.parametrize("hook", ["none", "hook"])
+def test_a_ctrl_c_python_drops_is_delivered_again(hook):
+    """A KeyboardInterrupt raised inside a weakref callback is dropped by Python ("Exception ignored in ...") and the
+    program carries on (the trial's `hawksim trim` ran to the end, exit 0, 72 s after the Ctrl-C); the CLI's
+    unraisable hook delivers it again."""
+    p = subprocess.run([sys.executable, "-c", DROPPED, hook], capture_output=True, text=True, timeout=60)
+    if hook == "none":  # the failure the hook is for
+        assert p.stdout.strip() == "lost" and "Exception ignored" in p.stderr
+    else:
+        assert p.stdout.strip() == "interrupted" and p.stderr == ""
