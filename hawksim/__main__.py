@@ -22,13 +22,13 @@ def redeliver_dropped_interrupts(unraisable) -> None:
     prints "Exception ignored in ..." and carries on: `hawksim trim` then ran to the end (exit 0, 72 s after the
     Ctrl-C) and `hawksim dataset`, its start-up stalled, failed with a traceback 10 s later."""
     if unraisable.exc_type is not None and issubclass(unraisable.exc_type, KeyboardInterrupt):
-        import _thread
         import threading
 
         # not from here: a handler run inside this hook would be dropped too ("Exception ignored in
-        # sys.unraisablehook"); 10 ms later the main thread is past it (and were it in another such callback, the
-        # interrupt would come back here)
-        timer = threading.Timer(REDELIVERY_DELAY_S, _thread.interrupt_main, args=(signal.SIGINT,))
+        # sys.unraisablehook"); 10 ms later the main thread is past it (were it in another such callback, the
+        # interrupt would come back here). A real SIGINT to the main thread, so that a blocking call there returns.
+        main = threading.main_thread().ident
+        timer = threading.Timer(REDELIVERY_DELAY_S, signal.pthread_kill, args=(main, signal.SIGINT))
         timer.daemon = True
         timer.start()
         return

@@ -79,7 +79,7 @@ def callback(ref):  # a Ctrl-C that lands in a weakref callback, as in importlib
 r = weakref.ref(a, callback)
 try:
     del a
-    time.sleep(1.0)
+    time.sleep(3.0)  # interrupted at once when the interrupt comes again
     print("lost")
 except KeyboardInterrupt:
     print("interrupted")
