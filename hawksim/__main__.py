@@ -48,10 +48,30 @@ def run() -> int:
     try:
         from hawksim.cli import main
 
-        return main()
+        code = main()
     except KeyboardInterrupt:
         print("hawksim: interrupted", file=sys.stderr)
-        return 130
+        code = 130
+    if code == 130:
+        _leave_now(code)
+    return code
+
+
+def _leave_now(code: int) -> None:
+    """After an interrupt: flush and leave at once (os._exit), skipping the interpreter's shutdown. A Dask cluster
+    interrupted in its start-up keeps a thread that goes on starting workers, and distributed's atexit handlers then
+    waited for it, 10-23 s in the issue-18 trial, while a worker started after the Ctrl-C printed a traceback;
+    leaving at once ends the workers too (each exits when its parent's pipe closes). What hawksim writes is
+    complete by then: samples committed, recordings and networks fsync'ed and renamed."""
+    if "multiprocessing" in sys.modules:  # the CLI's only such children are its Dask workers: one may have been
+        for child in sys.modules["multiprocessing"].active_children():  # started after the interrupt killed the
+            child.kill()  # others
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(code)
 
 
 if __name__ == "__main__":
