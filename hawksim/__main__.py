@@ -42,6 +42,10 @@ def run() -> int:
     its own handler (while its modules are imported, ~0.5 s) also exits 130 with one line."""
     signal.signal(signal.SIGTERM, _terminate)
     sys.unraisablehook = redeliver_dropped_interrupts
+    # After an interrupt the CLI leaves at once (_leave_now); multiprocessing's resource tracker (a process of its
+    # own, started with this interpreter's -W options) then removes the Dask workers' semaphores, as is its job, and
+    # would warn of them on stderr as leaked.
+    sys.warnoptions.append("ignore:resource_tracker:UserWarning")
     # The CLI never renders: without this, importing mujoco imports glfw, which starts a Python subprocess to read
     # glfw's version, and a Ctrl-C that reached that subprocess printed its traceback. (A user's own setting stays.)
     os.environ.setdefault("MUJOCO_GL", "disable")
