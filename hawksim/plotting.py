@@ -111,7 +111,15 @@ def save(fig, path: str | Path, *, title: str | None = None, caption: str | None
         fig.text(0.005, 0.0, wrap(caption, width), ha="left", va="top", fontsize=CAPTION_FONTSIZE,
                  transform=offset_copy(fig.transFigure, fig=fig, y=-4, units="points"))
     meta = {"png": {"Software": "hawksim"}, "pdf": {"Creator": "hawksim", "Producer": None, "CreationDate": None}}
-    for ext in FORMATS:
-        fig.savefig(path.with_suffix(f".{ext}"), dpi=DPI, bbox_inches="tight", pad_inches=0.06, metadata=meta[ext])
-    plt.close(fig)
+    import io
+
+    from hawksim.atomic import write_bytes
+
+    try:
+        for ext in FORMATS:  # each file all or nothing (a full disk: OSError naming it)
+            buf = io.BytesIO()
+            fig.savefig(buf, format=ext, dpi=DPI, bbox_inches="tight", pad_inches=0.06, metadata=meta[ext])
+            write_bytes(path.with_suffix(f".{ext}"), buf.getvalue(), "figure")
+    finally:
+        plt.close(fig)
     return path

@@ -146,17 +146,17 @@ class Surrogate:
     # ---------------------------------------------------------------------------------------------- files
 
     def save(self, path: str | Path) -> Path:
-        from safetensors.numpy import save_file
+        """Write the network (safetensors) all or nothing (:func:`hawksim.atomic.write_bytes`: a full disk is an
+        OSError naming the file, and leaves no half-written model file)."""
+        from safetensors.numpy import save
 
-        path = Path(path)
+        from hawksim.atomic import write_bytes
+
         tensors = {k: np.ascontiguousarray(getattr(self, k), dtype=np.float64)
                    for k in ("W1", "b1", "W2", "b2", "y_mean", "y_std")}
         meta = {"format": FORMAT, "inputs": json.dumps(self.inputs.to_json()), "outputs": json.dumps(OUTPUTS),
                 "meta": json.dumps(self.meta)}
-        tmp = path.with_name(path.name + ".part")
-        save_file(tensors, str(tmp), metadata=meta)
-        tmp.replace(path)  # never a half-written model file
-        return path
+        return write_bytes(path, save(tensors, metadata=meta), "surrogate")
 
 
 def load(path: str | Path, expect: InputDefinition | None = None) -> Surrogate:

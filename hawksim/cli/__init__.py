@@ -20,6 +20,7 @@ from aero.vector_width import apply_vector_width
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim
 from hawksim.cli.args import Parser, UsageError
+from hawksim.cli.progress import close_all
 
 SUBCOMMANDS = (fly, aero, stability, dataset, train, predict, trim, reproduce)
 """The subcommand modules, in the order `hawksim --help` lists them."""
@@ -74,39 +75,61 @@ def build_parser() -> Parser:
     return p
 
 
+def _interrupted(exc: BaseException) -> bool:
+    """Whether ``exc`` is, or was raised while handling or because of, a KeyboardInterrupt (a Ctrl-C inside an
+    extension module's import surfaces as ImportError("initialization failed") chained to it)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
     try:
+        parser = build_parser()  # imports the subcommands' modules (mujoco, ...): a Ctrl-C may come here too
         apply_vector_width(strict=True)  # checks HAWKSIM_VECTOR_WIDTH (importing aero applied it)
         args = parser.parse_args(argv)
         spc = getattr(args, "steps_per_cycle", None)
         if spc is not None and spc < MIN_STEPS_PER_CYCLE:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")
         out = args.func(args)
-    except UsageError as exc:
-        print(str(exc).splitlines()[0], file=sys.stderr)
-        return 2
-    except ValueError as exc:  # bad input detected by the library (model file, kinematics, ...)
-        print(f"hawksim: {str(exc).splitlines()[0]}", file=sys.stderr)
-        return 2
-    except FloatingPointError as exc:  # a numerical failure: a non-finite state, a MuJoCo warning, a diverged run
-        print(f"hawksim: numerical failure: {str(exc).splitlines()[0]}", file=sys.stderr)
-        return 3
-    except MemoryError:
-        print("hawksim: out of memory (ask for a smaller run)", file=sys.stderr)
-        return 1
-    except OSError as exc:  # the environment: disk full, read-only file system, unreachable cluster
-        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
-        print(f"hawksim: {exc.strerror or exc}{where}".splitlines()[0], file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("hawksim: interrupted", file=sys.stderr)
-        return 130
+    except BaseException as exc:
+        code, line = failure(exc)  # re-raises what is not one of the contract's failures (a bug: its traceback)
+        close_all()  # an open progress bar ends its line first, on a terminal
+        print(line, file=sys.stderr)
+        return code
     if args.json:
         print(json.dumps(out))
     else:
         _print_human(out)
     return 0
+
+
+def failure(exc: BaseException) -> tuple[int, str]:
+    """(exit status, the one line for stderr) of a failure, by the contract: 2 a bad input (UsageError, or a
+    ValueError from the library: model file, kinematics, ...), 3 a numerical failure (FloatingPointError: a
+    non-finite state, a MuJoCo warning, a diverged run), 1 the environment (MemoryError, OSError: disk full,
+    read-only file system, unreachable cluster), 130 an interrupt (KeyboardInterrupt, or an exception chained to
+    one). Anything else is re-raised."""
+    if isinstance(exc, UsageError):
+        return 2, str(exc).splitlines()[0]
+    if isinstance(exc, KeyboardInterrupt):  # its text, if any, says what was saved (fly --rrd)
+        return 130, f"hawksim: {str(exc).splitlines()[0] if str(exc) else 'interrupted'}"
+    if isinstance(exc, Exception) and _interrupted(exc):
+        return 130, "hawksim: interrupted"
+    if isinstance(exc, ValueError):
+        return 2, f"hawksim: {str(exc).splitlines()[0]}"
+    if isinstance(exc, FloatingPointError):
+        return 3, f"hawksim: numerical failure: {str(exc).splitlines()[0]}"
+    if isinstance(exc, MemoryError):
+        return 1, "hawksim: out of memory (ask for a smaller run)"
+    if isinstance(exc, OSError):
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        return 1, f"hawksim: {exc.strerror or exc}{where}".splitlines()[0]
+    raise exc
 
 
 if __name__ == "__main__":

@@ -2,6 +2,6 @@
 
 import sys
 
-from hawksim.cli import main
+from hawksim.__main__ import run
 
-sys.exit(main())
+sys.exit(run())

@@ -79,54 +79,76 @@ def cmd_fly(args) -> dict:
     twice = sorted({k for k in names if names.count(k) > 1})
     if twice:
         raise UsageError(f"--perturb gives {', '.join(twice)} more than once")
-    progress = progress_for(args, "fly")
-    controlled = _controlled_fly(args, progress)  # issue 20: --control lqr (default for quasi-steady), --gust
-    if controlled is not None:
-        return controlled
+    control = _control_of(args)  # issue 20: --control lqr (default for quasi-steady from the orbit), --gust
+    progress = progress_for(args, "fly") if control is None else progress_for(args, "fly", "beat")
     guard = None
     if args.rrd:  # Ctrl-C / SIGTERM: write the recording of the steps flown (hawksim.flight.recording.InterruptGuard)
-        from types import SimpleNamespace
-
         from hawksim.flight.recording import InterruptGuard
-        from hawksim.flight.simulator import aero_every_for
 
         guard = InterruptGuard().__enter__()
         progress = guard.progress(progress)
     try:
-        result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
-                           kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
-                           # the UVLM's panels and wake at every UVLM update (every aero_every steps)
-                           keep_extras_every=(aero_every_for(SimpleNamespace(name="uvlm"), args.steps_per_cycle)
-                                              if args.rrd and args.aero == "uvlm" else 0),
-                           progress=progress, start=args.start, **({"partial_on_interrupt": True} if args.rrd else {}))
-        interrupted = len(result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
-        out = {} if interrupted else result.summary()
-        if out and out["departed_at_beat"] is not None:
-            import sys
-
-            b = out["beats"][out["departed_at_beat"] - 1]
-            print(f"fly: departed at beat {out['departed_at_beat']} of {args.cycles} (mean vertical speed "
-                  f"{b['mean_vertical_speed']:.3f} m/s against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): "
-                  "an open-loop flight of this unstable model leaves its trim", file=sys.stderr)
-        out["rrd"] = None
-        if args.rrd:
-            out["rrd"] = _write_recording(args, result, guard, interrupted)
+        if control is not None:
+            return _fly_controlled(args, control, progress, guard)
+        return _fly_open_loop(args, progress, guard)
     finally:
         if guard is not None:
             guard.__exit__(None, None, None)
+
+
+def _fly_open_loop(args, progress, guard) -> dict:
+    import sys
+    from types import SimpleNamespace
+
+    from hawksim.flight.simulator import aero_every_for
+
+    result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
+                       kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
+                       # the UVLM's panels and wake at every UVLM update (every aero_every steps)
+                       keep_extras_every=(aero_every_for(SimpleNamespace(name="uvlm"), args.steps_per_cycle)
+                                          if args.rrd and args.aero == "uvlm" else 0),
+                       progress=progress, start=args.start, **({"partial_on_interrupt": True} if args.rrd else {}))
+    interrupted = len(result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
+    rrd = _write_recording(args, result, guard, interrupted) if args.rrd else None  # first: a failure says one line
+    out = result.summary()
+    if out["departed_at_beat"] is not None:
+        b = out["beats"][out["departed_at_beat"] - 1]
+        print(f"fly: departed at beat {out['departed_at_beat']} of {args.cycles} (mean vertical speed "
+              f"{b['mean_vertical_speed']:.3f} m/s against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): "
+              "an open-loop flight of this unstable model leaves its trim", file=sys.stderr)
+    out["rrd"] = rrd
     return out
 
 
-def _write_recording(args, result, guard, interrupted: bool) -> str:
-    """`--rrd`: the recording (with the linear prediction's ghost for a perturbed quasi-steady flight from its
-    orbit); after an interrupt (Ctrl-C, SIGTERM) the steps flown, then KeyboardInterrupt (exit 130)."""
+def _fly_controlled(args, control: str, progress, guard) -> dict:
+    """The closed-loop flight of hawksim.control (--control lqr, or a gust / profile open loop); with --rrd an
+    interrupt writes the beats flown (exit 130), as the open-loop flight does."""
+    from hawksim.control.command import command_summary, fly_command
+
+    rate = getattr(args, "control_rate", None) or "beat"
+    cl = fly_command(args.speed, args.cycles, control=control, profile=getattr(args, "ascent_profile", None),
+                     gusts=getattr(args, "gust", None) or [], delay=args.sensing_delay,
+                     perturb=dict(args.perturb or []), model_path=args.model, progress=progress,
+                     partial_on_interrupt=bool(args.rrd), aero=args.aero, rate=rate)
+    interrupted = len(cl.result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
+    rrd = (_write_recording(args, cl.result, guard, interrupted, control=cl.beats, ghost=False)
+           if args.rrd else None)  # first: a failure (disk full) says one line, not a verdict and then the error
+    out = command_summary(cl, args.cycles, control, args.aero, rate)
+    out["rrd"] = rrd
+    return out
+
+
+def _write_recording(args, result, guard, interrupted: bool, *, control=None, ghost: bool = True) -> str:
+    """`--rrd`: the recording (with the linear prediction's ghost for a perturbed open-loop quasi-steady flight from
+    its orbit; ``control``: the per-beat commands of a controlled flight); after an interrupt (Ctrl-C, SIGTERM) the
+    steps flown, then KeyboardInterrupt saying so (exit 130, that one line)."""
     import sys
 
     from hawksim.flight.recording import write_rrd
     from hawksim.stability.prediction import NoPrediction, predict_cli_flight
 
     prediction = None
-    if args.perturb and not interrupted:
+    if ghost and args.perturb and not interrupted:
         try:
             from hawksim.insect.model import load_model
 
@@ -139,18 +161,19 @@ def _write_recording(args, result, guard, interrupted: bool) -> str:
             print("fly: interrupted while computing the linear prediction; recording without the ghost",
                   file=sys.stderr)
     with guard.deferred():
-        path = str(write_rrd(args.rrd, result, prediction=prediction))
-    if interrupted or guard.signum is not None:
+        path = str(write_rrd(args.rrd, result, prediction=prediction, control=control))
+    if interrupted or guard.signum is not None:  # the CLI's one line (exit 130) says where and what was saved
         n = len(result.t)
-        print(f"fly: interrupted at step {n} of {args.cycles * args.steps_per_cycle} (t = {result.t[-1]:.5f} s); "
-              f"{path} holds steps 0 to {n - 1}", file=sys.stderr)
-        raise KeyboardInterrupt
+        raise KeyboardInterrupt(f"interrupted at step {n} of {args.cycles * args.steps_per_cycle} (t = "
+                                f"{result.t[-1]:.5f} s); {path} holds steps 0 to {n - 1}")
     return path
 
 
-def _controlled_fly(args, progress):
-    """The closed-loop flight of hawksim.control when --control lqr applies (or a gust is asked), else None."""
-    from hawksim.control.command import default_control, fly_command
+def _control_of(args) -> str | None:
+    """The control mode of the closed-loop flight of hawksim.control when --control lqr applies (or a gust or an
+    ascent profile is asked), else None (the open-loop flight of :func:`fly_named`); ValueError (exit 2) when
+    control is asked where it does not apply."""
+    from hawksim.control.command import default_control
 
     control = getattr(args, "control", None) or default_control(args.aero, args.kinematics, args.steps_per_cycle,
                                                                 args.start, STEPS_PER_CYCLE)
@@ -167,10 +190,9 @@ def _controlled_fly(args, progress):
     if args.aero == "uvlm" and rate == "half-stroke":
         raise ValueError("--control-rate half-stroke needs --aero quasi-steady (the UVLM's wake cannot be set at "
                          "phase 0.5 to linearize the half-stroke maps)")
-    return fly_command(args.speed, args.cycles, control=control, profile=profile, gusts=gusts,
-                       delay=args.sensing_delay, perturb=dict(args.perturb or []), model_path=args.model, rrd=args.rrd,
-                       progress=(lambda k, n: progress(k, n)) if progress is not None else None, aero=args.aero,
-                       rate=rate or "beat")
+    if control == "none" and profile:
+        raise ValueError("--ascent-profile needs --control lqr (an open-loop flight cannot follow it)")
+    return control
 
 
 def _control_type(parse):

@@ -58,6 +58,18 @@ def cmd_train_step(args) -> dict:
 
 
 def cmd_train(args) -> dict:
+    bar = progress_for(args, "train (LM)", "it")
+    state = {"done": 0, "mse": {}}  # LM iterations done, the last train / validation errors
+
+    def status(text: str) -> None:  # the stage in progress, from the start (an LM iteration takes 20-40 s)
+        if bar is not None:
+            bar(state["done"], args.max_iter, **state["mse"], stage=text)
+
+    def progress(i, n, train_mse, val_mse):
+        state["done"], state["mse"] = i, {"train": f"{train_mse:.2e}", "val": f"{val_mse:.2e}"}
+        if bar is not None:
+            bar(i, n, **state["mse"])
+
     import numpy as np
 
     if args.kind == "step":
@@ -80,12 +92,10 @@ def cmd_train(args) -> dict:
         speed = speeds[0]
     else:
         raise UsageError(f"--data {args.data} holds speeds {speeds} m/s: pass --speed V or --all-speeds")
+    status("reading the samples")  # the bar opens once the options are checked (a bad one: one line, no bar)
     table = read_samples(args.data, speed=speed, seed=args.data_seed)
     x = table.x if speed is not None else np.column_stack([table.x, table.speed])
     cfg = TrainConfig(hidden=args.hidden, max_iter=args.max_iter, time_limit_s=args.time_limit)
-    bar = progress_for(args, "train (LM)", "it")
-    progress = None if bar is None else (
-        lambda i, n, train_mse, val_mse: bar(i, n, train=f"{train_mse:.2e}", val=f"{val_mse:.2e}"))
     command = ["hawksim", "train", "--data", str(args.data), "--out", str(args.out), "--seed", str(args.seed),
                "--hidden", str(args.hidden), "--max-iter", str(args.max_iter), "--time-limit", f"{args.time_limit:g}"]
     command += ["--all-speeds"] if speed is None else ["--speed", f"{speed:g}"]
@@ -98,7 +108,7 @@ def cmd_train(args) -> dict:
     if args.data_seed is not None:
         meta["data_seed"] = args.data_seed
     r = train(x, table.y, InputDefinition.for_speed(speed), seed=args.seed, cfg=cfg, meta=meta, progress=progress,
-              groups=np.round(table.speed * 1000).astype(int) if speed is None else None)
+              groups=np.round(table.speed * 1000).astype(int) if speed is None else None, status=status)
     if bar is not None:
         bar.close()
     r.surrogate.save(args.out)

@@ -163,7 +163,8 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     perturbation: np.ndarray | None = None, schedule: Schedule | None = None,
                     model: mujoco.MjModel | None = None, record: bool = False, log=None,
                     progress: Callable[[int, int], None] | None = None,
-                    design_delay: int | None = None, aero: str = "quasi-steady", rate: str = "beat") -> ClosedLoop:
+                    design_delay: int | None = None, aero: str = "quasi-steady", rate: str = "beat",
+                    partial_on_interrupt: bool = False) -> ClosedLoop:
     """Fly ``beats`` wingbeats from the quasi-steady orbit at ``speed`` [m/s] (plus ``perturbation`` (9,) SI in
     :data:`hawksim.flight.orbit.STATE_NAMES` order) under the LQR (``control='lqr'``) or open loop (``'none'``:
     the orbit's kinematics throughout), commanded by ``profile`` [(speed, beats)] (default: ``speed``), with
@@ -174,7 +175,11 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     flight starts on one of them (``speed`` a schedule speed; a ValueError otherwise) and is launched from the
     orbit's launch state and flies its warm-up beats open loop before the ``beats`` controlled ones (only those
     are reported). ``rate``: control updates once per ``'beat'`` or per ``'half-stroke'`` (phases 0 and 0.5,
-    quasi-steady only) for the schedule made here (a given ``schedule`` brings its own)."""
+    quasi-steady only) for the schedule made here (a given ``schedule`` brings its own).
+    ``progress(k, beats)`` is called before the first beat (k = 0) and after each complete beat.
+    ``partial_on_interrupt`` (with ``record``): a KeyboardInterrupt during the beats returns the steps and beats
+    completed so far (``result`` with fewer than beats x 200 rows, ``beats`` the complete ones) instead of
+    propagating; with no step completed it propagates."""
     if control not in ("lqr", "none"):
         raise ValueError(f"--control {control!r}: choose lqr, none")
     t_start = time.perf_counter()
@@ -229,66 +234,74 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     out, refs = [], []
     v_ref = float(speed)
     rate_limit = SPEED_RATE / nseg  # the reference moves at each update, SPEED_RATE per beat
-    for k in range(1, beats + 1):
-        air = sum((g.at(k) for g in gusts), np.zeros(3))
-        sim.air_v = air
-        t0, z0 = sim.d.time, sim.d.qpos[2]
-        pitch, Rs, pj = np.empty(n), np.empty((n, 3, 3)), np.empty(n)
-        applied, saturated, pitch_refs = [], False, []
-        for seg in range(nseg):
-            v_ref += float(np.clip(cmd[k - 1] - v_ref, -rate_limit, rate_limit))
-            kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
-            pitch_refs.append(pitch_ref)
-            if control == "lqr":
-                x_s, pos_s = sensed[-1 - lag]
-                du = schedule.command(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg)
-                lp, rp = wing_kinematics(kin_ref, du)
-            else:
-                lp = rp = p_orbit
-            ls, rs = saturate(lp), saturate(rp)
-            saturated |= bool(max(np.abs(ls - lp).max(), np.abs(rs - rp).max()) > SATURATION_TOL)
-            applied.append(_edge_command(kin_ref, command_of(kin_ref, ls, rs)))
-            if nseg == 1:
-                sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs))
-            else:
-                sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs), phase=np.pi * seg, span=0.5)
-            for i in range(seg * n // nseg, (seg + 1) * n // nseg):
-                r = sim.step()
-                st = r.state
-                pitch[i], Rs[i], pj[i] = pitch_of(st.body_R), st.body_R, r.joint_power
-                if record:
-                    ld = r.loads
-                    for key, val in (("t", st.t), ("pos", st.body_pos), ("R", st.body_R), ("v", st.body_v),
-                                     ("w", st.body_omega), ("wR", st.wing_R), ("wo", st.wing_origin),
-                                     ("F", ld.force), ("M", ld.moment_about(st, st.body_pos)), ("Pa", ld.power),
-                                     ("Pj", r.joint_power)):
-                        rec[key].append(val)
-            if not np.all(np.isfinite(sim.d.qpos)):
-                raise FloatingPointError(f"controlled flight diverged in beat {k}")
-            x = read_body_state(sim, chi_ref)
-            pos = stability_position(sim.d.qpos[:3]) - hold
-            flown.append((ls, rs))
-            sensed.append((x, pos))
-            flown, sensed = flown[-keep:], sensed[-keep:]
-        refs.append(v_ref)
-        pitch_ref = sum(pitch_refs) / nseg
-        if progress is not None:
-            progress(k, beats)
-        T = sim.d.time - t0
-        vz = (sim.d.qpos[2] - z0) / T
-        att = attitude_of(Rs)  # roll and yaw as the CLI contract's `beats` (pitch-first angles)
-        out.append({"beat": k, "speed_command": float(cmd[k - 1]), "speed_reference": v_ref,
-                    "mean_vertical_speed": float(vz), "speed_error": float(vz - cmd[k - 1]),
-                    "pitch_error_deg": float(np.rad2deg(pitch.mean() - pitch_ref)),
-                    "roll_deg": float(np.rad2deg(att[:, 1].mean())), "yaw_deg": float(np.rad2deg(att[:, 2].mean())),
-                    "horizontal_offset_m": [float(pos[0]), float(pos[1])],
-                    "horizontal_drift_m": float(np.hypot(*pos)),
-                    "air_velocity": [float(a) for a in air],
-                    "state": [float(a) for a in x],
-                    "commands": applied[0], "saturated": saturated,
-                    "P_plus": float(np.maximum(pj, 0).mean() / P0_W)})
-        if nseg > 1:
-            out[-1]["commands_half_stroke"] = applied[1]
+    if progress is not None:
+        progress(0, beats)
+    try:
+        for k in range(1, beats + 1):
+            air = sum((g.at(k) for g in gusts), np.zeros(3))
+            sim.air_v = air
+            t0, z0 = sim.d.time, sim.d.qpos[2]
+            pitch, Rs, pj = np.empty(n), np.empty((n, 3, 3)), np.empty(n)
+            applied, saturated, pitch_refs = [], False, []
+            for seg in range(nseg):
+                v_ref += float(np.clip(cmd[k - 1] - v_ref, -rate_limit, rate_limit))
+                kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
+                pitch_refs.append(pitch_ref)
+                if control == "lqr":
+                    x_s, pos_s = sensed[-1 - lag]
+                    du = schedule.command(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg)
+                    lp, rp = wing_kinematics(kin_ref, du)
+                else:
+                    lp = rp = p_orbit
+                ls, rs = saturate(lp), saturate(rp)
+                saturated |= bool(max(np.abs(ls - lp).max(), np.abs(rs - rp).max()) > SATURATION_TOL)
+                applied.append(_edge_command(kin_ref, command_of(kin_ref, ls, rs)))
+                if nseg == 1:
+                    sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs))
+                else:
+                    sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs), phase=np.pi * seg, span=0.5)
+                for i in range(seg * n // nseg, (seg + 1) * n // nseg):
+                    r = sim.step()
+                    st = r.state
+                    pitch[i], Rs[i], pj[i] = pitch_of(st.body_R), st.body_R, r.joint_power
+                    if record:
+                        ld = r.loads
+                        for key, val in (("t", st.t), ("pos", st.body_pos), ("R", st.body_R), ("v", st.body_v),
+                                         ("w", st.body_omega), ("wR", st.wing_R), ("wo", st.wing_origin),
+                                         ("F", ld.force), ("M", ld.moment_about(st, st.body_pos)), ("Pa", ld.power),
+                                         ("Pj", r.joint_power)):
+                            rec[key].append(val)
+                if not np.all(np.isfinite(sim.d.qpos)):
+                    raise FloatingPointError(f"controlled flight diverged in beat {k}")
+                x = read_body_state(sim, chi_ref)
+                pos = stability_position(sim.d.qpos[:3]) - hold
+                flown.append((ls, rs))
+                sensed.append((x, pos))
+                flown, sensed = flown[-keep:], sensed[-keep:]
+            refs.append(v_ref)
+            pitch_ref = sum(pitch_refs) / nseg
+            T = sim.d.time - t0
+            vz = (sim.d.qpos[2] - z0) / T
+            att = attitude_of(Rs)  # roll and yaw as the CLI contract's `beats` (pitch-first angles)
+            out.append({"beat": k, "speed_command": float(cmd[k - 1]), "speed_reference": v_ref,
+                        "mean_vertical_speed": float(vz), "speed_error": float(vz - cmd[k - 1]),
+                        "pitch_error_deg": float(np.rad2deg(pitch.mean() - pitch_ref)),
+                        "roll_deg": float(np.rad2deg(att[:, 1].mean())), "yaw_deg": float(np.rad2deg(att[:, 2].mean())),
+                        "horizontal_offset_m": [float(pos[0]), float(pos[1])],
+                        "horizontal_drift_m": float(np.hypot(*pos)),
+                        "air_velocity": [float(a) for a in air],
+                        "state": [float(a) for a in x],
+                        "commands": applied[0], "saturated": saturated,
+                        "P_plus": float(np.maximum(pj, 0).mean() / P0_W)})
+            if nseg > 1:
+                out[-1]["commands_half_stroke"] = applied[1]
+            if progress is not None:  # after the beat is complete (an interrupt raised here keeps it)
+                progress(k, beats)
+    except KeyboardInterrupt:
+        done = min(len(v) for v in rec.values())
+        if not (partial_on_interrupt and record and done > 0):
+            raise
+        rec = {k: v[:done] for k, v in rec.items()}
     result = None
     if record:
         a = {k: np.asarray(v) for k, v in rec.items()}

@@ -74,11 +74,12 @@ def check_uvlm_control(speed: float, profile) -> None:
 
 
 def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=None, delay: int = 0,
-                perturb: dict | None = None, model_path=None, rrd=None, progress=None, log=None,
-                aero: str = "quasi-steady", rate: str = "beat") -> dict:
-    """The JSON object of a `hawksim fly` under control (or open loop with a gust): the FlightResult summary
-    (the CLI contract's keys) plus ``control`` (:meth:`ClosedLoop.to_json`: schedule, gains, closed-loop
-    multipliers, per-beat commands and tracking errors) and ``rrd``."""
+                perturb: dict | None = None, model_path=None, progress=None, log=None,
+                aero: str = "quasi-steady", rate: str = "beat", partial_on_interrupt: bool = False):
+    """The closed-loop flight of a `hawksim fly` under control (or open loop with a gust), recorded
+    (:class:`hawksim.control.closed_loop.ClosedLoop` with ``result``). ``partial_on_interrupt``: a Ctrl-C or
+    SIGTERM turned into KeyboardInterrupt during the beats returns the steps flown (see
+    :func:`hawksim.control.closed_loop.fly_closed_loop`)."""
     from hawksim.flight.orbit import STATE_NAMES
     from hawksim.flight.start import parse_perturbations
     from hawksim.insect.model import load_model
@@ -91,9 +92,15 @@ def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=
         x[STATE_NAMES.index(k)] += v * (deg if k in ("p", "q", "r", "theta", "phi") else 1.0)
     if aero == "uvlm":
         check_uvlm_control(speed, profile)
-    cl = fly_closed_loop(speed, cycles, profile=profile, gusts=gusts, delay=delay, control=control, perturbation=x,
-                         model=load_model(model_path), record=True, log=log, progress=progress, aero=aero,
-                         rate=rate)
+    return fly_closed_loop(speed, cycles, profile=profile, gusts=gusts, delay=delay, control=control, perturbation=x,
+                           model=load_model(model_path), record=True, log=log, progress=progress, aero=aero,
+                           rate=rate, partial_on_interrupt=partial_on_interrupt)
+
+
+def command_summary(cl, cycles: int, control: str, aero: str = "quasi-steady", rate: str = "beat") -> dict:
+    """The JSON object of a complete controlled flight ``cl``: the FlightResult summary (the CLI contract's keys)
+    plus ``control`` (:meth:`ClosedLoop.to_json`: schedule, gains, closed-loop multipliers, per-beat commands and
+    tracking errors, ``last_beats_max_abs``); says on stderr in one line whether the flight held or departed."""
     out = cl.result.summary()
     ctl = cl.to_json()
     b = cl.beats
@@ -116,9 +123,4 @@ def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=
               f"{m['speed_error']:.4f} m/s, pitch error <= {m['pitch_error_deg']:.2f} deg, roll <= "
               f"{m['roll_deg']:.2f} deg, drift <= {m['horizontal_drift_m'] * 1e3:.1f} mm "
               f"(body length {body_length() * 1e3:.1f} mm)", file=sys.stderr)
-    out["rrd"] = None
-    if rrd:
-        from hawksim.flight.recording import write_rrd
-
-        out["rrd"] = str(write_rrd(rrd, cl.result, control=ctl["beats"]))
     return out

@@ -34,13 +34,13 @@ from __future__ import annotations
 import os
 import signal
 import threading
-import uuid
 from pathlib import Path
 
 import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
+from hawksim.atomic import ENVIRONMENT_ERRNOS, temporary_beside
 from hawksim.flight.orbit import STATE_NAMES
 from hawksim.flight.result import FlightResult
 from hawksim.frames import quat_from_matrices
@@ -130,6 +130,13 @@ def _check_target(path: Path) -> None:
         raise ValueError(f"cannot write recording {path}: directory {path.parent} does not exist")
 
 
+def _write_error(path: Path, exc: OSError) -> Exception:
+    """The one-line error naming ``path`` (not the temporary file): OSError for an environment failure (disk full),
+    ValueError (a bad path: exit status 2) otherwise."""
+    text = f"cannot write recording {path}: {exc.strerror or exc}"
+    return OSError(exc.errno, text) if exc.errno in ENVIRONMENT_ERRNOS else ValueError(text)
+
+
 def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, prediction=None, control=None,
               application_id: str = "hawksim") -> Path:
     """Write ``result`` as a Rerun recording (with its default blueprint) to ``path``; return the Path.
@@ -137,34 +144,45 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
     ``prediction``: a :class:`hawksim.stability.prediction.Prediction` of the flight (ghost body and per-beat
     plots), or None. ``control``: the per-beat objects of a controlled flight (`hawksim fly --control lqr` JSON's
     ``control.beats``: ``commands`` and tracking errors), logged at the end of each beat under ``plots/control``
-    with a view each (:func:`control_views`). Writes to a temporary file in the same directory and renames it at
-    the end, so a failure (or an interrupt) leaves nothing half-written. Raises ValueError (one line, naming the
-    path) when the path cannot be written.
+    with a view each (:func:`control_views`).
+
+    The recording is encoded in memory (Rerun's binary stream: about 130 kB per quasi-steady wingbeat, 1.3 MB per
+    UVLM wingbeat with its panels and wake) and written by this process to a temporary file in the same directory,
+    fsync'ed and renamed at the end, so a failure (a full disk, an interrupt) leaves nothing half-written and is
+    reported with its cause: OSError naming ``path`` when the environment fails
+    (:data:`hawksim.atomic.ENVIRONMENT_ERRNOS`: disk full, file too large, quota, I/O error, read-only file system),
+    ValueError (one line, naming the path) when the path cannot be written. (Rerun's own file sink writes from a
+    thread of its own, and a full disk there surfaced as "File-writer thread shut down prematurely" with log lines
+    on stderr and no errno.)
     """
     path = Path(path)
     _check_target(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
+    tmp = temporary_beside(path)
     try:
-        with open(tmp, "xb"):  # probes writability; created with the usual umask permissions
-            pass
+        fh = open(tmp, "xb")  # probes writability; created with the usual umask permissions
     except OSError as exc:
-        raise ValueError(f"cannot write recording {path}: {exc.strerror or exc}") from None
+        raise _write_error(path, exc) from None
     rec = rr.RecordingStream(application_id)
     try:
-        views = control_views(control) if control else []
-        rec.save(tmp, default_blueprint=default_blueprint(uvlm=_uvlm_extras(result) != [],
-                                                           prediction=prediction is not None, control=views))
-        _log_flight(rec, result, morph)
-        _log_extras(rec, result)
-        if prediction is not None:
-            _log_prediction(rec, result, prediction, morph)
-        if control:
-            _log_control(rec, result, control, views)
-        rec.flush()
-        rec.disconnect()  # closes the file sink (writes the footer)
+        with fh:
+            stream = rec.binary_stream()
+            views = control_views(control) if control else []
+            rec.send_blueprint(default_blueprint(uvlm=_uvlm_extras(result) != [], prediction=prediction is not None,
+                                                 control=views), make_active=False, make_default=True)
+            _log_flight(rec, result, morph)
+            _log_extras(rec, result)
+            if prediction is not None:
+                _log_prediction(rec, result, prediction, morph)
+            if control:
+                _log_control(rec, result, control, views)
+            data = stream.read(flush=True)  # one complete .rrd stream (a second read would start another)
+            rec.disconnect()
+            fh.write(data or b"")
+            fh.flush()
+            os.fsync(fh.fileno())
         os.replace(tmp, path)
     except OSError as exc:
-        raise ValueError(f"cannot write recording {path}: {exc.strerror or exc}") from None
+        raise _write_error(path, exc) from None
     finally:
         rec.disconnect()
         tmp.unlink(missing_ok=True)

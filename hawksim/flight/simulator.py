@@ -81,15 +81,28 @@ UNSTABLE_WARNINGS = ("mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADQACC")
 has failed (a numerical blow-up), and :meth:`Simulator.step` raises instead of returning the reset state."""
 
 
-def _warn_to_stderr(message: str) -> None:
-    print(f"MuJoCo: {message}", file=sys.stderr)
+class _MujocoLog:
+    """MuJoCo's warning handler: each message to stderr, or, while :meth:`Simulator.step` runs ``mj_step``, held
+    (``held`` a list) for the step to report: a fatal one inside its one-line error, the others printed after."""
+
+    def __init__(self):
+        self.held: list[str] | None = None
+
+    def __call__(self, message: str) -> None:
+        if self.held is None:
+            print(f"MuJoCo: {message}", file=sys.stderr)
+        else:
+            self.held.append(message.strip())
+
+
+_MUJOCO_LOG = _MujocoLog()
 
 
 def route_mujoco_warnings() -> None:
     """Send MuJoCo's warnings to stderr instead of its default MUJOCO_LOG.TXT in the working directory (unless the
     user installed a handler)."""
     if mujoco.get_mju_user_warning() is None:
-        mujoco.set_mju_user_warning(_warn_to_stderr)
+        mujoco.set_mju_user_warning(_MUJOCO_LOG)
 
 
 @contextlib.contextmanager
@@ -253,13 +266,20 @@ class Simulator:
         qd = d.qvel[self.wing_dof].copy()
         self._capture = True
         before = [d.warning[w].number for w in self._warn_ids]
-        with _control_callback(self._control):
-            mujoco.mj_step(m, d)
+        _MUJOCO_LOG.held = []
+        try:
+            with _control_callback(self._control):
+                mujoco.mj_step(m, d)
+        finally:
+            held, _MUJOCO_LOG.held = _MUJOCO_LOG.held, None
         for name, w, n0 in zip(UNSTABLE_WARNINGS, self._warn_ids, before):
             if d.warning[w].number > n0:
+                said = f" ({' '.join(held)})" if held else ""
                 raise FloatingPointError(
-                    f"MuJoCo {name[7:]} warning at step {self._i - 1} (t = {st.t:.5f} s): the state blew up "
+                    f"MuJoCo {name[7:]} warning at step {self._i - 1} (t = {st.t:.5f} s){said}: the state blew up "
                     f"(MuJoCo reset it; index {d.warning[w].lastinfo}), no result")
+        for message in held:
+            print(f"MuJoCo: {message}", file=sys.stderr)
         mujoco.mj_kinematics(m, d)
         mujoco.mj_comPos(m, d)
         mujoco.mj_comVel(m, d)

@@ -5,10 +5,12 @@ Table 2's bounds (Nguyen et al. 2020) by ``numpy.random.default_rng([seed, speed
 (:func:`sample_kinematics`), so any subset of indices can be computed in any order, on any machine, and the
 result is the same file.
 
-The file (SQLite, WAL journal) holds one row per sample, keyed by (speed, seed, idx) so a sample can never be
-stored twice. Only the process that owns the file writes it; workers only compute. Each sample is committed as
-soon as it arrives, so a run killed at any moment (SIGKILL included) loses at most the samples in flight, and
-the same command continues with the missing indices.
+The file (SQLite, rollback journal: :data:`JOURNAL_MODE`) holds one row per sample, keyed by (speed, seed, idx)
+so a sample can never be stored twice. Only the process that owns the file writes it; workers only compute. Each
+sample is committed as soon as it arrives, so a run killed at any moment (SIGKILL included) loses at most the
+samples in flight, and the same command continues with the missing indices. A write that fails for the
+environment (a full disk) stops the run with OSError naming the file (:func:`generate`); the rows committed
+before stay, and the same command continues once there is room.
 
 Row contents: the speed [m/s], seed, index; the seven kinematic parameters in SI (f [Hz], angles [rad], in the
 order of :data:`hawksim.insect.kinematics.PARAM_NAMES`); L+, D+, M+, P+ (paper Eq. 2) and the power [W] averaged over
@@ -23,6 +25,7 @@ version; the evaluation's wall time [s]. Layout 1 files (hawksim 0.2's data sets
 
 from __future__ import annotations
 
+import errno
 import functools
 import itertools
 import json
@@ -63,6 +66,14 @@ count as periodic ('ok'; otherwise 'unsettled'). Measured on the 1451 held-out s
 change of L+ has median 0.004-0.012 and 99th percentile 0.06-0.13 per speed, it is correlated with the beat
 3 -> 4 change (r = 0.39-0.78: the same runs keep changing), and 0.1 leaves out 0-10 % of the samples (most at
 hover, where the wake stays under the wings)."""
+
+JOURNAL_MODE = "DELETE"
+"""SQLite journal of a data set being written: the rollback journal. A commit that fails on a full disk
+(SQLITE_FULL, or SQLITE_IOERR_WRITE where a file-size limit stops the write) is rolled back from the journal and
+the journal deleted, leaving the file as the last commit left it and nothing beside it. In WAL mode (hawksim <=
+0.3) committed rows wait in the -wal file for a checkpoint into the main file; on a full 256 kB tmpfs that
+checkpoint failed and -wal and -shm stayed behind (tests/hawksim/test_disk_full.py). Readers never change a file's
+journal mode; a writer turns a WAL file into this mode."""
 
 _SCHEMA = f"""
 CREATE TABLE samples (
@@ -162,7 +173,8 @@ def evaluate_sample(seed: int, speed: float, i: int, resolution: Resolution) -> 
 
 
 def open_dataset(path: str | Path, *, create: bool = False) -> sqlite3.Connection:
-    """Open (or with ``create`` make) a data-set file; DatasetError for a file that is not one of ours."""
+    """Open (or with ``create`` make, for writing) a data-set file; DatasetError for a file that is not one of ours.
+    sqlite3.OperationalError when the file cannot be made (a full disk: :func:`environment_error`)."""
     path = Path(path)
     exists = path.exists() and path.stat().st_size > 0
     if not exists and not create:
@@ -177,12 +189,14 @@ def open_dataset(path: str | Path, *, create: bool = False) -> sqlite3.Connectio
         version = conn.execute("PRAGMA user_version").fetchone()[0]
         n_tables = conn.execute("SELECT count(*) FROM sqlite_master").fetchone()[0]
     except sqlite3.DatabaseError as exc:
+        env = environment_error(path, exc, writing=create) if isinstance(exc, sqlite3.OperationalError) else None
+        if env is not None:  # e.g. a WAL file (hawksim <= 0.3) on a full disk: its -shm cannot be made
+            raise env from None
         raise DatasetError(f"{str(path)!r} is not a readable SQLite file: {exc}") from None
     if app_id == 0 and version == 0 and n_tables == 0:
         if not create:
             conn.close()
             raise DatasetError(f"{str(path)!r} is an empty SQLite file, not a hawksim data set")
-        conn.execute("PRAGMA journal_mode=WAL")
         with conn:
             conn.executescript(_SCHEMA)
             conn.execute(f"PRAGMA application_id={APPLICATION_ID}")
@@ -194,8 +208,8 @@ def open_dataset(path: str | Path, *, create: bool = False) -> sqlite3.Connectio
         conn.close()
         raise DatasetError(f"data set {str(path)!r} has layout version {version}; this hawksim reads "
                            f"{', '.join(map(str, READABLE_VERSIONS))}")
-    conn.execute("PRAGMA journal_mode=WAL")
-    conn.execute("PRAGMA synchronous=NORMAL")
+    if create:  # the writer (see JOURNAL_MODE); if another connection holds a WAL file open the mode stays WAL
+        conn.execute(f"PRAGMA journal_mode={JOURNAL_MODE}")
     return conn
 
 
@@ -304,12 +318,19 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
     scheduler: address of a running Dask scheduler (e.g. dask-jobqueue on SLURM); otherwise a LocalCluster of
     ``workers`` single-threaded processes (default: the machine's cores), each with numba limited to one thread
     so the cores are not oversubscribed. progress(done, total) is called as samples arrive.
+
+    Raises DatasetError for a file that is not a data set of this layout, resolution and version, and OSError (one
+    line naming the file, :func:`environment_error`) when the disk is full: the failed commit is rolled back, the
+    rows committed before stay, nothing is left beside the file, and a file this run created with no sample in it
+    is removed.
     """
     created = not (Path(path).exists() and Path(path).stat().st_size > 0)
-    conn = open_dataset(path, create=True)
-    lock = _writer_lock(path, conn)
+    new = diverged = unsettled = 0
+    conn = lock = None
     t0 = time.perf_counter()
     try:
+        conn = open_dataset(path, create=True)
+        lock = _writer_lock(path, conn)
         layout = conn.execute("PRAGMA user_version").fetchone()[0]
         if layout != SCHEMA_VERSION:
             raise DatasetError(f"data set {str(path)!r} has layout {layout} (hawksim 0.2.0, without the wingbeat "
@@ -327,7 +348,6 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
         done0 = n - len(todo)
         if progress:
             progress(done0, n)
-        new = diverged = unsettled = 0
         if todo:
             for s in _compute(todo, functools.partial(evaluate_sample, seed, speed, resolution=resolution),
                               scheduler, workers):
@@ -338,19 +358,45 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
                 if progress:
                     progress(done0 + new, n)
         samples = len(stored_indices(conn, speed, seed))
-    except BaseException:
-        empty = created and conn.execute("SELECT count(*) FROM samples").fetchone()[0] == 0
-        conn.close()
-        lock.close()
-        if empty:  # nothing half-written: a file this run created and filled with nothing goes
-            for suffix in ("", "-wal", "-shm"):
-                Path(str(path) + suffix).unlink(missing_ok=True)
+    except BaseException as exc:
+        for close in (conn and conn.rollback, conn and conn.close, lock and lock.close):
+            try:  # a failed commit is rolled back from the journal
+                if close:
+                    close()
+            except sqlite3.Error:
+                pass
+        if new == 0 and (lock is not None or not isinstance(exc, DatasetError)):
+            _remove_unfilled(path, created)  # nothing half-written: a file this run made and left empty goes
+        env = environment_error(path, exc) if isinstance(exc, sqlite3.OperationalError) else None
+        if env is not None:
+            raise env from None
         raise
     else:
         conn.close()
         lock.close()
     wall = time.perf_counter() - t0
     return GenerationResult(str(path), samples, new, diverged, wall, new / wall if wall > 0 else 0.0, unsettled)
+
+
+def environment_error(path, exc: sqlite3.Error, writing: bool = True) -> OSError | None:
+    """The one-line OSError naming ``path`` for a SQLite failure of the environment (SQLITE_FULL: the disk is
+    full; SQLITE_IOERR*: a write or sync failed, e.g. at a file-size limit, or a reader could not make a WAL file's
+    -shm; SQLITE_READONLY*; SQLITE_CANTOPEN), None for other errors."""
+    name = getattr(exc, "sqlite_errorname", "") or ""
+    if not name.startswith(("SQLITE_FULL", "SQLITE_IOERR", "SQLITE_READONLY", "SQLITE_CANTOPEN")):
+        return None
+    code = errno.ENOSPC if name == "SQLITE_FULL" else errno.EIO
+    if not writing:
+        return OSError(code, f"cannot read data set {path}: {exc} ({name}); is its disk full or read-only?")
+    return OSError(code, f"cannot write data set {path}: {exc} ({name}); the samples stored before are kept and the "
+                         "same command continues once the disk has room")
+
+
+def _remove_unfilled(path, created: bool) -> None:
+    """Remove a data-set file this run created (and its journals) when it holds no sample."""
+    if created:
+        for suffix in ("", "-journal", "-wal", "-shm"):
+            Path(str(path) + suffix).unlink(missing_ok=True)
 
 
 def _writer_lock(path, conn):

@@ -18,6 +18,7 @@ from hawksim.cli import main
 from hawksim.insect.kinematics import PARAM_NAMES, bounds_si
 from hawksim.surrogate.dataset import (
     APPLICATION_ID,
+    JOURNAL_MODE,
     OUTPUTS,
     PEAK_FORCE_CEILING,
     SETTLE_TOL,
@@ -167,7 +168,7 @@ def test_file_carries_the_application_id(tmp_path):
     generate(path, 2.0, 2, seed=0, resolution=TINY, workers=1)
     conn = sqlite3.connect(path)
     assert conn.execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
-    assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
+    assert conn.execute("PRAGMA journal_mode").fetchone()[0] == JOURNAL_MODE.lower()  # no -wal / -shm beside it
     res = json.loads(conn.execute("SELECT resolution FROM samples LIMIT 1").fetchone()[0])
     conn.close()
     assert res == TINY.to_dict()

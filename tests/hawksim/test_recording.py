@@ -353,6 +353,46 @@ def test_interrupt_writes_the_steps_flown(tmp_path, monkeypatch, capsys, signame
     assert at <= len(steps) <= at + 2 and np.array_equal(steps, np.arange(len(steps)))
     err = capsys.readouterr()
     assert err.out == "" and "interrupted at step" in err.err and str(path) in err.err
+    assert len(err.err.strip().splitlines()) == 1  # the contract's one line
+    verify(path)
+
+
+@pytest.mark.parametrize("signame", ["SIGINT", "SIGTERM"])
+def test_interrupt_of_a_controlled_flight_writes_the_beats_flown(tmp_path, monkeypatch, capsys, signame):
+    """The default flight (LQR control from the orbit) interrupted by a real signal after beat 2 of 5: exit 130, the
+    recording holds the complete beats flown (the beat in which the signal came is finished first) with their
+    control commands, it verifies, no temporary file is left and the handlers are restored."""
+    import os
+    import signal
+
+    from hawksim.cli import fly as cli_fly
+    from hawksim.cli import main
+
+    at, spc = 2, 200
+    calls = []
+
+    def progress_for(args, desc, unit="step"):
+        def hook(k, n):
+            calls.append((k, n, unit))
+            if k == at:
+                os.kill(os.getpid(), getattr(signal, signame))
+        return hook
+
+    monkeypatch.setattr(cli_fly, "progress_for", progress_for)
+    before = signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)
+    path = tmp_path / "cut.rrd"
+    assert main(["fly", "--speed", "1", "--cycles", "5", "--rrd", str(path), "--json"]) == 130
+    assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before
+    assert calls[0] == (0, 5, "beat") and calls[-1][0] == at  # the hook raised in the call after the signal
+    assert [p.name for p in tmp_path.iterdir()] == ["cut.rrd"]
+    chunks = read_chunks(path)
+    steps, _ = temporal_column(chunks, "/world/moth", "Transform3D:quaternion")
+    assert len(steps) == (at + 1) * spc and np.array_equal(steps, np.arange(len(steps)))
+    beats, _ = temporal_column(chunks, "/plots/control/commands/f_hz", "Scalars:scalars")
+    np.testing.assert_array_equal(beats, np.arange(1, at + 2) * spc)
+    err = capsys.readouterr()
+    assert err.out == "" and f"interrupted at step {(at + 1) * spc} of {5 * spc}" in err.err and str(path) in err.err
+    assert len(err.err.strip().splitlines()) == 1  # the contract's one line: no verdict on a flight cut short
     verify(path)
 
 
