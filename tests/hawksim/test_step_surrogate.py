@@ -267,3 +267,18 @@ def test_fly_with_the_surrogate_starts_on_its_orbit_and_holds():
     beats = r.beats()
     for b in beats[o.warm_beats:]:
         assert b["mean_vertical_speed"] == pytest.approx(1.0, abs=0.01)
+
+
+def test_a_folded_ensemble_is_evaluated_block_by_block_with_the_same_result():
+    from hawksim.backends.step_surrogate import ensemble_blocks
+    from hawksim.surrogate.step_train import fold_ensemble
+
+    nets = [_random_net(hidden=(8, 8, 8), seed=s) for s in range(3)]
+    net = StepNetwork(fold_ensemble([n.weights for n in nets]), nets[0].x_mean, nets[0].x_std, nets[0].y_mean,
+                      nets[0].y_std)
+    b = StepSurrogateBackend(table3_kinematics(1.0), net)
+    assert b.blocks is not None and b.blocks[1][0].shape == (3, 8, 8)
+    assert ensemble_blocks(_random_net(hidden=(8, 8, 8)).folded()) is None
+    x = _inputs(net).astype(np.float32)
+    ref = net.predict(x)
+    assert np.abs(b.evaluate(x) - ref).max() <= FOLD_RTOL * np.abs(ref).max()
