@@ -153,8 +153,8 @@ def train(train_rows: Rows, val_rows: Rows, cfg: TrainConfig, log=None) -> tuple
         return sn, hists[0]
     if log:
         with torch.no_grad():
-            ys = StepNetwork(weights, np.zeros(X.shape[1]), np.ones(X.shape[1]), np.zeros(6), np.ones(6)).predict(
-                Xv.numpy())
+            ys = StepNetwork(weights, np.zeros(X.shape[1]), np.ones(X.shape[1]), np.zeros(6), np.ones(6),
+                             lags=tuple(cfg.lags)).predict(Xv.numpy())
         log(f"ensemble of {len(members)}: val mse {float(np.mean((ys - Yv.numpy()) ** 2)):.3e}")
     return sn, {k: [h[k] for h in hists] for k in hists[0]}
 

@@ -48,6 +48,9 @@ def main():
     ap.add_argument("--out")
     ap.add_argument("--table", help="also write the orbits as a shipped orbit table")
     ap.add_argument("--no-floquet", action="store_true")
+    ap.add_argument("--validate", action="store_true",
+                    help="also perturbed surrogate flights along each Floquet mode (hawksim.stability.validation, "
+                         "amplitude 1e-3 normalized as for the UVLM; the averaged columns are not computed)")
     a = ap.parse_args()
     res = {"host": host_info(), "command": "python scripts/studies/step_surrogate_orbits.py " + " ".join(sys.argv[1:]),
            "speeds": []}
@@ -71,6 +74,15 @@ def main():
                               "lateral": [c2(z) for z in fq.multipliers_lat], "coupling": fq.coupling,
                               "wall_s": fq.wall_time_s, "delta": fq.delta}
             row["uvlm_floquet"] = uvlm_multipliers(v)
+            if a.validate:
+                from hawksim.stability.validation import validate_speed
+
+                zero = {"longitudinal": np.zeros((4, 4)), "lateral": np.zeros((4, 4))}
+                val = validate_speed(o, fq, zero, eps=1e-3, state_flights=False)
+                row["validation"] = {name: [{"floquet": m["floquet"], "nonlinear": m["nonlinear"],
+                                             "rel_error": m["rel_error_nonlinear_vs_floquet"]}
+                                            for m in sysout["modes"]] for name, sysout in val["systems"].items()}
+                row["validation_fit_window_beats"] = val["fit_window_beats"]
         print(json.dumps({k: row[k] for k in row if k != "orbit"}), file=sys.stderr, flush=True)
         res["speeds"].append(row)
     text = json.dumps(res, indent=1)
