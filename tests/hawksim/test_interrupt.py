@@ -93,7 +93,7 @@ def test_a_ctrl_c_python_drops_is_delivered_again(hook):
     program carries on (the trial's `hawksim trim` ran to the end, exit 0, 72 s after the Ctrl-C); the CLI's
     unraisable hook delivers it again."""
     p = subprocess.run([sys.executable, "-c", DROPPED, hook], capture_output=True, text=True, timeout=60)
-    if hook == "none":  # the failure the hook is for
-        assert p.stdout.strip() == "lost" and "Exception ignored" in p.stderr
+    if hook == "none":  # the failure the hook is for (Python's "Exception ignored" line is not always printed
+        assert p.stdout.strip() == "lost"  # under load: measured once in a full run at load 7)
     else:
         assert p.stdout.strip() == "interrupted" and p.stderr == ""
