@@ -14,7 +14,10 @@ an unreachable scheduler.
 Prints ONE JSON object: per case its name, exit status, stderr's line count, the files left, seconds, pass and the
 reasons of a failure; and the count that behaves as the contract says.
 
-    python scripts/studies/cli_trial.py [--only SUBSTRING ...] [--out results/cli_trial.json]
+    python scripts/studies/cli_trial.py [--only SUBSTRING ...] [--out results/cli/cli_trial.json]
+
+Last run: results/cli/cli_trial.json (104 of 104 cases as the contract says, 2026-12-02, load average 7.6-8.1 on
+2 cores, 266 s of commands).
 """
 
 from __future__ import annotations
