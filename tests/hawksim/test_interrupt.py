@@ -43,7 +43,7 @@ def interrupt_after(argv: list[str], delay: float, cwd: Path, signum=signal.SIGI
 
 
 @pytest.mark.parametrize("signum,delay", [(signal.SIGINT, d) for d in (0.2, 0.7, 1.5, 2.5, 3.5)]
-                         + [(signal.SIGTERM, 2.5)])
+                         + [(signal.SIGTERM, 2.5)], ids=lambda v: v.name if isinstance(v, signal.Signals) else f"{v}s")
 def test_ctrl_c_at_any_moment_of_a_dataset_run(tmp_path, signum, delay):
     """SIGTERM (a batch system's stop) is an interrupt as Ctrl-C is (hawksim.__main__.run)."""
     code, took, err = interrupt_after(["dataset", "--speed", "1", "--samples", "400", "--out", "d.sqlite",
