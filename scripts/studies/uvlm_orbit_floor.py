@@ -41,10 +41,18 @@ def flight(speed: float, wake_beats: int, beats: int, resolve: bool) -> dict:
 
 
 def smoothness(speed: float) -> dict:
+    """At the shipped orbit, or where none is shipped (0.5 m/s) at the Newton solver's start (the held-body trim and
+    its calibrated launch state, hawksim.flight.orbit.initial_guess)."""
     orb = shipped_orbit(speed, "uvlm")
-    base, w = orb.kinematics, orb.warm_beats
     fl = _Flight("uvlm", symmetric=True)
-    x0 = orb.launch_state.as_array()
+    if orb is not None:
+        base, w, x0 = orb.kinematics, orb.warm_beats, orb.launch_state.as_array()
+    else:
+        from hawksim.flight.orbit import UVLM_WARM_BEATS, initial_guess
+        from hawksim.trim.tables import trim_kinematics
+
+        base, w = trim_kinematics(speed, "uvlm"), UVLM_WARM_BEATS
+        x0 = initial_guess(base, speed, fl, 0)
     U, T = scales(base)
     z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
 
