@@ -51,15 +51,15 @@ def main():
                         "closed_lat": [abs(complex(z)) for z in p.lat.multipliers if abs(z) > 1e-12]}
                        for p in sch.points]
     log(json.dumps([{k: s[k] for k in ("speed", "closed_long", "closed_lat")} for s in res["schedule"]]))
-    for v in UVLM_SCHEDULE_SPEEDS:
-        for control in ("lqr", "none"):
-            res[f"{control}_{v:g}"] = r = flight(v, sch, control)
-            log(f"{control} {v:g}: {json.dumps(r.get('max_abs', r))}")
-    res["profile_1_1.5_2"] = r = flight(1.0, sch, profile=[(1.0, 3), (1.5, 5), (2.0, 12)])
-    log(f"profile: {json.dumps(r.get('max_abs', r))}")
-    res["wall_s"] = time.time() - t0
     OUT.mkdir(parents=True, exist_ok=True)
-    (OUT / "control_uvlm.json").write_text(json.dumps(res, indent=1, default=float))
+    runs = [(f"lqr_{v:g}", v, "lqr", None) for v in UVLM_SCHEDULE_SPEEDS]
+    runs += [("profile_1_1.5_2", 1.0, "lqr", [(1.0, 3), (1.5, 5), (2.0, 12)])]
+    runs += [(f"none_{v:g}", v, "none", None) for v in UVLM_SCHEDULE_SPEEDS]
+    for key, v, control, profile in runs:  # the controlled flights first; the file is rewritten after each
+        res[key] = r = flight(v, sch, control, profile)
+        log(f"{key}: {json.dumps(r.get('max_abs', r))}")
+        res["wall_s"] = time.time() - t0
+        (OUT / "control_uvlm.json").write_text(json.dumps(res, indent=1, default=float))
 
 
 if __name__ == "__main__":
