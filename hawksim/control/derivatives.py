@@ -188,6 +188,30 @@ class BeatMapModel:
                             wall_time_s=float(d.get("wall_time_s", 0.0)))
 
 
+def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
+                      n_states: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A (11, 11), B0 (11, 7), B1 (11, 7)) of a controlled map ``beat(x, du_prev, du)`` about ``x0`` by central
+    differences of step ``delta`` (normalized; ``sc`` SI per unit of x, ``xi`` the normalized extended state of a
+    beat's output): A's first ``n_states`` columns (the rest identity), B1 from a blend into +-du, Bt = B0 + B1
+    from +-du held over the beat and the one before (module docstring)."""
+    zero = np.zeros(len(INPUTS))
+    A = np.eye(11)
+    for j in range(n_states):
+        r = []
+        for s in (1, -1):
+            x = x0.copy()
+            x[j] += s * delta * sc[j]
+            r.append(xi(beat(x, zero, zero)))
+        A[:, j] = (r[0] - r[1]) / (2 * delta)
+    B1, Bt = np.zeros((11, 7)), np.zeros((11, 7))
+    for j in range(7):
+        e = np.zeros(7)
+        e[j] = delta
+        B1[:, j] = (xi(beat(x0, zero, e)) - xi(beat(x0, zero, -e))) / (2 * delta)
+        Bt[:, j] = (xi(beat(x0, e, e)) - xi(beat(x0, -e, -e))) / (2 * delta)
+    return A, Bt - B1, B1
+
+
 def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None) -> BeatMapModel:
     """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady: each
     derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with warm-up
@@ -200,7 +224,6 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     sc = xi_scale(kin)
-    zero = np.zeros(len(INPUTS))
     if orbit.warm_beats:
         snap = _UVLMSnapshot(orbit, model)
         x0 = orbit.initial_state.as_array()
@@ -217,23 +240,7 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
         x, disp = out
         return np.concatenate([x, disp]) / sc
 
-    A = np.eye(11)
-    for j in range(8):
-        r = []
-        for s in (1, -1):
-            x = x0.copy()
-            x[j] += s * delta * sc[j]
-            r.append(xi(beat(x, zero, zero)))
-        A[:, j] = (r[0] - r[1]) / (2 * delta)
-    B1, Bt = np.zeros((11, 7)), np.zeros((11, 7))
-    for j in range(7):
-        e = np.zeros(7)
-        e[j] = delta
-        B1[:, j] = (xi(beat(x0, zero, e)) - xi(beat(x0, zero, -e))) \
-            / (2 * delta)
-        Bt[:, j] = (xi(beat(x0, e, e)) - xi(beat(x0, -e, -e))) \
-            / (2 * delta)
-    B0 = Bt - B1
+    A, B0, B1 = central_jacobians(beat, xi, x0, sc, delta, 8)
     # the neutral rows: psi and position do not feed back (identity columns set above); psi's own row from the map
     cross = max(np.abs(M[np.ix_(a, b)]).max() for M, (a, b) in
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hawksim.control.derivatives import FD_DELTA, LAT_X, LONG_X, stability_position, xi_scale
+from hawksim.control.derivatives import FD_DELTA, LAT_X, LONG_X, central_jacobians, stability_position, xi_scale
 from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, wing_kinematics
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state
 from hawksim.insect.kinematics import Kinematics
@@ -126,21 +126,8 @@ def linearize_half_stroke(orbit: Orbit, *, delta: float = FD_DELTA,
         def beat(x, du_prev, du, h=half):
             return half_beat(orbit, x, du_prev, du, h, model=model)
 
-        A = np.eye(11)
-        for j in range(9):  # psi too: it turns the half-stroke's horizontal displacement (X, Y rows)
-            r = []
-            for s in (1, -1):
-                x = xs.copy()
-                x[j] += s * delta * sc[j]
-                r.append(xi(beat(x, zero, zero)))
-            A[:, j] = (r[0] - r[1]) / (2 * delta)
-        B1, Bt = np.zeros((11, 7)), np.zeros((11, 7))
-        for j in range(7):
-            e = np.zeros(7)
-            e[j] = delta
-            B1[:, j] = (xi(beat(xs, zero, e)) - xi(beat(xs, zero, -e))) / (2 * delta)
-            Bt[:, j] = (xi(beat(xs, e, e)) - xi(beat(xs, -e, -e))) / (2 * delta)
-        mats.append((A, Bt - B1, B1))
+        # psi too (9 columns): it turns the half-stroke's horizontal displacement (X, Y rows)
+        mats.append(central_jacobians(beat, xi, xs, sc, delta, 9))
     cross = max(np.abs(M[np.ix_(a, b)]).max() for A, B0, B1 in mats for M, (a, b) in
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
                  (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
