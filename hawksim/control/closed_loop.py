@@ -215,8 +215,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                        chi0)
         for _ in range(warm):
             sim.begin_beat(kin0, kin0)
-            for _ in range(n):
-                sim.step()
+            sim.advance(n)
         x0 = read_body_state(sim, chi0)
     else:
         set_body_state(sim, x0, chi0)
@@ -260,17 +259,14 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs))
                 else:
                     sim.begin_beat(Kinematics.from_array(ls), Kinematics.from_array(rs), phase=np.pi * seg, span=0.5)
-                for i in range(seg * n // nseg, (seg + 1) * n // nseg):
-                    r = sim.step()
-                    st = r.state
-                    pitch[i], Rs[i], pj[i] = pitch_of(st.body_R), st.body_R, r.joint_power
-                    if record:
-                        ld = r.loads
-                        for key, val in (("t", st.t), ("pos", st.body_pos), ("R", st.body_R), ("v", st.body_v),
-                                         ("w", st.body_omega), ("wR", st.wing_R), ("wo", st.wing_origin),
-                                         ("F", ld.force), ("M", ld.moment_about(st, st.body_pos)), ("Pa", ld.power),
-                                         ("Pj", r.joint_power)):
-                            rec[key].append(val)
+                i0, i1 = seg * n // nseg, (seg + 1) * n // nseg
+                b = sim.advance(i1 - i0)
+                pitch[i0:i1], Rs[i0:i1], pj[i0:i1] = pitch_of(b.body_R), b.body_R, b.power_joint
+                if record:
+                    for key, val in (("t", b.t), ("pos", b.body_pos), ("R", b.body_R), ("v", b.body_v),
+                                     ("w", b.body_omega), ("wR", b.wing_R), ("wo", b.wing_origin), ("F", b.force),
+                                     ("M", b.moment_about_body()), ("Pa", b.power_aero), ("Pj", b.power_joint)):
+                        rec[key].append(val)
                 if not np.all(np.isfinite(sim.d.qpos)):
                     raise FloatingPointError(f"controlled flight diverged in beat {k}")
                 x = read_body_state(sim, chi_ref)
@@ -298,13 +294,13 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
             if progress is not None:  # after the beat is complete (an interrupt raised here keeps it)
                 progress(k, beats)
     except KeyboardInterrupt:
-        done = min(len(v) for v in rec.values())
+        done = min(len(v) for v in rec.values())  # the segments completed
         if not (partial_on_interrupt and record and done > 0):
             raise
         rec = {k: v[:done] for k, v in rec.items()}
     result = None
     if record:
-        a = {k: np.asarray(v) for k, v in rec.items()}
+        a = {k: np.concatenate(v) if v else np.zeros(0) for k, v in rec.items()}
         result = ControlledFlightResult(
             speed_target=float(speed), cycles=int(beats), aero=aero, kinematics=kin0, steps_per_cycle=n,
             t=a["t"], body_pos=a["pos"], body_quat=quat_from_matrices(a["R"]), body_v=a["v"], body_omega=a["w"],

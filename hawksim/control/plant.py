@@ -116,6 +116,7 @@ class ControlledSimulator(Simulator):
         self._T = left.period
         self.dt = self._T / self.steps_per_cycle
         self.m.opt.timestep = self.dt
+        self._sync_native()
 
     def set_wings(self, left: Kinematics, right: Kinematics) -> None:
         """Put both wings on (left, right) from t = 0 with no blend (before ``reset``/``set_body_state``): the
@@ -129,6 +130,17 @@ class ControlledSimulator(Simulator):
         self._T = left.period
         self.dt = self._T / self.steps_per_cycle
         self.m.opt.timestep = self.dt
+        self._sync_native()
+
+    native_motion = True  # the native callback's mode 1 is :meth:`desired` (hawksim.flight.native)
+
+    def _sync_native(self) -> None:
+        """Hand the current blend to the native callback (hawksim.flight.native), if the simulator uses it."""
+        if self._native is None or self._new is None:
+            return
+        row = lambda k: np.array([k.f, k.phi0, k.theta0, k.alpha0, k.phi_a, k.alpha_a])  # noqa: E731
+        self._native.set_blend((row(self._old[0]), row(self._old[1])), (row(self._new[0]), row(self._new[1])),
+                               t0=self._t0, phase=self._phase, span=self._span, period=self._T, same=self._same)
 
     @property
     def wing_params(self) -> tuple[Kinematics, Kinematics]:

@@ -40,8 +40,9 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
             (:func:`hawksim.flight.orbit.periodic_orbit`; state order :data:`hawksim.flight.orbit.STATE_NAMES`):
             the flight starts exactly there (plus ``perturb``), with no calibration beat.
         progress: called as progress(step, n_steps).
-        partial_on_interrupt: a KeyboardInterrupt during the steps returns the steps completed so far (a result
-            with fewer than cycles x steps_per_cycle rows) instead of propagating; none completed: it propagates.
+        partial_on_interrupt: a KeyboardInterrupt during the steps returns the wingbeats completed so far (a
+            result with fewer than cycles x steps_per_cycle rows) instead of propagating; none completed: it
+            propagates.
     """
     speed, kin = trim.speed, trim.kinematics
     if not (np.isfinite(speed) and speed >= 0):
@@ -75,42 +76,33 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
         sim.reset(velocity=v0, quat=quat_from_matrix(R0), omega_body=R0.T @ omega_world)
 
     n = int(cycles) * steps_per_cycle
-    rec = {k: [] for k in ("t", "pos", "quat", "v", "w", "wR", "wo", "F", "M", "Pa", "Pj")}
-    extras = []
+    batches = []
+    done = 0
     t0 = time.perf_counter()
     try:
-        for i in range(n):
-            r = sim.step()
-            st, ld = r.state, r.loads
-            rec["t"].append(st.t)
-            rec["pos"].append(st.body_pos)
-            rec["quat"].append(st.body_R)
-            rec["v"].append(st.body_v)
-            rec["w"].append(st.body_omega)
-            rec["wR"].append(st.wing_R)
-            rec["wo"].append(st.wing_origin)
-            rec["F"].append(ld.force)
-            rec["M"].append(ld.moment_about(st, st.body_pos))
-            rec["Pa"].append(ld.power)
-            rec["Pj"].append(r.joint_power)
-            if keep_extras_every and i % keep_extras_every == 0 and ld.extras:
-                extras.append((i, ld.extras))
-            if progress is not None:
-                progress(i + 1, n)
+        while done < n:  # a wingbeat per call: Simulator.advance runs its steps with no Python per step
+            k = min(steps_per_cycle, n - done)
+            b = sim.advance(k, extras_every=keep_extras_every)
+            batches.append(b)
+            done += k
             if not np.all(np.isfinite(sim.d.qpos)):
-                raise FloatingPointError(f"flight diverged at step {i} (t = {st.t:.5f} s): non-finite state")
+                raise FloatingPointError(f"flight diverged in steps {done - k}-{done - 1} (from t = {b.t[0]:.5f} s): "
+                                         "non-finite state")
+            if progress is not None:
+                progress(done, n)
     except KeyboardInterrupt:
-        done = min(len(v) for v in rec.values())
-        if not partial_on_interrupt or done == 0:
+        if not partial_on_interrupt or not batches:
             raise
-        rec = {k: v[:done] for k, v in rec.items()}
-        extras = [e for e in extras if e[0] < done]
     wall = time.perf_counter() - t0
-    a = {k: np.asarray(v) for k, v in rec.items()}
-    a["quat"] = quat_from_matrices(a["quat"])
+    a = {k: np.concatenate([getattr(b, k) for b in batches]) for k in
+         ("t", "body_pos", "body_R", "body_v", "body_omega", "wing_R", "wing_origin", "force", "power_aero",
+          "power_joint")}
+    a["moment"] = np.concatenate([b.moment_about_body() for b in batches])
+    extras = [e for b in batches for e in b.extras]
     return FlightResult(
         speed_target=float(speed), cycles=int(cycles), aero=backend.name, kinematics=kin,
-        steps_per_cycle=steps_per_cycle, t=a["t"], body_pos=a["pos"], body_quat=a["quat"], body_v=a["v"],
-        body_omega=a["w"], wing_R=a["wR"], wing_origin=a["wo"], force=a["F"], moment=a["M"], power_aero=a["Pa"],
-        power_joint=a["Pj"], wall_time_s=wall, extras=extras, trim_source=trim.source,
+        steps_per_cycle=steps_per_cycle, t=a["t"], body_pos=a["body_pos"], body_quat=quat_from_matrices(a["body_R"]),
+        body_v=a["body_v"], body_omega=a["body_omega"], wing_R=a["wing_R"], wing_origin=a["wing_origin"],
+        force=a["force"], moment=a["moment"], power_aero=a["power_aero"], power_joint=a["power_joint"],
+        wall_time_s=wall, extras=extras, trim_source=trim.source,
     )

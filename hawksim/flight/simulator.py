@@ -76,6 +76,73 @@ class StepRecord:
     """Mechanical power delivered by the six wing joints, sum of tau_j qdot_j at the step start [W]."""
 
 
+@dataclass(frozen=True)
+class StepBatch:
+    """What ``n`` consecutive steps produced (world frame, SI), each step's state at its start: t (n,),
+    body_pos (n, 3) (the body's centre of mass), body_R (n, 3, 3), body_v (n, 3), body_omega (n, 3) (world),
+    wing_R (n, 2, 3, 3), wing_origin (n, 2, 3) (hinges), force (n, 2, 3), moment (n, 2, 3) (about each hinge),
+    power_aero (n,) [W], power_joint (n,) [W] (as :class:`StepRecord`), extras [(step index, dict)], and
+    ``first``: the index of the first step since the last reset."""
+
+    t: np.ndarray
+    body_pos: np.ndarray
+    body_R: np.ndarray
+    body_v: np.ndarray
+    body_omega: np.ndarray
+    wing_R: np.ndarray
+    wing_origin: np.ndarray
+    force: np.ndarray
+    moment: np.ndarray
+    power_aero: np.ndarray
+    power_joint: np.ndarray
+    extras: list
+    first: int
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def moment_about_body(self) -> np.ndarray:
+        """(n, 3) total aerodynamic moment about the body's centre of mass [N m] (``WingLoads.moment_about``)."""
+        arm = self.wing_origin - self.body_pos[:, None, :]
+        return (self.moment + cross(arm, self.force)).sum(1)
+
+    @classmethod
+    def of(cls, records: list[StepRecord], extras_every: int, first: int) -> StepBatch:
+        """From :meth:`Simulator.step`'s records."""
+        n = len(records)
+        st = [r.state for r in records]
+        ld = [r.loads for r in records]
+
+        def arr(values, shape):
+            return np.array(values, dtype=float).reshape((n, *shape))
+
+        extras = [(first + j, r.loads.extras) for j, r in enumerate(records)
+                  if extras_every and (first + j) % extras_every == 0 and r.loads.extras]
+        return cls(t=arr([s.t for s in st], ()), body_pos=arr([s.body_pos for s in st], (3,)),
+                   body_R=arr([s.body_R for s in st], (3, 3)), body_v=arr([s.body_v for s in st], (3,)),
+                   body_omega=arr([s.body_omega for s in st], (3,)), wing_R=arr([s.wing_R for s in st], (2, 3, 3)),
+                   wing_origin=arr([s.wing_origin for s in st], (2, 3)), force=arr([x.force for x in ld], (2, 3)),
+                   moment=arr([x.moment for x in ld], (2, 3)), power_aero=arr([x.power for x in ld], ()),
+                   power_joint=arr([r.joint_power for r in records], ()), extras=extras, first=first)
+
+    @classmethod
+    def from_record(cls, rec: np.ndarray, force, moment, power, extras, first: int) -> StepBatch:
+        """From the native callback's recorder rows (:data:`hawksim.flight.native.REC_WIDTH`); the derived rows
+        (body_omega = R w, power_joint = tau . qd) by the stacked products that give :meth:`step`'s floats."""
+        from hawksim.flight import native as N
+
+        n = len(rec)
+        R = rec[:, N.REC_R:N.REC_R + 9].reshape(n, 3, 3)
+        qv = rec[:, N.REC_QVEL:N.REC_QVEL + 6]
+        tau, qd = rec[:, N.REC_TAU:N.REC_TAU + 6], rec[:, N.REC_QD:N.REC_QD + 6]
+        return cls(t=rec[:, N.REC_T].copy(), body_pos=rec[:, N.REC_POS:N.REC_POS + 3].copy(), body_R=R.copy(),
+                   body_v=qv[:, :3].copy(), body_omega=np.matmul(R, qv[:, 3:, None])[..., 0],
+                   wing_R=rec[:, N.REC_WR:N.REC_WR + 18].reshape(n, 2, 3, 3).copy(),
+                   wing_origin=rec[:, N.REC_WO:N.REC_WO + 6].reshape(n, 2, 3).copy(), force=force, moment=moment,
+                   power_aero=power, power_joint=np.matmul(tau[:, None, :], qd[:, :, None])[:, 0, 0], extras=extras,
+                   first=first)
+
+
 UNSTABLE_WARNINGS = ("mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADQACC")
 """MuJoCo warnings after which it resets the state to the model's qpos0 and carries on: a flight that meets one
 has failed (a numerical blow-up), and :meth:`Simulator.step` raises instead of returning the reset state."""
@@ -128,10 +195,18 @@ class Simulator:
         aero_every: call the backend every this many steps (its dt is then aero_every steps); in between the
             loads are held fixed in the world frame (force, and moment about each wing's hinge), so a costly
             backend (the UVLM) can run at a coarser rate than the integrator.
+        native: solve the computed torque in the compiled MuJoCo callback of :mod:`hawksim.flight.native` (the
+            same floats as the Python callback, several times faster) where it is available; False: the Python
+            callback :meth:`_control` (a subclass that overrides :meth:`desired` always gets it, unless it
+            declares ``native_motion = True`` and keeps the native callback's parameters current).
     """
 
+    native_motion = False
+    """A subclass whose :meth:`desired` the native callback reproduces (its mode 1) sets this True."""
+
     def __init__(self, model: mujoco.MjModel, kin: Kinematics, backend: AeroBackend, *,
-                 steps_per_cycle: int = FLY_STEPS_PER_CYCLE, gravity: bool = True, aero_every: int = 1):
+                 steps_per_cycle: int = FLY_STEPS_PER_CYCLE, gravity: bool = True, aero_every: int = 1,
+                 native: bool = True):
         if steps_per_cycle < MIN_STEPS_PER_CYCLE:
             raise ValueError(f"steps_per_cycle must be >= {MIN_STEPS_PER_CYCLE}, got {steps_per_cycle}")
         self.m = model
@@ -168,6 +243,15 @@ class Simulator:
         self._eq1_compiled = type(self).desired is Simulator.desired  # the compiled stage evaluates Eq. 1 itself
         self._warn_ids = [int(getattr(mujoco.mjtWarning, w)) for w in UNSTABLE_WARNINGS]
         route_mujoco_warnings()
+        self._native = None
+        if native and (self._eq1_compiled or type(self).native_motion):
+            from hawksim.flight.native import NativeControl
+
+            nc = NativeControl(model.nq, model.nv, self._qslice.start, self._vslice.start, self._kp, self._kd,
+                               self.body_id, self.wing_ids)
+            if nc.available:
+                nc.set_eq1(self._p)
+                self._native = nc
 
     # ---- prescribed motion -------------------------------------------------------------------------
     def desired(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -264,11 +348,18 @@ class Simulator:
         d.xfrc_applied[self.wing_ids, :3] = loads.force
         d.xfrc_applied[self.wing_ids, 3:] = loads.moment + cross(st.wing_origin - com, loads.force)
         qd = d.qvel[self.wing_dof].copy()
-        self._capture = True
+        native = self._native
+        if native is not None:
+            native.capture()
+            native.install()
+            callback = native.callback
+        else:
+            self._capture = True
+            callback = self._control
         before = [d.warning[w].number for w in self._warn_ids]
         _MUJOCO_LOG.held = []
         try:
-            with _control_callback(self._control):
+            with _control_callback(callback):
                 mujoco.mj_step(m, d)
         finally:
             held, _MUJOCO_LOG.held = _MUJOCO_LOG.held, None
@@ -283,7 +374,74 @@ class Simulator:
         mujoco.mj_kinematics(m, d)
         mujoco.mj_comPos(m, d)
         mujoco.mj_comVel(m, d)
-        return StepRecord(st, loads, float(self._tau @ qd))
+        tau = native.tau if native is not None else self._tau
+        return StepRecord(st, loads, float(tau @ qd))
+
+    def advance(self, n: int, *, extras_every: int = 0) -> StepBatch:
+        """Advance n steps, as n calls of :meth:`step` (the same floats for the state), and return what they
+        produced as arrays.
+
+        With the native callback (:mod:`hawksim.flight.native`) the steps between two backend updates run in one
+        ``mj_step(m, d, nstep)``: the callback applies the held loads at each step's start and records the state
+        there, so Python runs once per backend update instead of once per step (the per-step surrogate and the
+        UVLM update every :func:`aero_every_for` steps). Without it, a loop of :meth:`step`.
+
+        ``extras_every``: keep the backend's extras of the steps i % extras_every == 0 (0: none).
+        """
+        if n < 0 or int(n) != n:
+            raise ValueError(f"advance needs a number of steps >= 0, got {n}")
+        n = int(n)
+        if self._native is None:
+            return StepBatch.of([self.step() for _ in range(n)], extras_every, self._i - n)
+        from hawksim.flight.native import REC_WIDTH
+
+        m, d, native = self.m, self.d, self._native
+        rec = np.empty((n, REC_WIDTH))
+        force, moment, power = np.empty((n, 2, 3)), np.empty((n, 2, 3)), np.empty(n)
+        extras = []
+        i0, i = self._i, 0
+        while i < n:
+            st = self.state()
+            if self._i % self.aero_every == 0:
+                self._held = self.backend.loads(st)
+            loads = self._held
+            k = min(n - i, self.aero_every - self._i % self.aero_every)
+            force[i:i + k], moment[i:i + k], power[i:i + k] = loads.force, loads.moment, loads.power
+            if extras_every and loads.extras:
+                extras += [(j, loads.extras) for j in range(self._i, self._i + k) if j % extras_every == 0]
+            native.hold(np.ascontiguousarray(loads.force, float), np.ascontiguousarray(loads.moment, float))
+            native.start_chunk(rec[i:i + k])
+            native.install()
+            self._mj_step(k, st.t)
+            rows = native.end_chunk()
+            if rows != k:
+                raise RuntimeError(f"the native callback recorded {rows} of {k} steps (a stage count off)")
+            i += k
+            mujoco.mj_kinematics(m, d)
+            mujoco.mj_comPos(m, d)
+            mujoco.mj_comVel(m, d)
+        return StepBatch.from_record(rec, force, moment, power, extras, i0)
+
+    def _mj_step(self, k: int, t: float) -> None:
+        """``mj_step(m, d, nstep=k)`` with the callback in place; MuJoCo's instability warnings raise (the steps
+        from ``self._i``, at time t; advances ``self._i`` by k)."""
+        m, d = self.m, self.d
+        before = [d.warning[w].number for w in self._warn_ids]
+        _MUJOCO_LOG.held = []
+        try:
+            with _control_callback(self._native.callback):
+                mujoco.mj_step(m, d, nstep=k)
+        finally:
+            held, _MUJOCO_LOG.held = _MUJOCO_LOG.held, None
+        self._i += k
+        for name, w, n0 in zip(UNSTABLE_WARNINGS, self._warn_ids, before):
+            if d.warning[w].number > n0:
+                said = f" ({' '.join(held)})" if held else ""
+                raise FloatingPointError(
+                    f"MuJoCo {name[7:]} warning in steps {self._i - k}-{self._i - 1} (from t = {t:.5f} s){said}: "
+                    f"the state blew up (MuJoCo reset it; index {d.warning[w].lastinfo}), no result")
+        for message in held:
+            print(f"MuJoCo: {message}", file=sys.stderr)
 
     # ---- diagnostics -------------------------------------------------------------------------------
     def wing_angles(self) -> np.ndarray:

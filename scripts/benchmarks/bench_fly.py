@@ -14,6 +14,7 @@ recording in ``fly`` (issue 21's target for `--aero surrogate`: >= 10x real time
 """
 
 import argparse
+import contextlib
 import json
 import os
 import platform
@@ -35,11 +36,15 @@ def main():
     from hawksim.cli.fly import fly_named
 
     fly_named(a.speed, 1, a.aero)  # warm-up: numba cache, model generation
-    loop = []
-    for _ in range(a.repeat):
+    with python_callback():
+        fly_named(a.speed, 1, a.aero)
+    loop, loop_py = [], []
+    for _ in range(a.repeat):  # interleaved: the native callback (default) and the Python one, same sitting
         t0 = time.perf_counter()
         r = fly_named(a.speed, a.cycles, a.aero)
         loop.append((r.wall_time_s, time.perf_counter() - t0))
+        with python_callback():
+            loop_py.append(fly_named(a.speed, a.cycles, a.aero).wall_time_s)
     sim_time = a.cycles * r.kinematics.period  # the flown trim (the model's own)
     cmd = [sys.executable, "-m", "hawksim.cli", "fly", "--speed", str(a.speed), "--cycles", str(a.cycles),
            "--aero", a.aero, "--json", "--no-progress"]
@@ -49,6 +54,7 @@ def main():
         subprocess.run(cmd, check=True, capture_output=True)
         wall_cmd.append(time.perf_counter() - t0)
     split = _time_split(a)
+    floors = _floors(r.kinematics, r.steps_per_cycle, a.cycles, a.repeat)
     best_loop = min(x[0] for x in loop)
     best_fly = min(x[1] for x in loop)
     print(json.dumps({
@@ -62,6 +68,10 @@ def main():
         "realtime_factor_loop": sim_time / best_loop,
         "realtime_factor_fly_call": sim_time / best_fly,
         "realtime_factor_command": sim_time / min(wall_cmd),
+        "loop_wall_python_callback_s": min(loop_py),
+        "native_callback_speedup": min(loop_py) / best_loop,
+        "floors_s": floors,
+        "realtime_ceilings": {k: sim_time / v for k, v in floors.items()},
         "steps_per_s": a.cycles * r.steps_per_cycle / best_loop,
         "wingbeats_per_s_loop": a.cycles / best_loop,
         "wingbeats_per_s_fly_call": a.cycles / best_fly,
@@ -71,6 +81,54 @@ def main():
         "start": r.trim_source,
         "machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "processor": platform.machine()},
     }))
+
+
+@contextlib.contextmanager
+def python_callback():
+    """Within the block every Simulator solves the computed torque in the Python callback (the baseline)."""
+    from hawksim.flight.simulator import Simulator
+
+    init = Simulator.__init__
+
+    def python_init(self, *args, **kw):
+        init(self, *args, **dict(kw, native=False))
+
+    Simulator.__init__ = python_init
+    try:
+        yield
+    finally:
+        Simulator.__init__ = init
+
+
+def _floors(kin, steps_per_cycle: int, cycles: int, repeat: int) -> dict:
+    """What the flight's steps cost without any Python per step and without aerodynamics, same model and time
+    step: MuJoCo's RK4 alone (``mj_step(m, d, nstep)``, no callback: the wings flail) and with the native
+    computed-torque callback (the wings on Eq. 1): the real-time factors no flight loop of this model at this
+    resolution can pass on this machine (issue 21's 10x: ceilings below it make it unreachable here)."""
+    import mujoco
+
+    from hawksim.backends.base import NoAero
+    from hawksim.flight.simulator import Simulator, _control_callback
+    from hawksim.insect.model import load_model
+
+    sim = Simulator(load_model(), kin, NoAero(), steps_per_cycle=steps_per_cycle)
+    m, d, steps = sim.m, sim.d, cycles * steps_per_cycle
+    out = {}
+    native = sim._native.callback if sim._native else None
+    for name, cb in (("rk4_alone", None), ("rk4_native_computed_torque", native)):
+        if name != "rk4_alone" and cb is None:
+            continue
+        best = float("inf")
+        for _ in range(repeat):
+            sim.reset()
+            if cb is not None:
+                sim._native.install()
+            with _control_callback(cb):
+                t0 = time.perf_counter()
+                mujoco.mj_step(m, d, nstep=steps)
+                best = min(best, time.perf_counter() - t0)
+        out[name] = best
+    return out
 
 
 def _time_split(a) -> dict:

@@ -1,0 +1,451 @@
+"""The flight loop's computed torque as a native MuJoCo control callback (issue 21: a compiled loop).
+
+:class:`hawksim.flight.simulator.Simulator` solves the six wing-joint torques at every RK4 stage inside
+``mjcb_control`` (the method in that module's docstring). As a Python callback that costs four Python calls
+(and a dozen numpy operations each) per step, more than the RK4 step itself. Here the same arithmetic is a numba
+``cfunc`` installed as MuJoCo's ``mjcb_control``: MuJoCo calls it from C, and it calls ``mj_fwdActuation``,
+``mj_fwdAcceleration`` and ``mj_solveM`` of the loaded ``libmujoco`` through their addresses, so a step makes no
+Python call at all and ``mj_step(m, d, nstep)`` can run many steps in one call.
+
+What the callback reads and writes. The callback receives (mjModel*, mjData*). The mjData fields it needs (time,
+qpos, qvel, qacc_smooth, qfrc_applied) are found once per process: their byte offsets within the struct are taken
+from the ``mjdata.h`` shipped in the mujoco wheel (every field after ``buffer`` is a pointer) and checked against
+the addresses numpy exposes for a probe MjData (:func:`layout`). Everything else (the prescribed motion's
+parameters, the PD gains, scratch space, the captured torque) lives in a per-simulator float64 ``ctx`` array
+(:class:`NativeControl`) whose address the callback reads from a one-element slot compiled into it as a constant:
+one callback per process, as ``mjcb_control`` is one global per process.
+
+Prescribed motion. Mode 0: Eq. 1 of one kinematics for both wings (:meth:`Simulator.desired`); mode 1: the
+per-wing blend of :class:`hawksim.control.plant.ControlledSimulator` (quintic smoothstep from the previous beat's
+kinematics to the new one). The arithmetic is the Python one's, operation for operation, so a flight is
+bit-identical with the Python callback (tested, tests/hawksim/test_native.py).
+
+Where it is unavailable (the header or a field check fails, e.g. a future mujoco with another layout) ``layout``
+returns None and the simulator keeps the Python callback: slower, same results.
+
+Compiling the callback takes ~0.3-0.5 s once per process (it holds per-process addresses, so numba cannot cache
+it); the numerical kernels it calls are cached.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import glob
+import math
+import os
+import re
+from dataclasses import dataclass
+from functools import lru_cache
+
+import mujoco
+import numpy as np
+from llvmlite import ir
+from numba import carray, cfunc, njit, types
+from numba.core.extending import intrinsic
+
+# ---- ctx layout (float64 slots) ------------------------------------------------------------------------------
+C_MODE, C_KP, C_KD, C_CAPTURE = 0, 1, 2, 3
+C_TAU = 4            # 6: the torque of the first stage after a capture request
+C_P = 10             # 6: mode 0, (f, phi0, theta0, alpha0, phi_a, alpha_a) SI
+C_T0, C_PHASE, C_SPAN, C_T, C_SAME = 16, 17, 18, 19, 20   # mode 1: the beat's start, phase, span, period, same
+C_NEW, C_OLD = 21, 33  # 12 each: mode 1, left then right (f, phi0, theta0, alpha0, phi_a, alpha_a)
+C_Q0, C_V0, C_NV = 45, 46, 47  # first wing qpos index, first wing dof index, nv
+C_STAGE = 48         # RK4 stage of the next call, 0..3 (advance: reset to 0 before each mj_step(nstep))
+C_APPLY = 49         # 1: at each step's first stage, write the held loads below into xfrc_applied
+C_FORCE, C_MOMENT = 50, 56  # 6 each: the held world force and moment about the hinge of (left, right) [N, N m]
+C_BODY, C_WING0, C_WING1 = 62, 63, 64  # body ids
+C_REC_ADDR, C_REC_ROWS, C_ROW = 65, 66, 67  # the recorder: address of a (rows, REC_WIDTH) float64 array, next row
+C_SCRATCH = 68       # 6 nv unit vectors, then 6 nv rows of M^-1
+N_FIXED = 68
+
+REC_T, REC_POS, REC_R, REC_QVEL, REC_WR, REC_WO, REC_TAU, REC_QD = 0, 1, 4, 13, 19, 37, 43, 49
+REC_WIDTH = 55
+"""A recorder row, each step's state at its start: t, the body's centre of mass xipos (3), xmat (9), qvel[:6],
+the wings' xmat (2 x 9) and xpos (2 x 3), the step's first-stage wing torques (6) and the wing joint rates (6)."""
+
+MODE_EQ1, MODE_BLEND = 0.0, 1.0
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Byte offsets of the mjData fields the callback uses, and the addresses of the libmujoco functions."""
+
+    time: int
+    qpos: int
+    qvel: int
+    qacc_smooth: int
+    qfrc_applied: int
+    xfrc_applied: int
+    xpos: int
+    xipos: int
+    xmat: int
+    fwd_actuation: int
+    fwd_acceleration: int
+    solve_m: int
+
+
+def _library() -> ctypes.CDLL | None:
+    here = os.path.dirname(mujoco.__file__)
+    found = sorted(glob.glob(os.path.join(here, "libmujoco.so*")) + glob.glob(os.path.join(here, "libmujoco*.dylib")))
+    return ctypes.CDLL(found[0]) if found else None
+
+
+def _pointer_fields() -> list[str] | None:
+    """Names of mjData's pointer fields after ``buffer`` in declaration order, up to the first field that is not a
+    pointer, from the wheel's header."""
+    path = os.path.join(os.path.dirname(mujoco.__file__), "include", "mujoco", "mjdata.h")
+    try:
+        text = open(path).read()
+    except OSError:
+        return None
+    body = re.search(r"struct mjData_ \{(.*?)\n\}", text, re.S)
+    if body is None or "void*   buffer;" not in body.group(1):
+        return None
+    tail = body.group(1).split("void*   buffer;", 1)[1]
+    names = []
+    for line in tail.splitlines():
+        line = line.split("//")[0].strip()
+        if not line:
+            continue
+        m = re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*\s*\*\s*([A-Za-z_][A-Za-z0-9_]*)\s*;", line)
+        if m is None:
+            break  # the first non-pointer field (``signature``): the offsets of those before it are known
+        names.append(m.group(1))
+    return names
+
+
+@lru_cache(maxsize=1)
+def layout() -> Layout | None:
+    """The mjData offsets (checked on a probe MjData) and function addresses, or None where they cannot be had."""
+    lib, names = _library(), _pointer_fields()
+    if lib is None or names is None:
+        return None
+    m = mujoco.MjModel.from_xml_string(
+        "<mujoco><worldbody><body><freejoint/><geom size='.1' mass='1'/></body></worldbody></mujoco>")
+    d = mujoco.MjData(m)
+    base = d._address
+    d.time = 1234.5625  # a sentinel to find 'time', which sits 3 words before 'buffer' (time, energy[2], buffer)
+    n_head = 200_000 // 8
+    words = np.frombuffer((ctypes.c_char * (8 * n_head)).from_address(base), dtype=np.int64)
+    hit = np.nonzero(words.view(np.float64) == 1234.5625)[0]
+    if len(hit) != 1:
+        return None
+    t_off = int(hit[0]) * 8
+    buf_off = t_off + 24
+
+    def ptr_at(off: int) -> int:
+        return int(np.frombuffer((ctypes.c_char * 8).from_address(base + off), dtype=np.int64)[0])
+
+    offs = {k: buf_off + 8 * (1 + i) for i, k in enumerate(names)}  # names[0] is 'arena', right after 'buffer'
+    checks = {"qpos": d.qpos, "qvel": d.qvel, "qacc_smooth": d.qacc_smooth, "qfrc_applied": d.qfrc_applied,
+              "xfrc_applied": d.xfrc_applied, "xpos": d.xpos, "xipos": d.xipos}
+    for k, arr in checks.items():
+        if k not in offs or ptr_at(offs[k]) != arr.ctypes.data:
+            return None
+    if ptr_at(buf_off) != d.qpos.ctypes.data:
+        return None
+    fns = []
+    for name in ("mj_fwdActuation", "mj_fwdAcceleration", "mj_solveM"):
+        try:
+            fns.append(ctypes.cast(getattr(lib, name), ctypes.c_void_p).value)
+        except AttributeError:
+            return None
+    if "xmat" not in offs or ptr_at(offs["xmat"]) != d.xmat.ctypes.data:
+        return None
+    return Layout(time=t_off, qpos=offs["qpos"], qvel=offs["qvel"], qacc_smooth=offs["qacc_smooth"],
+                  qfrc_applied=offs["qfrc_applied"], xfrc_applied=offs["xfrc_applied"], xpos=offs["xpos"],
+                  xipos=offs["xipos"], xmat=offs["xmat"], fwd_actuation=fns[0], fwd_acceleration=fns[1],
+                  solve_m=fns[2])
+
+
+# ---- LLVM helpers: an integer address as a pointer, calls through a function address ---------------------------
+@intrinsic
+def _voidptr(typingctx, addr):
+    def codegen(context, builder, signature, args):
+        return builder.inttoptr(args[0], ir.IntType(8).as_pointer())
+    return types.voidptr(types.intp), codegen
+
+
+@intrinsic
+def _address(typingctx, ptr):
+    def codegen(context, builder, signature, args):
+        return builder.ptrtoint(args[0], ir.IntType(64))
+    return types.intp(types.voidptr), codegen
+
+
+@intrinsic
+def _call_md(typingctx, fn, m, d):
+    """Call void f(const mjModel*, mjData*) at address fn."""
+    def codegen(context, builder, signature, args):
+        p8 = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.VoidType(), [p8, p8])
+        f = builder.inttoptr(args[0], fnty.as_pointer())
+        builder.call(f, [args[1], args[2]])
+        return context.get_dummy_value()
+    return types.void(types.intp, types.voidptr, types.voidptr), codegen
+
+
+@intrinsic
+def _call_solve(typingctx, fn, m, d, x, y, n):
+    """Call void mj_solveM(const mjModel*, mjData*, mjtNum* x, const mjtNum* y, int n) at address fn."""
+    def codegen(context, builder, signature, args):
+        p8 = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.VoidType(), [p8, p8, p8, p8, ir.IntType(32)])
+        f = builder.inttoptr(args[0], fnty.as_pointer())
+        builder.call(f, [args[1], args[2], args[3], args[4], builder.trunc(args[5], ir.IntType(32))])
+        return context.get_dummy_value()
+    return types.void(types.intp, types.voidptr, types.voidptr, types.voidptr, types.voidptr, types.intp), codegen
+
+
+# ---- the prescribed motion, the arithmetic of Kinematics.eq1 and ControlledSimulator.desired --------------------
+@njit(cache=True)
+def _eq1_into(k, c, s, q, qd, qdd, j0):
+    """Eq. 1 of the kinematics k (6,) = (f, phi0, theta0, alpha0, phi_a, alpha_a) at c = cos, s = sin of the phase,
+    into q, qd, qdd [j0:j0+3] (the operations of :meth:`Kinematics.eq1`)."""
+    w = 2 * math.pi * k[0]
+    q[j0], q[j0 + 1], q[j0 + 2] = k[1] - k[4] * c, k[2], math.pi / 2 + k[3] - k[5] * s
+    qd[j0], qd[j0 + 1], qd[j0 + 2] = k[4] * w * s, 0.0, -k[5] * w * c
+    qdd[j0], qdd[j0 + 1], qdd[j0 + 2] = k[4] * w * w * c, 0.0, k[5] * w * w * s
+
+
+@njit(cache=True)
+def blend_desired(t, ctx, q, qd, qdd):
+    """Mode 1: the per-wing blend of :meth:`hawksim.control.plant.ControlledSimulator.desired` at time t into
+    q, qd, qdd (6,)."""
+    tau = t - ctx[C_T0]
+    ph = ctx[C_PHASE]
+    Tb = ctx[C_T] if ctx[C_SPAN] == 1.0 else ctx[C_SPAN] * ctx[C_T]
+    x = min(max(tau / Tb, 0.0), 1.0)
+    x2 = x * x
+    s = x2 * x * (10 - 15 * x + 6 * x2)
+    s1 = 30 * x2 * (1 - x) ** 2
+    s2 = 60 * x * (1 - x) * (1 - 2 * x)
+    s1, s2 = s1 / Tb, s2 / (Tb * Tb)
+    same = ctx[C_SAME] != 0.0
+    qo, qdo, qddo = np.empty(3), np.empty(3), np.empty(3)
+    for wng in range(2):
+        kn = ctx[C_NEW + 6 * wng:C_NEW + 6 * wng + 6]
+        wt = 2 * math.pi * kn[0] * tau if ph == 0.0 else ph + 2 * math.pi * kn[0] * tau
+        j0 = 3 * wng
+        _eq1_into(kn, math.cos(wt), math.sin(wt), q, qd, qdd, j0)
+        if same or s >= 1.0:
+            continue
+        ko = ctx[C_OLD + 6 * wng:C_OLD + 6 * wng + 6]
+        wt = 2 * math.pi * ko[0] * tau if ph == 0.0 else ph + 2 * math.pi * ko[0] * tau
+        _eq1_into(ko, math.cos(wt), math.sin(wt), qo, qdo, qddo, 0)
+        for j in range(3):
+            dq, dqd = q[j0 + j] - qo[j], qd[j0 + j] - qdo[j]
+            q[j0 + j] = qo[j] + s * dq
+            qdd[j0 + j] = qddo[j] + s * (qdd[j0 + j] - qddo[j]) + 2 * s1 * dqd + s2 * dq
+            qd[j0 + j] = qdo[j] + s * dqd + s1 * dq
+
+
+@njit(cache=True)
+def _torque(t, ctx, qpos, qvel, qacc, minv):
+    """The six torques of one stage from the free accelerations qacc (nv,) and the rows minv (6, nv) of M^-1
+    (the arithmetic of the Python callback: ``hawksim.flight.simulator._computed_torque`` and
+    ``_computed_torque_given``)."""
+    q0, v0 = int(ctx[C_Q0]), int(ctx[C_V0])
+    kp, kd = ctx[C_KP], ctx[C_KD]
+    mww = np.empty((6, 6))
+    for i in range(6):
+        for j in range(6):
+            mww[i, j] = minv[i, v0 + j]
+    qs, qds, qdds = np.empty(6), np.empty(6), np.empty(6)
+    if ctx[C_MODE] == MODE_EQ1:
+        p = ctx[C_P:C_P + 6]
+        w = 2.0 * math.pi * p[0]
+        c, s = math.cos(w * t), math.sin(w * t)
+        # the one-wing expressions of _computed_torque (0.5 pi + alpha0, w = 2.0 pi f)
+        a = (p[1] - p[4] * c, p[2], 0.5 * math.pi + p[3] - p[5] * s)
+        ad = (p[4] * w * s, 0.0, -p[5] * w * c)
+        add = (p[4] * w * w * c, 0.0, p[5] * w * w * s)
+        rhs = np.empty(6)
+        for k in range(6):
+            j = k % 3
+            rhs[k] = add[j] + kp * (a[j] - qpos[q0 + k]) + kd * (ad[j] - qvel[v0 + k]) - qacc[v0 + k]
+        return np.linalg.solve(mww, rhs)
+    blend_desired(t, ctx, qs, qds, qdds)
+    qq, vv, aa = np.empty(6), np.empty(6), np.empty(6)
+    for k in range(6):
+        qq[k], vv[k], aa[k] = qpos[q0 + k], qvel[v0 + k], qacc[v0 + k]
+    return np.linalg.solve(mww, qdds + kp * (qs - qq) + kd * (qds - vv) - aa)
+
+
+@njit(cache=True)
+def _apply_loads(ctx, xfrc, xpos, xipos):
+    """The held loads into xfrc_applied at the wings' centres of mass: force, and the moment about the hinge
+    carried to the centre of mass, moment + (hinge - com) x force (the arithmetic of ``Simulator.step``)."""
+    for w in range(2):
+        b = int(ctx[C_WING0 + w])
+        f = ctx[C_FORCE + 3 * w:C_FORCE + 3 * w + 3]
+        mo = ctx[C_MOMENT + 3 * w:C_MOMENT + 3 * w + 3]
+        a0, a1, a2 = xpos[b, 0] - xipos[b, 0], xpos[b, 1] - xipos[b, 1], xpos[b, 2] - xipos[b, 2]
+        xfrc[b, 0], xfrc[b, 1], xfrc[b, 2] = f[0], f[1], f[2]
+        xfrc[b, 3] = mo[0] + (a1 * f[2] - a2 * f[1])
+        xfrc[b, 4] = mo[1] + (a2 * f[0] - a0 * f[2])
+        xfrc[b, 5] = mo[2] + (a0 * f[1] - a1 * f[0])
+
+
+@njit(cache=True)
+def _record(ctx, rec, t, qvel, tau, xpos, xipos, xmat):
+    """One recorder row (:data:`REC_WIDTH`) of the step's start."""
+    body, v0 = int(ctx[C_BODY]), int(ctx[C_V0])
+    rec[REC_T] = t
+    for j in range(3):
+        rec[REC_POS + j] = xipos[body, j]
+    for j in range(9):
+        rec[REC_R + j] = xmat[body, j]
+    for j in range(6):
+        rec[REC_QVEL + j] = qvel[j]
+        rec[REC_TAU + j] = tau[j]
+        rec[REC_QD + j] = qvel[v0 + j]
+    for w in range(2):
+        b = int(ctx[C_WING0 + w])
+        for j in range(9):
+            rec[REC_WR + 9 * w + j] = xmat[b, j]
+        for j in range(3):
+            rec[REC_WO + 3 * w + j] = xpos[b, j]
+
+
+_SLOT = np.zeros(1, dtype=np.int64)
+"""The address of the active simulator's ctx array, read by the callback (set by :meth:`NativeControl.install`)."""
+
+
+@lru_cache(maxsize=1)
+def _callback():
+    """Compile the callback for this process's layout (None where :func:`layout` is None)."""
+    lay = layout()
+    if lay is None:
+        return None
+    slot = _SLOT.ctypes.data
+    o_time, o_qpos, o_qvel, o_qacc, o_qfrc = lay.time, lay.qpos, lay.qvel, lay.qacc_smooth, lay.qfrc_applied
+    o_xfrc, o_xpos, o_xipos, o_xmat = lay.xfrc_applied, lay.xpos, lay.xipos, lay.xmat
+    f_act, f_acc, f_solve = lay.fwd_actuation, lay.fwd_acceleration, lay.solve_m
+
+    @cfunc(types.void(types.voidptr, types.voidptr))
+    def control(m, d):
+        da = _address(d)
+        ca = carray(_voidptr(slot), 1, np.int64)[0]
+        nv = int(carray(_voidptr(ca + 8 * C_NV), 1, np.float64)[0])
+        ctx = carray(_voidptr(ca), N_FIXED + 12 * nv, np.float64)
+        nq = nv + 1  # a free body (7 qpos, 6 dofs) and hinges
+        qpos = carray(_voidptr(carray(_voidptr(da + o_qpos), 1, np.int64)[0]), nq, np.float64)
+        qvel = carray(_voidptr(carray(_voidptr(da + o_qvel), 1, np.int64)[0]), nv, np.float64)
+        qacc = carray(_voidptr(carray(_voidptr(da + o_qacc), 1, np.int64)[0]), nv, np.float64)
+        qfrc = carray(_voidptr(carray(_voidptr(da + o_qfrc), 1, np.int64)[0]), nv, np.float64)
+        t = carray(_voidptr(da + o_time), 1, np.float64)[0]
+        v0 = int(ctx[C_V0])
+        stage = int(ctx[C_STAGE])
+        ctx[C_STAGE] = (stage + 1) % 4
+        if stage == 0 and ctx[C_APPLY] != 0.0:
+            nb = int(ctx[C_WING1]) + 1
+            xfrc = carray(_voidptr(carray(_voidptr(da + o_xfrc), 1, np.int64)[0]), (nb, 6), np.float64)
+            xpos = carray(_voidptr(carray(_voidptr(da + o_xpos), 1, np.int64)[0]), (nb, 3), np.float64)
+            xipos = carray(_voidptr(carray(_voidptr(da + o_xipos), 1, np.int64)[0]), (nb, 3), np.float64)
+            _apply_loads(ctx, xfrc, xpos, xipos)
+        for k in range(6):
+            qfrc[v0 + k] = 0.0
+        _call_md(f_act, m, d)
+        _call_md(f_acc, m, d)
+        unit = ca + 8 * C_SCRATCH
+        minv_a = unit + 8 * 6 * nv
+        _call_solve(f_solve, m, d, _voidptr(minv_a), _voidptr(unit), 6)
+        minv = carray(_voidptr(minv_a), (6, nv), np.float64)
+        tau = _torque(t, ctx, qpos, qvel, qacc, minv)
+        for k in range(6):
+            qfrc[v0 + k] = tau[k]
+        if stage == 0 and ctx[C_REC_ADDR] != 0.0 and ctx[C_ROW] < ctx[C_REC_ROWS]:
+            nb = int(ctx[C_WING1]) + 1
+            xpos = carray(_voidptr(carray(_voidptr(da + o_xpos), 1, np.int64)[0]), (nb, 3), np.float64)
+            xipos = carray(_voidptr(carray(_voidptr(da + o_xipos), 1, np.int64)[0]), (nb, 3), np.float64)
+            xmat = carray(_voidptr(carray(_voidptr(da + o_xmat), 1, np.int64)[0]), (nb, 9), np.float64)
+            row = int(ctx[C_ROW])
+            rec = carray(_voidptr(int(ctx[C_REC_ADDR]) + 8 * REC_WIDTH * row), REC_WIDTH, np.float64)
+            _record(ctx, rec, t, qvel, tau, xpos, xipos, xmat)
+            ctx[C_ROW] = row + 1
+        if ctx[C_CAPTURE] != 0.0:
+            for k in range(6):
+                ctx[C_TAU + k] = tau[k]
+            ctx[C_CAPTURE] = 0.0
+
+    return control
+
+
+class NativeControl:
+    """One simulator's ctx array and the compiled callback (None where unavailable: use the Python callback).
+
+    Args:
+        nq, nv: the model's sizes (a free body first: nq = nv + 1).
+        q0, v0: the first wing joint's qpos and dof index (the six wing joints contiguous).
+        kp, kd: the PD gains [1/s^2], [1/s].
+    """
+
+    def __init__(self, nq: int, nv: int, q0: int, v0: int, kp: float, kd: float, body: int, wings):
+        if nq != nv + 1:
+            raise ValueError("the native callback needs a model of one free body and hinges (nq = nv + 1)")
+        if not body < wings[0] < wings[1]:
+            raise ValueError(f"the native callback needs the body before the wings, got {body}, {tuple(wings)}")
+        self.ctx = np.zeros(N_FIXED + 12 * nv)
+        self.ctx[C_Q0], self.ctx[C_V0], self.ctx[C_NV] = q0, v0, nv
+        self.ctx[C_BODY], self.ctx[C_WING0], self.ctx[C_WING1] = body, wings[0], wings[1]
+        self.ctx[C_KP], self.ctx[C_KD] = kp, kd
+        unit = self.ctx[C_SCRATCH:C_SCRATCH + 6 * nv].reshape(6, nv)
+        unit[np.arange(6), v0 + np.arange(6)] = 1.0
+        fn = _callback()
+        self.callback = fn.ctypes if fn is not None else None
+        """The ctypes function pointer for ``mujoco.set_mjcb_control`` (None: unavailable)."""
+
+    @property
+    def available(self) -> bool:
+        return self.callback is not None
+
+    def set_eq1(self, p: np.ndarray) -> None:
+        """Mode 0: both wings on Eq. 1 of p = (f, phi0, theta0, alpha0, phi_a, alpha_a)."""
+        self.ctx[C_MODE] = MODE_EQ1
+        self.ctx[C_P:C_P + 6] = p
+
+    def set_blend(self, old: tuple[np.ndarray, np.ndarray], new: tuple[np.ndarray, np.ndarray], *, t0: float,
+                  phase: float, span: float, period: float, same: bool) -> None:
+        """Mode 1: the blend of ControlledSimulator (old, new: (left, right) parameter rows as in set_eq1)."""
+        c = self.ctx
+        c[C_MODE] = MODE_BLEND
+        c[C_NEW:C_NEW + 6], c[C_NEW + 6:C_NEW + 12] = new
+        c[C_OLD:C_OLD + 6], c[C_OLD + 6:C_OLD + 12] = old
+        c[C_T0], c[C_PHASE], c[C_SPAN], c[C_T], c[C_SAME] = t0, phase, span, period, float(same)
+
+    def capture(self) -> None:
+        """Ask for the next stage's torque (the step's first stage) in :attr:`tau`; the next call is a first stage."""
+        self.ctx[C_CAPTURE] = 1.0
+        self.ctx[C_STAGE] = 0.0
+
+    @property
+    def tau(self) -> np.ndarray:
+        return self.ctx[C_TAU:C_TAU + 6]
+
+    def hold(self, force: np.ndarray, moment: np.ndarray) -> None:
+        """Apply these loads (2, 3) (world force [N], moment about each hinge [N m]) at every step's start."""
+        c = self.ctx
+        c[C_FORCE:C_FORCE + 6] = force.ravel()
+        c[C_MOMENT:C_MOMENT + 6] = moment.ravel()
+        c[C_APPLY] = 1.0
+
+    def start_chunk(self, rec: np.ndarray) -> None:
+        """Before ``mj_step(m, d, nstep=len(rec))``: record each step's start into rec (n, REC_WIDTH), a C-contiguous
+        float64 array that must live until :meth:`end_chunk`."""
+        c = self.ctx
+        c[C_STAGE] = 0.0
+        c[C_REC_ADDR], c[C_REC_ROWS], c[C_ROW] = float(rec.ctypes.data), float(len(rec)), 0.0
+
+    def end_chunk(self) -> int:
+        """After the chunk: the rows recorded (the caller checks them against the steps taken); recording and
+        applying stop."""
+        c = self.ctx
+        rows, stage = int(c[C_ROW]), int(c[C_STAGE])
+        c[C_REC_ADDR] = c[C_REC_ROWS] = c[C_ROW] = 0.0
+        c[C_APPLY] = 0.0
+        return rows if stage == 0 else -1
+
+    def install(self) -> None:
+        """Point the callback at this simulator's ctx (call before each mj_step while the callback is set)."""
+        _SLOT[0] = self.ctx.ctypes.data
