@@ -11,9 +11,11 @@ What the callback reads and writes. The callback receives (mjModel*, mjData*). T
 qpos, qvel, qacc_smooth, qfrc_applied) are found once per process: their byte offsets within the struct are taken
 from the ``mjdata.h`` shipped in the mujoco wheel (every field after ``buffer`` is a pointer) and checked against
 the addresses numpy exposes for a probe MjData (:func:`layout`). Everything else (the prescribed motion's
-parameters, the PD gains, scratch space, the captured torque) lives in a per-simulator float64 ``ctx`` array
-(:class:`NativeControl`) whose address the callback reads from a one-element slot compiled into it as a constant:
-one callback per process, as ``mjcb_control`` is one global per process.
+parameters, the PD gains, scratch space, the held loads, the recorder) lives in a per-simulator float64 ``ctx``
+array (:class:`NativeControl`). The callback's body takes a third argument, an int64 array of what differs between
+processes (the ctx address, the offsets, the function addresses), so numba caches it; the ``mjcb_control`` MuJoCo
+calls is a two-instruction trampoline that passes this process's array, compiled by llvmlite in milliseconds. One
+callback per process, as ``mjcb_control`` is one global per process.
 
 Prescribed motion. Mode 0: Eq. 1 of one kinematics for both wings (:meth:`Simulator.desired`); mode 1: the
 per-wing blend of :class:`hawksim.control.plant.ControlledSimulator` (quintic smoothstep from the previous beat's
@@ -23,8 +25,7 @@ bit-identical with the Python callback (tested, tests/hawksim/test_native.py).
 Where it is unavailable (the header or a field check fails, e.g. a future mujoco with another layout) ``layout``
 returns None and the simulator keeps the Python callback: slower, same results.
 
-Compiling the callback takes ~0.3-0.5 s once per process (it holds per-process addresses, so numba cannot cache
-it); the numerical kernels it calls are cached.
+The numba body is compiled once per install (cached like the other kernels).
 """
 
 from __future__ import annotations
@@ -308,68 +309,101 @@ def _record(ctx, rec, t, qvel, tau, xpos, xipos, xmat):
             rec[REC_WO + 3 * w + j] = xpos[b, j]
 
 
-_SLOT = np.zeros(1, dtype=np.int64)
-"""The address of the active simulator's ctx array, read by the callback (set by :meth:`NativeControl.install`)."""
+# the callback's parameters, one int64 array per process (the third argument of _control_impl)
+P_CTX, P_TIME, P_QPOS, P_QVEL, P_QACC, P_QFRC, P_XFRC, P_XPOS, P_XIPOS, P_XMAT, P_ACT, P_ACC, P_SOLVE = range(13)
+N_PARAMS = 13
+
+
+@cfunc(types.void(types.voidptr, types.voidptr, types.voidptr), cache=True)
+def _control_impl(m, d, params):
+    """The callback's body; everything that differs between processes (the ctx array's address, the mjData
+    offsets, the libmujoco functions' addresses) comes in ``params`` (int64, ``P_*``), so numba caches it."""
+    prm = carray(params, N_PARAMS, np.int64)
+    da = _address(d)
+    ca = prm[P_CTX]
+    nv = int(carray(_voidptr(ca + 8 * C_NV), 1, np.float64)[0])
+    ctx = carray(_voidptr(ca), N_FIXED + 12 * nv, np.float64)
+    nq = nv + 1  # a free body (7 qpos, 6 dofs) and hinges
+    qpos = carray(_voidptr(carray(_voidptr(da + prm[P_QPOS]), 1, np.int64)[0]), nq, np.float64)
+    qvel = carray(_voidptr(carray(_voidptr(da + prm[P_QVEL]), 1, np.int64)[0]), nv, np.float64)
+    qacc = carray(_voidptr(carray(_voidptr(da + prm[P_QACC]), 1, np.int64)[0]), nv, np.float64)
+    qfrc = carray(_voidptr(carray(_voidptr(da + prm[P_QFRC]), 1, np.int64)[0]), nv, np.float64)
+    t = carray(_voidptr(da + prm[P_TIME]), 1, np.float64)[0]
+    v0 = int(ctx[C_V0])
+    nb = int(ctx[C_WING1]) + 1
+    stage = int(ctx[C_STAGE])
+    ctx[C_STAGE] = (stage + 1) % 4
+    if stage == 0 and ctx[C_APPLY] != 0.0:
+        xfrc = carray(_voidptr(carray(_voidptr(da + prm[P_XFRC]), 1, np.int64)[0]), (nb, 6), np.float64)
+        xpos = carray(_voidptr(carray(_voidptr(da + prm[P_XPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
+        xipos = carray(_voidptr(carray(_voidptr(da + prm[P_XIPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
+        _apply_loads(ctx, xfrc, xpos, xipos)
+    for k in range(6):
+        qfrc[v0 + k] = 0.0
+    _call_md(prm[P_ACT], m, d)
+    _call_md(prm[P_ACC], m, d)
+    unit = ca + 8 * C_SCRATCH
+    minv_a = unit + 8 * 6 * nv
+    _call_solve(prm[P_SOLVE], m, d, _voidptr(minv_a), _voidptr(unit), 6)
+    minv = carray(_voidptr(minv_a), (6, nv), np.float64)
+    tau = _torque(t, ctx, qpos, qvel, qacc, minv)
+    for k in range(6):
+        qfrc[v0 + k] = tau[k]
+    if stage == 0 and ctx[C_REC_ADDR] != 0.0 and ctx[C_ROW] < ctx[C_REC_ROWS]:
+        xpos = carray(_voidptr(carray(_voidptr(da + prm[P_XPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
+        xipos = carray(_voidptr(carray(_voidptr(da + prm[P_XIPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
+        xmat = carray(_voidptr(carray(_voidptr(da + prm[P_XMAT]), 1, np.int64)[0]), (nb, 9), np.float64)
+        row = int(ctx[C_ROW])
+        rec = carray(_voidptr(int(ctx[C_REC_ADDR]) + 8 * REC_WIDTH * row), REC_WIDTH, np.float64)
+        _record(ctx, rec, t, qvel, tau, xpos, xipos, xmat)
+        ctx[C_ROW] = row + 1
+    if ctx[C_CAPTURE] != 0.0:
+        for k in range(6):
+            ctx[C_TAU + k] = tau[k]
+        ctx[C_CAPTURE] = 0.0
+
+
+class _Trampoline:
+    """The mjcb_control of this process: ``void f(m, d)`` calling ``_control_impl(m, d, params)`` with this
+    process's params array, as a two-instruction LLVM function compiled by llvmlite (milliseconds; the numba
+    body above comes from numba's cache)."""
+
+    def __init__(self, impl_address: int, params: np.ndarray):
+        import llvmlite.binding as llvm
+
+        llvm.initialize_native_target()
+        llvm.initialize_native_asmprinter()
+        p8 = ir.IntType(8).as_pointer()
+        mod = ir.Module(name="hawksim_native_trampoline")
+        mod.triple = llvm.get_process_triple()
+        fn = ir.Function(mod, ir.FunctionType(ir.VoidType(), [p8, p8]), name="hawksim_mjcb_control")
+        b = ir.IRBuilder(fn.append_basic_block())
+        implty = ir.FunctionType(ir.VoidType(), [p8, p8, p8])
+        impl = b.inttoptr(ir.Constant(ir.IntType(64), impl_address), implty.as_pointer())
+        prm = b.inttoptr(ir.Constant(ir.IntType(64), params.ctypes.data), p8)
+        b.call(impl, [fn.args[0], fn.args[1], prm])
+        b.ret_void()
+        target = llvm.Target.from_default_triple().create_target_machine()
+        module = llvm.parse_assembly(str(mod))
+        module.verify()
+        self._engine = llvm.create_mcjit_compiler(module, target)
+        self._engine.finalize_object()
+        self.params = params  # kept alive with the engine
+        addr = self._engine.get_function_address("hawksim_mjcb_control")
+        self.callback = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)(addr)
 
 
 @lru_cache(maxsize=1)
-def _callback():
-    """Compile the callback for this process's layout (None where :func:`layout` is None)."""
+def _callback() -> _Trampoline | None:
+    """This process's callback (None where :func:`layout` is None)."""
     lay = layout()
     if lay is None:
         return None
-    slot = _SLOT.ctypes.data
-    o_time, o_qpos, o_qvel, o_qacc, o_qfrc = lay.time, lay.qpos, lay.qvel, lay.qacc_smooth, lay.qfrc_applied
-    o_xfrc, o_xpos, o_xipos, o_xmat = lay.xfrc_applied, lay.xpos, lay.xipos, lay.xmat
-    f_act, f_acc, f_solve = lay.fwd_actuation, lay.fwd_acceleration, lay.solve_m
-
-    @cfunc(types.void(types.voidptr, types.voidptr))
-    def control(m, d):
-        da = _address(d)
-        ca = carray(_voidptr(slot), 1, np.int64)[0]
-        nv = int(carray(_voidptr(ca + 8 * C_NV), 1, np.float64)[0])
-        ctx = carray(_voidptr(ca), N_FIXED + 12 * nv, np.float64)
-        nq = nv + 1  # a free body (7 qpos, 6 dofs) and hinges
-        qpos = carray(_voidptr(carray(_voidptr(da + o_qpos), 1, np.int64)[0]), nq, np.float64)
-        qvel = carray(_voidptr(carray(_voidptr(da + o_qvel), 1, np.int64)[0]), nv, np.float64)
-        qacc = carray(_voidptr(carray(_voidptr(da + o_qacc), 1, np.int64)[0]), nv, np.float64)
-        qfrc = carray(_voidptr(carray(_voidptr(da + o_qfrc), 1, np.int64)[0]), nv, np.float64)
-        t = carray(_voidptr(da + o_time), 1, np.float64)[0]
-        v0 = int(ctx[C_V0])
-        stage = int(ctx[C_STAGE])
-        ctx[C_STAGE] = (stage + 1) % 4
-        if stage == 0 and ctx[C_APPLY] != 0.0:
-            nb = int(ctx[C_WING1]) + 1
-            xfrc = carray(_voidptr(carray(_voidptr(da + o_xfrc), 1, np.int64)[0]), (nb, 6), np.float64)
-            xpos = carray(_voidptr(carray(_voidptr(da + o_xpos), 1, np.int64)[0]), (nb, 3), np.float64)
-            xipos = carray(_voidptr(carray(_voidptr(da + o_xipos), 1, np.int64)[0]), (nb, 3), np.float64)
-            _apply_loads(ctx, xfrc, xpos, xipos)
-        for k in range(6):
-            qfrc[v0 + k] = 0.0
-        _call_md(f_act, m, d)
-        _call_md(f_acc, m, d)
-        unit = ca + 8 * C_SCRATCH
-        minv_a = unit + 8 * 6 * nv
-        _call_solve(f_solve, m, d, _voidptr(minv_a), _voidptr(unit), 6)
-        minv = carray(_voidptr(minv_a), (6, nv), np.float64)
-        tau = _torque(t, ctx, qpos, qvel, qacc, minv)
-        for k in range(6):
-            qfrc[v0 + k] = tau[k]
-        if stage == 0 and ctx[C_REC_ADDR] != 0.0 and ctx[C_ROW] < ctx[C_REC_ROWS]:
-            nb = int(ctx[C_WING1]) + 1
-            xpos = carray(_voidptr(carray(_voidptr(da + o_xpos), 1, np.int64)[0]), (nb, 3), np.float64)
-            xipos = carray(_voidptr(carray(_voidptr(da + o_xipos), 1, np.int64)[0]), (nb, 3), np.float64)
-            xmat = carray(_voidptr(carray(_voidptr(da + o_xmat), 1, np.int64)[0]), (nb, 9), np.float64)
-            row = int(ctx[C_ROW])
-            rec = carray(_voidptr(int(ctx[C_REC_ADDR]) + 8 * REC_WIDTH * row), REC_WIDTH, np.float64)
-            _record(ctx, rec, t, qvel, tau, xpos, xipos, xmat)
-            ctx[C_ROW] = row + 1
-        if ctx[C_CAPTURE] != 0.0:
-            for k in range(6):
-                ctx[C_TAU + k] = tau[k]
-            ctx[C_CAPTURE] = 0.0
-
-    return control
+    params = np.zeros(N_PARAMS, dtype=np.int64)
+    params[[P_TIME, P_QPOS, P_QVEL, P_QACC, P_QFRC, P_XFRC, P_XPOS, P_XIPOS, P_XMAT, P_ACT, P_ACC, P_SOLVE]] = (
+        lay.time, lay.qpos, lay.qvel, lay.qacc_smooth, lay.qfrc_applied, lay.xfrc_applied, lay.xpos, lay.xipos,
+        lay.xmat, lay.fwd_actuation, lay.fwd_acceleration, lay.solve_m)
+    return _Trampoline(_control_impl.address, params)
 
 
 class NativeControl:
@@ -392,8 +426,8 @@ class NativeControl:
         self.ctx[C_KP], self.ctx[C_KD] = kp, kd
         unit = self.ctx[C_SCRATCH:C_SCRATCH + 6 * nv].reshape(6, nv)
         unit[np.arange(6), v0 + np.arange(6)] = 1.0
-        fn = _callback()
-        self.callback = fn.ctypes if fn is not None else None
+        self._tramp = _callback()
+        self.callback = self._tramp.callback if self._tramp is not None else None
         """The ctypes function pointer for ``mujoco.set_mjcb_control`` (None: unavailable)."""
 
     @property
@@ -448,4 +482,4 @@ class NativeControl:
 
     def install(self) -> None:
         """Point the callback at this simulator's ctx (call before each mj_step while the callback is set)."""
-        _SLOT[0] = self.ctx.ctypes.data
+        self._tramp.params[P_CTX] = self.ctx.ctypes.data

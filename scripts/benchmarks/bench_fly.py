@@ -8,9 +8,12 @@ Python start-up and imports), and the real-time factors (simulated time / wall t
     python scripts/benchmarks/bench_fly.py [--speed 1] [--cycles 20] [--aero quasi-steady] [--repeat 3]
 
 ``time_split_s`` says where the flight loop's time goes (one more flight under cProfile, whose overhead inflates the
-Python parts: read it as proportions): the MuJoCo step without the computed-torque callback, the callback (four per
-step, one per RK4 stage), the backend's loads, the rest of ``Simulator.step`` (state read-out, xfrc_applied) and the
-recording in ``fly`` (issue 21's target for `--aero surrogate`: >= 10x real time over 20 wingbeats).
+Python parts: read it as proportions): MuJoCo's steps with the native computed-torque callback, a Python callback
+(0 unless the native one is unavailable), the backend's loads, the rest of ``Simulator.advance`` (state read-out,
+the held loads) and what ``fly`` does outside it (issue 21's target for `--aero surrogate`: >= 10x real time over
+20 wingbeats). ``loop_wall_python_callback_s``: the same flights with the Python callback and one Python step per
+step (the loop before the native callback), interleaved with the native ones; ``floors_s`` / ``realtime_ceilings``:
+MuJoCo's RK4 steps alone, with and without the native computed torque, no aerodynamics, no Python per step.
 """
 
 import argparse
@@ -146,13 +149,13 @@ def _time_split(a) -> dict:
     def cum(name, file_part=""):
         return sum(v[3] for k, v in st.items() if k[2] == name and file_part in k[0])
 
-    step, mj_step, control = cum("step", "simulator.py"), cum("<built-in method mujoco._functions.mj_step>"), \
-        cum("_control", "simulator.py")
+    advance, mj_step = cum("advance", "simulator.py"), cum("<built-in method mujoco._functions.mj_step>")
+    control = cum("_control", "simulator.py")  # the Python callback (0 with the native one)
     loads = sum(v[3] for k, v in st.items() if k[2] == "loads" and "backends" in k[0])
     fly_total = cum("fly", "flight/fly.py")
-    return {"fly_total": fly_total, "mujoco_step_without_callback": mj_step - control, "computed_torque_callback":
-            control, "backend_loads": loads, "simulator_step_rest": step - mj_step - loads,
-            "recording_in_fly": fly_total - step}
+    return {"fly_total": fly_total, "mujoco_step_with_native_callback": mj_step - control,
+            "python_computed_torque_callback": control, "backend_loads": loads,
+            "simulator_advance_rest": advance - mj_step - loads, "fly_outside_advance": fly_total - advance}
 
 
 if __name__ == "__main__":

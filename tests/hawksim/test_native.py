@@ -76,3 +76,31 @@ def test_a_subclass_with_its_own_motion_keeps_the_python_callback():
 
     kin = table3_kinematics(1.0)
     assert Other(load_model(), kin, QuasiSteadyBackend(), steps_per_cycle=40)._native is None
+
+
+def test_advance_is_the_steps_it_replaces():
+    """Simulator.advance (the steps between backend updates in one mj_step(nstep), loads applied and the state
+    recorded by the native callback) against the same steps one by one (Simulator.step): the same floats, with a
+    backend updated every step (quasi-steady) and one held over several (the per-step surrogate)."""
+    from hawksim.backends.step_surrogate import StepSurrogateBackend
+    from hawksim.flight.simulator import StepBatch, aero_every_for
+
+    kin = table3_kinematics(1.0)
+    for backend in (QuasiSteadyBackend(), StepSurrogateBackend(kin)):
+        every = aero_every_for(backend, 100)
+        runs = []
+        for batched in (False, True):
+            sim = Simulator(load_model(), kin, backend, steps_per_cycle=100, aero_every=every)
+            sim.reset(velocity=(0.0, 0.0, 1.0))
+            if batched:
+                parts = [sim.advance(k) for k in (37, 63, 50)]  # chunks that cut the backend's update intervals
+            else:
+                parts = [StepBatch.of([sim.step() for _ in range(150)], 0, 0)]
+            runs.append((parts, sim.d.qpos.copy(), sim.d.qvel.copy()))
+        (a, qa, va), (b, qb, vb) = runs
+        np.testing.assert_array_equal(qa, qb)
+        np.testing.assert_array_equal(va, vb)
+        for name in ("t", "body_pos", "body_R", "body_v", "body_omega", "wing_R", "wing_origin", "force", "moment",
+                     "power_aero", "power_joint"):
+            np.testing.assert_array_equal(np.concatenate([getattr(p, name) for p in a]),
+                                          np.concatenate([getattr(p, name) for p in b]), err_msg=name)
