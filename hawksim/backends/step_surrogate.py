@@ -42,6 +42,28 @@ class StepSurrogateBackend:
         self._hist_t: list[float] = []
         self._hist_s: list[np.ndarray] = []
 
+    def native(self, every: int):
+        """This network for the flight loop's native callback (:class:`hawksim.flight.native.NativeNetwork`),
+        updated every ``every`` steps; None for a network with history lags (their record stays in Python)."""
+        from hawksim.flight.native import NativeNetwork
+
+        if self.lags:
+            return None
+        blocks = self.blocks if self.blocks is not None else tuple(
+            (W[None], b.reshape(1, 1, -1)) for W, b in self.layers[:-1]) + (
+            (self.layers[-1][0][None], np.zeros((1, 1, 6), np.float32)),)
+        K, h = blocks[0][0].shape[0], blocks[0][0].shape[2]
+        parts = []
+        for k, (W, b) in enumerate(blocks):
+            parts.append(W.ravel())  # (K, in, out): the layout of hawksim.flight.native.mlp
+            parts.append(np.broadcast_to(b.reshape(-1, b.shape[-1]), (K, b.shape[-1])).ravel() if k < len(blocks) - 1
+                         else np.zeros(K * 6, np.float32))
+        parts.append(self.layers[-1][1])
+        return NativeNetwork(buffer=NativeNetwork.pack(np.concatenate(parts)), members=K, n_in=self.net.n_in,
+                             hidden=h, layers=len(blocks), every=every, omega_f=self._omega_f,
+                             kinematics=self._x[0, :7].astype(np.float64),
+                             mirrors=np.concatenate([MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M]).astype(float))
+
     def reset(self, state: FlightState) -> None:
         self._hist_t, self._hist_s = [], []
 

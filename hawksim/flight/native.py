@@ -56,13 +56,21 @@ C_APPLY = 49         # 1: at each step's first stage, write the held loads below
 C_FORCE, C_MOMENT = 50, 56  # 6 each: the held world force and moment about the hinge of (left, right) [N, N m]
 C_BODY, C_WING0, C_WING1 = 62, 63, 64  # body ids
 C_REC_ADDR, C_REC_ROWS, C_ROW = 65, 66, 67  # the recorder: address of a (rows, REC_WIDTH) float64 array, next row
-C_SCRATCH = 68       # 6 nv unit vectors, then 6 nv rows of M^-1
-N_FIXED = 68
+C_POWER = 68         # the held loads' aerodynamic power [W]
+# the per-step surrogate evaluated in the callback (set_network): on, weights' address, members K, inputs, hidden
+# width, layers; update every C_EVERY steps counted from step C_I0 of the chunk's first row; 2 pi f; the seven
+# kinematic inputs; the air velocity (world, m/s); the mirror signs V, W, F, M (3 each)
+C_NET_ON, C_NET_ADDR, C_NET_K, C_NET_IN, C_NET_H, C_NET_L, C_EVERY, C_I0, C_OMEGA_F = range(69, 78)
+C_KIN, C_AIR, C_MIRROR = 78, 85, 88
+C_SCRATCH = 100      # 6 nv unit vectors, then 6 nv rows of M^-1
+N_FIXED = 100
 
 REC_T, REC_POS, REC_R, REC_QVEL, REC_WR, REC_WO, REC_TAU, REC_QD = 0, 1, 4, 13, 19, 37, 43, 49
-REC_WIDTH = 55
+REC_F, REC_M, REC_PA = 55, 61, 67
+REC_WIDTH = 68
 """A recorder row, each step's state at its start: t, the body's centre of mass xipos (3), xmat (9), qvel[:6],
-the wings' xmat (2 x 9) and xpos (2 x 3), the step's first-stage wing torques (6) and the wing joint rates (6)."""
+the wings' xmat (2 x 9) and xpos (2 x 3), the step's first-stage wing torques (6), the wing joint rates (6), and the
+loads applied over the step: force (2 x 3), moment about the hinges (2 x 3), aerodynamic power."""
 
 MODE_EQ1, MODE_BLEND = 0.0, 1.0
 
@@ -80,6 +88,7 @@ class Layout:
     xpos: int
     xipos: int
     xmat: int
+    cvel: int
     fwd_actuation: int
     fwd_acceleration: int
     solve_m: int
@@ -139,7 +148,7 @@ def layout() -> Layout | None:
 
     offs = {k: buf_off + 8 * (1 + i) for i, k in enumerate(names)}  # names[0] is 'arena', right after 'buffer'
     checks = {"qpos": d.qpos, "qvel": d.qvel, "qacc_smooth": d.qacc_smooth, "qfrc_applied": d.qfrc_applied,
-              "xfrc_applied": d.xfrc_applied, "xpos": d.xpos, "xipos": d.xipos}
+              "xfrc_applied": d.xfrc_applied, "xpos": d.xpos, "xipos": d.xipos, "cvel": d.cvel}
     for k, arr in checks.items():
         if k not in offs or ptr_at(offs[k]) != arr.ctypes.data:
             return None
@@ -155,8 +164,8 @@ def layout() -> Layout | None:
         return None
     return Layout(time=t_off, qpos=offs["qpos"], qvel=offs["qvel"], qacc_smooth=offs["qacc_smooth"],
                   qfrc_applied=offs["qfrc_applied"], xfrc_applied=offs["xfrc_applied"], xpos=offs["xpos"],
-                  xipos=offs["xipos"], xmat=offs["xmat"], fwd_actuation=fns[0], fwd_acceleration=fns[1],
-                  solve_m=fns[2])
+                  xipos=offs["xipos"], xmat=offs["xmat"], cvel=offs["cvel"], fwd_actuation=fns[0],
+                  fwd_acceleration=fns[1], solve_m=fns[2])
 
 
 # ---- LLVM helpers: an integer address as a pointer, calls through a function address ---------------------------
@@ -307,11 +316,104 @@ def _record(ctx, rec, t, qvel, tau, xpos, xipos, xmat):
             rec[REC_WR + 9 * w + j] = xmat[b, j]
         for j in range(3):
             rec[REC_WO + 3 * w + j] = xpos[b, j]
+    for j in range(6):
+        rec[REC_F + j] = ctx[C_FORCE + j]
+        rec[REC_M + j] = ctx[C_MOMENT + j]
+    rec[REC_PA] = ctx[C_POWER]
+
+
+@njit(cache=True)
+def mlp(x, buf, K, n_in, h, L):
+    """The folded ensemble network of :mod:`hawksim.backends.step_surrogate` at inputs x (n, n_in) float32:
+    K members of L layers (tanh between), summed, plus the output bias. ``buf`` (float32, flat) holds, per layer
+    l, the weights (K, a_l, b_l) (input-major, as the numpy evaluation's W^T) then the biases (K, b_l) (a_0 = n_in,
+    hidden b = h, last b = 6; the last layer's biases are the members' zeros), then the output bias (6). The
+    arithmetic of the numpy evaluation up to the order of the float32 sums (~1e-7 relative); each weight row is
+    read once for all n rows of x (the weights, ~0.9 MB for the shipped 3 x 192^3 network, are what costs)."""
+    n = x.shape[0]
+    out = np.zeros((n, 6), np.float32)
+    for k in range(K):
+        hcur = x.copy()
+        off = 0
+        for lay in range(L):
+            a = n_in if lay == 0 else h
+            b = 6 if lay == L - 1 else h
+            wbase = off + k * a * b
+            off += K * a * b
+            bias = buf[off + k * b:off + (k + 1) * b]
+            off += K * b
+            nxt = np.zeros((n, b), np.float32)
+            for i in range(a):
+                w = buf[wbase + i * b:wbase + (i + 1) * b]
+                for r in range(n):
+                    xi = hcur[r, i]
+                    acc = nxt[r]
+                    for j in range(b):
+                        acc[j] += xi * w[j]
+            for r in range(n):
+                for j in range(b):
+                    v = nxt[r, j] + bias[j]
+                    nxt[r, j] = np.tanh(v) if lay < L - 1 else v
+            hcur = nxt
+        for r in range(n):
+            for j in range(6):
+                out[r, j] += hcur[r, j]
+    fb = buf.shape[0] - 6
+    for r in range(n):
+        for j in range(6):
+            out[r, j] += buf[fb + j]
+    return out
+
+
+@njit(cache=True)
+def _surrogate_loads(ctx, t, qvel, xmat, cvel, buf):
+    """The per-step surrogate's loads at the step's start into ctx (C_FORCE, C_MOMENT, C_POWER): the operations of
+    ``StepSurrogateBackend.loads`` on the body's velocity relative to the air and angular velocity in body axes."""
+    body = int(ctx[C_BODY])
+    R = xmat[body].reshape((3, 3))
+    bw = np.empty(3)
+    for i in range(3):
+        bw[i] = R[i, 0] * qvel[3] + R[i, 1] * qvel[4] + R[i, 2] * qvel[5]
+    v, w = np.empty(3), np.empty(3)
+    for i in range(3):
+        v[i] = (R[0, i] * (qvel[0] - ctx[C_AIR]) + R[1, i] * (qvel[1] - ctx[C_AIR + 1])
+                + R[2, i] * (qvel[2] - ctx[C_AIR + 2]))
+        w[i] = R[0, i] * bw[0] + R[1, i] * bw[1] + R[2, i] * bw[2]
+    n_in = int(ctx[C_NET_IN])
+    x = np.zeros((2, n_in), np.float32)
+    ph = ctx[C_OMEGA_F] * t
+    for r in range(2):
+        for j in range(7):
+            x[r, j] = ctx[C_KIN + j]
+        x[r, 7] = math.sin(ph)
+        x[r, 8] = math.cos(ph)
+    for j in range(3):
+        x[0, 9 + j], x[0, 12 + j] = v[j], w[j]
+        x[1, 9 + j], x[1, 12 + j] = v[j] * ctx[C_MIRROR + j], w[j] * ctx[C_MIRROR + 3 + j]
+    y = mlp(x, buf, int(ctx[C_NET_K]), n_in, int(ctx[C_NET_H]), int(ctx[C_NET_L]))
+    power = 0.0
+    for wg in range(2):
+        WR = xmat[int(ctx[C_WING0 + wg])].reshape((3, 3))
+        fw, mw = np.empty(3), np.empty(3)
+        for j in range(3):
+            fw[j] = np.float64(y[wg, j]) * (ctx[C_MIRROR + 6 + j] if wg == 1 else 1.0)
+            mw[j] = np.float64(y[wg, 3 + j]) * (ctx[C_MIRROR + 9 + j] if wg == 1 else 1.0)
+        for i in range(3):
+            f = WR[i, 0] * fw[0] + WR[i, 1] * fw[1] + WR[i, 2] * fw[2]
+            mo = WR[i, 0] * mw[0] + WR[i, 1] * mw[1] + WR[i, 2] * mw[2]
+            ctx[C_FORCE + 3 * wg + i] = f
+            ctx[C_MOMENT + 3 * wg + i] = mo
+    for wg in range(2):
+        wid = int(ctx[C_WING0 + wg])
+        for j in range(3):
+            power += (cvel[wid, j] - bw[j]) * ctx[C_MOMENT + 3 * wg + j]
+    ctx[C_POWER] = -power
 
 
 # the callback's parameters, one int64 array per process (the third argument of _control_impl)
-P_CTX, P_TIME, P_QPOS, P_QVEL, P_QACC, P_QFRC, P_XFRC, P_XPOS, P_XIPOS, P_XMAT, P_ACT, P_ACC, P_SOLVE = range(13)
-N_PARAMS = 13
+P_CTX, P_TIME, P_QPOS, P_QVEL, P_QACC, P_QFRC, P_XFRC, P_XPOS, P_XIPOS, P_XMAT, P_CVEL, P_ACT, P_ACC, P_SOLVE = \
+    range(14)
+N_PARAMS = 14
 
 
 @cfunc(types.void(types.voidptr, types.voidptr, types.voidptr), cache=True)
@@ -333,6 +435,12 @@ def _control_impl(m, d, params):
     nb = int(ctx[C_WING1]) + 1
     stage = int(ctx[C_STAGE])
     ctx[C_STAGE] = (stage + 1) % 4
+    if stage == 0 and ctx[C_NET_ON] != 0.0 and (int(ctx[C_I0]) + int(ctx[C_ROW])) % int(ctx[C_EVERY]) == 0:
+        xmat = carray(_voidptr(carray(_voidptr(da + prm[P_XMAT]), 1, np.int64)[0]), (nb, 9), np.float64)
+        cvel = carray(_voidptr(carray(_voidptr(da + prm[P_CVEL]), 1, np.int64)[0]), (nb, 6), np.float64)
+        n_buf = int(carray(_voidptr(int(ctx[C_NET_ADDR])), 1, np.float64)[0])
+        buf = carray(_voidptr(int(ctx[C_NET_ADDR]) + 8), n_buf, np.float32)
+        _surrogate_loads(ctx, t, qvel, xmat, cvel, buf)
     if stage == 0 and ctx[C_APPLY] != 0.0:
         xfrc = carray(_voidptr(carray(_voidptr(da + prm[P_XFRC]), 1, np.int64)[0]), (nb, 6), np.float64)
         xpos = carray(_voidptr(carray(_voidptr(da + prm[P_XPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
@@ -400,10 +508,37 @@ def _callback() -> _Trampoline | None:
     if lay is None:
         return None
     params = np.zeros(N_PARAMS, dtype=np.int64)
-    params[[P_TIME, P_QPOS, P_QVEL, P_QACC, P_QFRC, P_XFRC, P_XPOS, P_XIPOS, P_XMAT, P_ACT, P_ACC, P_SOLVE]] = (
-        lay.time, lay.qpos, lay.qvel, lay.qacc_smooth, lay.qfrc_applied, lay.xfrc_applied, lay.xpos, lay.xipos,
-        lay.xmat, lay.fwd_actuation, lay.fwd_acceleration, lay.solve_m)
+    params[[P_TIME, P_QPOS, P_QVEL, P_QACC, P_QFRC, P_XFRC, P_XPOS, P_XIPOS, P_XMAT, P_CVEL, P_ACT, P_ACC,
+            P_SOLVE]] = (lay.time, lay.qpos, lay.qvel, lay.qacc_smooth, lay.qfrc_applied, lay.xfrc_applied, lay.xpos,
+                         lay.xipos, lay.xmat, lay.cvel, lay.fwd_actuation, lay.fwd_acceleration, lay.solve_m)
     return _Trampoline(_control_impl.address, params)
+
+
+@dataclass(frozen=True)
+class NativeNetwork:
+    """A per-step surrogate for the callback (:meth:`hawksim.backends.step_surrogate.StepSurrogateBackend.native`):
+    ``buffer`` float64-aligned bytes: its first float64 the number of float32 values that follow (the layout of
+    :func:`mlp`); members, n_in, hidden, layers; ``every`` steps per update; omega_f = 2 pi f [rad/s] of its phase
+    input; kinematics (7,) its kinematic inputs (SI); mirrors (12,) MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M."""
+
+    buffer: np.ndarray
+    members: int
+    n_in: int
+    hidden: int
+    layers: int
+    every: int
+    omega_f: float
+    kinematics: np.ndarray
+    mirrors: np.ndarray
+
+    @staticmethod
+    def pack(values: np.ndarray) -> np.ndarray:
+        """The buffer for float32 ``values``: a float64 count, then the values."""
+        values = np.ascontiguousarray(values, np.float32)
+        out = np.zeros(1 + (len(values) + 1) // 2, np.float64)
+        out[0] = len(values)
+        out[1:].view(np.float32)[:len(values)] = values
+        return out
 
 
 class NativeControl:
@@ -423,6 +558,7 @@ class NativeControl:
         self.ctx = np.zeros(N_FIXED + 12 * nv)
         self.ctx[C_Q0], self.ctx[C_V0], self.ctx[C_NV] = q0, v0, nv
         self.ctx[C_BODY], self.ctx[C_WING0], self.ctx[C_WING1] = body, wings[0], wings[1]
+        self._net: NativeNetwork | None = None
         self.ctx[C_KP], self.ctx[C_KD] = kp, kd
         unit = self.ctx[C_SCRATCH:C_SCRATCH + 6 * nv].reshape(6, nv)
         unit[np.arange(6), v0 + np.arange(6)] = 1.0
@@ -457,12 +593,45 @@ class NativeControl:
     def tau(self) -> np.ndarray:
         return self.ctx[C_TAU:C_TAU + 6]
 
-    def hold(self, force: np.ndarray, moment: np.ndarray) -> None:
-        """Apply these loads (2, 3) (world force [N], moment about each hinge [N m]) at every step's start."""
+    def hold(self, force: np.ndarray, moment: np.ndarray, power: float) -> None:
+        """Apply these loads (2, 3) (world force [N], moment about each hinge [N m]) at every step's start (and
+        record them with their power [W])."""
         c = self.ctx
         c[C_FORCE:C_FORCE + 6] = force.ravel()
         c[C_MOMENT:C_MOMENT + 6] = moment.ravel()
+        c[C_POWER] = power
         c[C_APPLY] = 1.0
+
+    def set_network(self, net: NativeNetwork | None) -> None:
+        """Evaluate the per-step surrogate ``net`` in the callback (None: the loads come from :meth:`hold`)."""
+        c = self.ctx
+        self._net = net
+        if net is None:
+            c[C_NET_ON] = 0.0
+            return
+        c[C_NET_ADDR] = float(net.buffer.ctypes.data)
+        c[C_NET_K], c[C_NET_IN], c[C_NET_H], c[C_NET_L] = net.members, net.n_in, net.hidden, net.layers
+        c[C_EVERY], c[C_OMEGA_F] = net.every, net.omega_f
+        c[C_KIN:C_KIN + 7] = net.kinematics
+        c[C_MIRROR:C_MIRROR + 12] = net.mirrors
+        c[C_NET_ON] = 1.0
+
+    def set_air(self, air_v) -> None:
+        """The uniform air velocity (world, m/s) the callback's surrogate sees."""
+        self.ctx[C_AIR:C_AIR + 3] = air_v
+
+    def start_network_chunk(self, rec: np.ndarray, first_step: int) -> None:
+        """As :meth:`start_chunk`, the loads from the network every ``every`` steps counted from step 0 (this
+        chunk's first row is step ``first_step`` since the reset)."""
+        self.start_chunk(rec)
+        self.ctx[C_I0] = first_step
+        self.ctx[C_APPLY] = 1.0
+
+    def held(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """The loads held now: force, moment (2, 3) and power."""
+        c = self.ctx
+        return c[C_FORCE:C_FORCE + 6].reshape(2, 3).copy(), c[C_MOMENT:C_MOMENT + 6].reshape(2, 3).copy(), float(
+            c[C_POWER])
 
     def start_chunk(self, rec: np.ndarray) -> None:
         """Before ``mj_step(m, d, nstep=len(rec))``: record each step's start into rec (n, REC_WIDTH), a C-contiguous

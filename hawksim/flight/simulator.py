@@ -126,7 +126,7 @@ class StepBatch:
                    power_joint=arr([r.joint_power for r in records], ()), extras=extras, first=first)
 
     @classmethod
-    def from_record(cls, rec: np.ndarray, force, moment, power, extras, first: int) -> StepBatch:
+    def from_record(cls, rec: np.ndarray, extras, first: int) -> StepBatch:
         """From the native callback's recorder rows (:data:`hawksim.flight.native.REC_WIDTH`); the derived rows
         (body_omega = R w, power_joint = tau . qd) by the stacked products that give :meth:`step`'s floats."""
         from hawksim.flight import native as N
@@ -138,8 +138,10 @@ class StepBatch:
         return cls(t=rec[:, N.REC_T].copy(), body_pos=rec[:, N.REC_POS:N.REC_POS + 3].copy(), body_R=R.copy(),
                    body_v=qv[:, :3].copy(), body_omega=np.matmul(R, qv[:, 3:, None])[..., 0],
                    wing_R=rec[:, N.REC_WR:N.REC_WR + 18].reshape(n, 2, 3, 3).copy(),
-                   wing_origin=rec[:, N.REC_WO:N.REC_WO + 6].reshape(n, 2, 3).copy(), force=force, moment=moment,
-                   power_aero=power, power_joint=np.matmul(tau[:, None, :], qd[:, :, None])[:, 0, 0], extras=extras,
+                   wing_origin=rec[:, N.REC_WO:N.REC_WO + 6].reshape(n, 2, 3).copy(),
+                   force=rec[:, N.REC_F:N.REC_F + 6].reshape(n, 2, 3).copy(),
+                   moment=rec[:, N.REC_M:N.REC_M + 6].reshape(n, 2, 3).copy(), power_aero=rec[:, N.REC_PA].copy(),
+                   power_joint=np.matmul(tau[:, None, :], qd[:, :, None])[:, 0, 0], extras=extras,
                    first=first)
 
 
@@ -397,22 +399,29 @@ class Simulator:
 
         m, d, native = self.m, self.d, self._native
         rec = np.empty((n, REC_WIDTH))
-        force, moment, power = np.empty((n, 2, 3)), np.empty((n, 2, 3)), np.empty(n)
         extras = []
         i0, i = self._i, 0
+        net = self._native_network()
         while i < n:
-            st = self.state()
-            if self._i % self.aero_every == 0:
-                self._held = self.backend.loads(st)
-            loads = self._held
-            k = min(n - i, self.aero_every - self._i % self.aero_every)
-            force[i:i + k], moment[i:i + k], power[i:i + k] = loads.force, loads.moment, loads.power
-            if extras_every and loads.extras:
-                extras += [(j, loads.extras) for j in range(self._i, self._i + k) if j % extras_every == 0]
-            native.hold(np.ascontiguousarray(loads.force, float), np.ascontiguousarray(loads.moment, float))
-            native.start_chunk(rec[i:i + k])
+            if net is not None:  # the whole chunk in one call: the callback evaluates the network
+                native.set_air(getattr(self, "air_v", np.zeros(3)))
+                native.start_network_chunk(rec, self._i)
+                k = n
+                t = float(d.time)
+            else:
+                st = self.state()
+                if self._i % self.aero_every == 0:
+                    self._held = self.backend.loads(st)
+                loads = self._held
+                k = min(n - i, self.aero_every - self._i % self.aero_every)
+                if extras_every and loads.extras:
+                    extras += [(j, loads.extras) for j in range(self._i, self._i + k) if j % extras_every == 0]
+                native.hold(np.ascontiguousarray(loads.force, float), np.ascontiguousarray(loads.moment, float),
+                            float(loads.power))
+                native.start_chunk(rec[i:i + k])
+                t = st.t
             native.install()
-            self._mj_step(k, st.t)
+            self._mj_step(k, t)
             rows = native.end_chunk()
             if rows != k:
                 raise RuntimeError(f"the native callback recorded {rows} of {k} steps (a stage count off)")
@@ -420,7 +429,20 @@ class Simulator:
             mujoco.mj_kinematics(m, d)
             mujoco.mj_comPos(m, d)
             mujoco.mj_comVel(m, d)
-        return StepBatch.from_record(rec, force, moment, power, extras, i0)
+        if net is not None:
+            force, moment, power = native.held()
+            self._held = WingLoads(force=force, moment=moment, power=power)
+        return StepBatch.from_record(rec, extras, i0)
+
+    def _native_network(self):
+        """The backend's network for the callback (:meth:`StepSurrogateBackend.native`), or None: a backend
+        without one, or a simulator on the Python callback. Cached per backend."""
+        if self._native is None or not hasattr(self.backend, "native"):
+            return None
+        if getattr(self, "_net_of", None) is not self.backend:
+            self._net_of, self._net = self.backend, self.backend.native(self.aero_every)
+            self._native.set_network(self._net)
+        return self._net
 
     def _mj_step(self, k: int, t: float) -> None:
         """``mj_step(m, d, nstep=k)`` with the callback in place; MuJoCo's instability warnings raise (the steps
