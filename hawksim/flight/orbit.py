@@ -285,11 +285,8 @@ class _Flight:
         states[0] = np.asarray(x0, float).copy()
         pos = sim.d.qpos[:3].copy()
         for _ in range(beats):
-            pw, th = np.empty(n), np.empty(n)
-            for i in range(n):
-                rec = sim.step()
-                pw[i] = rec.joint_power
-                th[i] = pitch_of(rec.state.body_R)
+            b = sim.advance(n)
+            pw, th = b.power_joint, pitch_of(b.body_R)
             if not np.all(np.isfinite(sim.d.qpos)):
                 raise FloatingPointError("free flight diverged (non-finite state)")
             states.append(read_body_state(sim, chi_ref))

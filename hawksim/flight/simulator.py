@@ -174,6 +174,20 @@ def route_mujoco_warnings() -> None:
         mujoco.set_mju_user_warning(_MUJOCO_LOG)
 
 
+def idle_stages(model: mujoco.MjModel) -> int:
+    """MuJoCo's disable flags for the pipeline stages that cannot act in this model, so each RK4 stage skips them
+    (~20 % of a step of the hawkmoth model, whose geoms are visual only): collision detection when no geom can
+    collide (every contype and conaffinity 0), the constraint stage when, in addition, there are no equality
+    constraints, joint limits or friction loss. The flight is the same float for float (tested)."""
+    flags = 0
+    if not np.any(model.geom_contype) and not np.any(model.geom_conaffinity):
+        flags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+        if (model.neq == 0 and not np.any(model.jnt_limited) and not np.any(model.dof_frictionloss)
+                and not np.any(model.tendon_limited)):
+            flags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+    return int(flags)
+
+
 @contextlib.contextmanager
 def _control_callback(fn):
     previous = mujoco.get_mjcb_control()
@@ -224,6 +238,7 @@ class Simulator:
         model.opt.timestep = self.dt
         model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
         model.opt.gravity[:] = (0.0, 0.0, -G) if gravity else (0.0, 0.0, 0.0)
+        model.opt.disableflags |= idle_stages(model)
         self.d = mujoco.MjData(model)
         ix = ModelIndex.of(model)
         self.body_id, self.wing_ids, self.wing_qpos, self.wing_dof = ix.body, ix.wings, ix.wing_qpos, ix.wing_dof

@@ -131,3 +131,20 @@ def test_advance_with_the_network_in_the_callback_matches_the_python_network():
     assert np.abs(a["moment"] - b["moment"]).max() <= NETWORK_REL_TOL * np.abs(a["moment"]).max()
     np.testing.assert_allclose(qb, qa, rtol=0, atol=1e-7)  # 1.5 beats: positions [m], angles [rad] (measured 4e-9)
     np.testing.assert_array_equal(a["t"], b["t"])
+
+
+def test_skipping_the_idle_pipeline_stages_changes_nothing():
+    """hawksim.flight.simulator.idle_stages: the hawkmoth's visual-only geoms cannot collide and it has no
+    constraints, so skipping collision detection and the constraint stage gives the same floats."""
+    from hawksim.flight.simulator import idle_stages
+
+    kin = table3_kinematics(1.0)
+    assert idle_stages(load_model()) != 0
+    runs = []
+    for skip in (True, False):
+        sim = Simulator(load_model(), kin, QuasiSteadyBackend(), steps_per_cycle=100)
+        if not skip:
+            sim.m.opt.disableflags = 0
+        sim.reset(velocity=(0.0, 0.0, 1.0))
+        runs.append(_run(sim, 100))
+    _same(*runs)
