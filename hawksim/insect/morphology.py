@@ -14,7 +14,7 @@ Sources
   Sin. 36: total mass m = 1578.70 mg, wing length R = 48.50 mm, mean chord 16.81 mm, wing area
   S = 815.33 mm^2 (one wing), r2/R = 0.53.
 * Wing mass 47 mg each: Berman & Wang (2007), J. Fluid Mech. 582:153-168, Table 1 (hawkmoth).
-* Chord distribution: Ellington (1984), Phil. Trans. R. Soc. B 305:1-15 ("The aerodynamics of hovering
+* Chord distribution: Ellington (1984), Phil. Trans. R. Soc. B 305:17-40 ("The aerodynamics of hovering
   insect flight. II. Morphological parameters"): the chord follows a beta distribution in r/R whose
   first moment r1 relates to the second by r2 = 0.929 r1^0.732.
 * Feathering-axis position and wing mass distribution: ``Morphology()`` (the default, every shipped table,
@@ -145,10 +145,11 @@ class WingMassModel:
     rho_A(r, s) proportional to exp(-span_decay r/R) exp(-chord_decay s), with r the spanwise position and s in
     [0, 1] the fraction of the local chord behind the leading edge. ``span_decay = chord_decay = 0`` is a wing of
     uniform areal density (the default model). Positive decays put the mass toward the root and the leading edge,
-    where insect wings carry their veins (Ellington 1984, Phil. Trans. R. Soc. B 305:17-40, Sec. 5: the radii of
-    the moments of wing mass lie inboard of those of wing area; Combes & Daniel 2003, J. Exp. Biol. 206:2989, on
-    Manduca: flexural stiffness, i.e. vein material, falls from the base to the tip and from the leading to the
-    trailing edge). ``name`` labels the model in tables and reports.
+    where insect wings carry their veins: Ellington (1984, Phil. Trans. R. Soc. B 305:17-40) treats the moments of
+    wing mass apart from those of wing area; Combes & Daniel (2003, J. Exp. Biol. 206:2989-2997) find the Manduca
+    forewing's flexural stiffness (vein material) falling from the base to the tip and from the leading to the
+    trailing edge (their abstract, as recalled; the stored text of the search held only the introduction:
+    docs/fidelity.md). ``name`` labels the model in tables and reports.
     """
 
     name: str = "uniform"
