@@ -91,6 +91,7 @@ class UVLMConfig:
     converge in the time step (AR-8 pitching-heaving wing, 40 -> 160 steps per cycle: CL amplitude and phase
     move by 5.2 % / 6.3 deg with "ring" and 0.7 % / 2.0 deg with "travel", tests/aero/test_uvlm_shedding.py). The
     collocation points, normals and areas stay those of the panels.
+    The sensitivity of L+ and P+ to every tuned constant here: docs/fidelity.md (section 5).
     """
 
     rho: float = 1.225
