@@ -28,6 +28,8 @@ Parts (``--parts``, each written to ``<out-dir>/<part>.json`` with the command, 
   evaluations while it improves. A local, budget-limited search, not the paper's GA: it says where the minimum
   moves with the variant from the same start (the fitness reached is reported).
 * ``shed_convergence``: both shedding rules at 40, 80 and 160 steps per beat (1 m/s, the lattice fixed).
+* ``lattice_convergence``: both rules on docs/uvlm.md's ladder of lattices (4 x 8 / 30 steps to 12 x 24 / 80
+  steps per beat, refined together; 1 m/s).
 * ``uvlm_parameters``: L+, P+ at Table 3's kinematics, 0 / 1 / 2 m/s (default morphology and lattice, beats 2-4)
   with each tuned constant of ``aero.uvlm.UVLMConfig`` changed one at a time, and the shedding rule at 40 and 80
   steps per beat.
@@ -228,6 +230,8 @@ def part_trim(partial_path: str | None = None) -> dict:
                 if partial_path:
                     with open(partial_path, "a") as f:
                         f.write(json.dumps(row) + "\n")
+    if partial_path and os.path.exists(partial_path):
+        os.remove(partial_path)  # complete: the part's JSON holds every row
     return {"rows": rows, "backend": "quasi-steady",
             "objective": "Eq. 3 (r = 2, s = 5) on quasi-steady held-body averages, 40 steps per beat, beat 2 of 2",
             "search": "adaptive Nelder-Mead in Table 2's scaled box from the shipped quasi-steady trim, up to "
@@ -359,6 +363,20 @@ def _rest_tables(out_dir: str, lines: list[str], speeds: str, rule: str) -> str:
             lines.append(f"| {rule_name} | " + " | ".join(f"{c['L_plus']:.3f} / {c['P_plus']:.3f}" for c in cells)
                          + " |")
         lines.append("")
+    lc = _load(out_dir, "lattice_convergence")
+    if lc:
+        lines += ["**Lattice convergence with each shedding rule** (Table 3, 1 m/s; rings per wing and steps per beat "
+                  "refined together, docs/uvlm.md's ladder): L+ / P+", "",
+                  "| shedding rule | " + " | ".join(f"{a} x {b}, {c}" for a, b, c in LATTICE_LADDER) + " |",
+                  "|---|" + "---|" * len(LATTICE_LADDER)]
+        for rule_name in ("travel", "ring"):
+            cells = []
+            for a, b, c in LATTICE_LADDER:
+                hit = [r for r in lc["rows"] if r["shed_rule"] == rule_name and (r["n_chord"], r["n_span"],
+                                                                                r["steps_per_cycle"]) == (a, b, c)]
+                cells.append(f"{hit[0]['L_plus']:.3f} / {hit[0]['P_plus']:.3f}" if hit else "-")
+            lines.append(f"| {rule_name} | " + " | ".join(cells) + " |")
+        lines.append("")
     up = _load(out_dir, "uvlm_parameters")
     if up:
         lines += ["**UVLM constants** (default morphology, Table 3 kinematics, beats 2-4): L+ / P+", "",
@@ -394,9 +412,32 @@ def part_shed_convergence() -> dict:
             "averaged_beats": UVLM_AVERAGED}
 
 
+LATTICE_LADDER = ((4, 8, 30), (6, 12, 40), (8, 16, 60), (12, 24, 80))
+"""(n_chord, n_span, steps per beat): docs/uvlm.md's convergence ladder (panels and step refined together)."""
+
+
+def part_lattice_convergence() -> dict:
+    """L+, P+ at Table 3's 1 m/s kinematics with each shedding rule on docs/uvlm.md's ladder of lattices."""
+    rows = []
+    m = Morphology()
+    model = load_model(morph=m)
+    for rule in ("travel", "ring"):
+        for nc, ns, steps in LATTICE_LADDER:
+            t0 = time.perf_counter()
+            backend = UVLMBackend(m, nc, ns, config=UVLMConfig(rho=RHO_AIR, shed_rule=rule))
+            r = held_flight(table3_kinematics(1.0), 1.0, backend, cycles=UVLM_BEATS, average_cycles=UVLM_AVERAGED,
+                            steps_per_cycle=steps, model=model, morph=m)
+            rows.append({"shed_rule": rule, "n_chord": nc, "n_span": ns, "steps_per_cycle": steps, "speed": 1.0,
+                         **_averages(r), "per_beat_L_plus": [c.L_plus for c in r.per_cycle],
+                         "wall_s": round(time.perf_counter() - t0, 1)})
+            print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
+    return {"rows": rows, "kinematics": "Table 3 at 1 m/s", "beats": UVLM_BEATS, "averaged_beats": UVLM_AVERAGED}
+
+
 PARTS = {"aero": part_aero, "aero_travel": lambda: part_aero("travel"), "recoil": part_recoil,
          "trim": lambda: part_trim(os.path.join(OUT_DIR[0], "trim.partial.jsonl")),
-         "uvlm_parameters": part_uvlm_parameters, "shed_convergence": part_shed_convergence}
+         "uvlm_parameters": part_uvlm_parameters, "shed_convergence": part_shed_convergence,
+         "lattice_convergence": part_lattice_convergence}
 
 
 def main():
