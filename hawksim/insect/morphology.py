@@ -146,10 +146,10 @@ class WingMassModel:
     [0, 1] the fraction of the local chord behind the leading edge. ``span_decay = chord_decay = 0`` is a wing of
     uniform areal density (the default model). Positive decays put the mass toward the root and the leading edge,
     where insect wings carry their veins: Ellington (1984, Phil. Trans. R. Soc. B 305:17-40) treats the moments of
-    wing mass apart from those of wing area; Combes & Daniel (2003, J. Exp. Biol. 206:2989-2997) find the Manduca
-    forewing's flexural stiffness (vein material) falling from the base to the tip and from the leading to the
-    trailing edge (their abstract, as recalled; the stored text of the search held only the introduction:
-    docs/fidelity.md). ``name`` labels the model in tables and reports.
+    wing mass apart from those of wing area; Combes & Daniel (2003, "Flexural stiffness in insect wings II",
+    J. Exp. Biol. 206) find the Manduca forewing's flexural stiffness (vein material) falling from the base to the
+    tip and from the leading to the trailing edge (their abstract, as recalled; the stored text of the search held
+    only the introduction: docs/fidelity.md). ``name`` labels the model in tables and reports.
     """
 
     name: str = "uniform"
