@@ -7,7 +7,10 @@ Method (Katz & Plotkin 2001, ch. 13; the extensions of Nguyen et al. 2016 used b
   the ascent stream and the disturbance velocities of the paper's Eq. 15) and v_wing the wing's kinematic
   velocity from its pose rates; the influence matrix is built once per step and LU-solved;
 * Kutta condition: every step the trailing-edge rings shed a wake row with their circulation; the wake is
-  free (its corners move with the local velocity: air + induced by all vortices), in world coordinates;
+  free (its corners move with the local velocity: air + induced by all vortices), in world coordinates. Where
+  the trailing edge of the last bound ring row (the newest wake row's leading corners) sits is
+  ``UVLMConfig.shed_rule``: a quarter panel behind the trailing edge ("ring", the default) or a fraction of the
+  step's travel, ``shed_fraction`` V_te dt behind it ("travel", Katz & Plotkin Sec. 13.7/13.12);
 * vortex cores that grow with age (Ramasamy & Leishman 2007; :mod:`aero.wake`);
 * loads: Kutta-Joukowski on every bound segment, F = rho Gamma (V x l) with V the local flow velocity relative
   to the segment (air - wing + induced), plus the unsteady term -rho dGamma/dt A n per ring (the time
@@ -54,6 +57,10 @@ MAX_SHED_RATIO = 4.0
 length; a coarser step under-resolves the near wake."""
 
 
+SHED_RULES = ("ring", "travel")
+"""Placements of the newest wake vortex (:class:`UVLMConfig` ``shed_rule``)."""
+
+
 ROTOR_A_PRIME = 6.5e-5
 """Ramasamy & Leishman (2007)'s a' for rotor tip vortices (J. Am. Helicopter Soc. 52:214)."""
 
@@ -75,7 +82,18 @@ class UVLMConfig:
     rotor value the low-speed free wake amplifies round-off (a relative 1e-10 change of the kinematics) into up
     to 0.17 of L+ within 4 beats at hover; with 1e-2 the change stays below 1e-8 over those beats at every
     speed, and L+ changes by -0.2 % at 2 m/s and -4 % at 1 m/s against the rotor value;
-    max_wake_rows: keep only this many of the newest wake rows (None: no truncation).
+    max_wake_rows: keep only this many of the newest wake rows (None: no truncation);
+    shed_rule: where the trailing edge of the last bound ring row lies, and so the newest wake vortex (the
+    starting vortex of each step's shed row): "ring" (default, hawksim 0.2): a quarter of a chordwise panel
+    behind the wing's trailing edge (the ring lattice's own geometry), whatever the step's travel; "travel":
+    ``shed_fraction`` x (v_air - v_wing) dt behind each trailing-edge corner, Katz & Plotkin's (2001, Sec. 13.7
+    and 13.12) 0.2-0.3 of the distance travelled in the step, so that the near wake scales with dt and the loads
+    converge in the time step (AR-8 pitching-heaving wing, 40 -> 160 steps per cycle: CL amplitude and phase
+    move by 5.2 % / 6.3 deg with "ring" and 0.7 % / 2.0 deg with "travel", tests/aero/test_uvlm_shedding.py; the
+    hawkmoth's L+ at 1 m/s on the default lattice moves by 0.1 % from 40 to 80 steps with "travel", 12 % with
+    "ring"; neither rule makes the lattice converged: docs/fidelity.md). The collocation points, normals and areas
+    stay those of the panels.
+    The sensitivity of L+ and P+ to every tuned constant here: docs/fidelity.md (section 5).
     """
 
     rho: float = 1.225
@@ -88,6 +106,14 @@ class UVLMConfig:
     convection_core_chords: float = 0.1
     a_prime: float = 1e-2
     max_wake_rows: int | None = None
+    shed_rule: str = "ring"
+    shed_fraction: float = 0.25
+
+    def __post_init__(self):
+        if self.shed_rule not in SHED_RULES:
+            raise ValueError(f"UVLMConfig.shed_rule must be one of {', '.join(SHED_RULES)}, got {self.shed_rule!r}")
+        if not (np.isfinite(self.shed_fraction) and 0.0 < self.shed_fraction <= 1.0):
+            raise ValueError(f"UVLMConfig.shed_fraction must lie in (0, 1], got {self.shed_fraction!r}")
 
 
 @dataclass(frozen=True)
@@ -228,6 +254,11 @@ class UVLM:
 
         def v_kin(w, x):
             return v_origin[w] + _cross(omega[w], x - origin[w])
+
+        if c.shed_rule == "travel":  # the last ring row's trailing edge at shed_fraction x the step's travel
+            for w, (msh, Rw, o) in enumerate(zip(self.meshes, R, origin)):
+                te_wing = o + msh.vertices[-1] @ Rw.T
+                rings[w][-1] = te_wing + c.shed_fraction * dt * (freestream.at(te_wing) - v_kin(w, te_wing))
 
         # trailing-edge check: shed length vs panel length
         for w in range(nw):

@@ -22,9 +22,14 @@ import numpy as np
 
 from hawksim.insect.accessors import JOINT_KINDS, WING_SIDES, body_id, joint_id
 from hawksim.insect.kinematics import JOINT_AXES, MIRROR, R_BODY_STROKE
-from hawksim.insect.morphology import HAWKMOTH, Morphology
+from hawksim.insect.morphology import HAWKMOTH, Morphology, morphology
 
 REPO_MODEL_PATH = Path(__file__).resolve().parents[2] / "models" / "hawkmoth" / "hawkmoth.xml"
+"""The default morphology's MJCF (what every command loads unless given another file)."""
+
+MODEL_PATHS = {"default": REPO_MODEL_PATH, "sourced": REPO_MODEL_PATH.with_name("hawkmoth_sourced.xml")}
+"""The committed MJCF of each named morphology (:data:`hawksim.insect.morphology.MORPHOLOGIES`); the "sourced"
+one is issue 22's alternative, not used by any command unless passed as ``--model``."""
 
 
 def _f(x) -> str:
@@ -103,14 +108,17 @@ def mjcf(morph: Morphology = HAWKMOTH) -> str:
     return "\n".join(lines)
 
 
-def load_model(path: str | Path | None = None) -> mujoco.MjModel:
-    """The MuJoCo model: from ``path`` if given, else generated in memory from the default morphology.
+def load_model(path: str | Path | None = None, morph: Morphology | None = None) -> mujoco.MjModel:
+    """The MuJoCo model: from ``path`` if given, else generated in memory from ``morph`` (default: the default
+    morphology). Give one of the two, not both.
 
     Raises ValueError (one line, naming the file) for a missing, unreadable or invalid model file, or one
     that lacks the bodies and joints hawksim drives.
     """
+    if path is not None and morph is not None:
+        raise ValueError("load_model: give a model file or a morphology, not both")
     if path is None:
-        model = mujoco.MjModel.from_xml_string(mjcf())
+        model = mujoco.MjModel.from_xml_string(mjcf(HAWKMOTH if morph is None else morph))
     else:
         p = Path(path)
         if p.is_dir():
@@ -149,11 +157,20 @@ def _check_model(model: mujoco.MjModel, path) -> None:
         raise ValueError(f"{where} must have one free joint followed by six hinges, got {model.njnt} joints")
 
 
-def write_model(path: Path = REPO_MODEL_PATH) -> Path:
-    """Write the generated MJCF to ``path`` (default: models/hawkmoth/hawkmoth.xml)."""
-    path.write_text(mjcf())
+def write_model(path: Path = REPO_MODEL_PATH, morph: Morphology = HAWKMOTH) -> Path:
+    """Write the MJCF of ``morph`` to ``path`` (default: models/hawkmoth/hawkmoth.xml)."""
+    path.write_text(mjcf(morph))
     return path
 
 
+def main(argv: list[str]) -> list[Path]:
+    """``python -m hawksim.insect.model``: write every committed model (:data:`MODEL_PATHS`);
+    ``python -m hawksim.insect.model PATH [VARIANT]``: write one variant's (default "default") to PATH."""
+    if not argv:
+        return [write_model(p, morphology(name)) for name, p in MODEL_PATHS.items()]
+    return [write_model(Path(argv[0]), morphology(argv[1] if len(argv) > 1 else "default"))]
+
+
 if __name__ == "__main__":
-    print(write_model(Path(sys.argv[1]) if len(sys.argv) > 1 else REPO_MODEL_PATH))
+    for written in main(sys.argv[1:]):
+        print(written)

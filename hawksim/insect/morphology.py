@@ -14,9 +14,14 @@ Sources
   Sin. 36: total mass m = 1578.70 mg, wing length R = 48.50 mm, mean chord 16.81 mm, wing area
   S = 815.33 mm^2 (one wing), r2/R = 0.53.
 * Wing mass 47 mg each: Berman & Wang (2007), J. Fluid Mech. 582:153-168, Table 1 (hawkmoth).
-* Chord distribution: Ellington (1984), Phil. Trans. R. Soc. B 305:1-15 ("The aerodynamics of hovering
+* Chord distribution: Ellington (1984), Phil. Trans. R. Soc. B 305:17-40 ("The aerodynamics of hovering
   insect flight. II. Morphological parameters"): the chord follows a beta distribution in r/R whose
   first moment r1 relates to the second by r2 = 0.929 r1^0.732.
+* Feathering-axis position and wing mass distribution: ``Morphology()`` (the default, every shipped table,
+  network and test) keeps the model choices of hawksim 0.2 (axis at 25 % of the local chord, uniform areal
+  density); :meth:`Morphology.sourced` is the named alternative of issue 22 (axis on the leading edge, areal
+  density falling toward the tip and the trailing edge). What the literature search found for each, and which
+  of the alternative's values are sourced and which are still provisional: docs/fidelity.md.
 * Body segments (head, thorax, abdomen) and the hinge position are the paper's "left out" quantities.
   Lengths and diameters are representative of adult *M. sexta* (body length ~ 45-50 mm, thorax ~ 10 mm
   wide; Willmott & Ellington 1997, J. Exp. Biol. 200:2693-2704; O'Hara & Palazotto 2012,
@@ -133,6 +138,51 @@ def beta_planform(R: float, cbar: float, r2_hat: float, axis_fraction: float = 0
     return Planform(R=R, cbar=cbar, p=p, q=q, axis_fraction=axis_fraction)
 
 
+@dataclass(frozen=True)
+class WingMassModel:
+    """Areal density of a wing over its planform (the mass itself is ``Morphology.wing_mass``).
+
+    rho_A(r, s) proportional to exp(-span_decay r/R) exp(-chord_decay s), with r the spanwise position and s in
+    [0, 1] the fraction of the local chord behind the leading edge. ``span_decay = chord_decay = 0`` is a wing of
+    uniform areal density (the default model). Positive decays put the mass toward the root and the leading edge,
+    where insect wings carry their veins: Ellington (1984, Phil. Trans. R. Soc. B 305:17-40) treats the moments of
+    wing mass apart from those of wing area; Combes & Daniel (2003, "Flexural stiffness in insect wings II",
+    J. Exp. Biol. 206) find the Manduca forewing's flexural stiffness (vein material) falling from the base to the
+    tip and from the leading to the trailing edge (their abstract, as recalled; the stored text of the search held
+    only the introduction: docs/fidelity.md). ``name`` labels the model in tables and reports.
+    """
+
+    name: str = "uniform"
+    span_decay: float = 0.0
+    chord_decay: float = 0.0
+
+    def __post_init__(self):
+        for k in ("span_decay", "chord_decay"):
+            v = getattr(self, k)
+            if not math.isfinite(v):
+                raise ValueError(f"WingMassModel.{k} must be finite, got {v!r}")
+
+    def density(self, r_hat: np.ndarray, s: np.ndarray) -> np.ndarray:
+        """Relative areal density (dimensionless, 1 at the leading edge of the root) at r/R and chord fraction s
+        (broadcast shapes)."""
+        if self.span_decay == 0.0 and self.chord_decay == 0.0:
+            return np.ones(np.broadcast(r_hat, s).shape)
+        return np.exp(-self.span_decay * np.asarray(r_hat) - self.chord_decay * np.asarray(s))
+
+
+UNIFORM_WING = WingMassModel()
+"""Uniform areal density: hawksim 0.2's wing (centre of mass at 0.465 R, the planform's r1)."""
+
+VEINED_WING = WingMassModel("veined", span_decay=1.0, chord_decay=1.0)
+"""PROVISIONAL areal density of :meth:`Morphology.sourced`: e times denser at the root than at the tip and at
+the leading than at the trailing edge. The direction is sourced (see :class:`WingMassModel`); the two decay
+constants are NOT: the measured Manduca forewing centre of mass and moments of inertia (O'Hara & Palazotto 2012,
+Bioinspir. Biomim. 7:046011; Ellington 1984) were not available to this session, and these constants are to be
+replaced by a fit to them before the alternative becomes the default (docs/fidelity.md). On the hawkmoth
+planform: centre of mass at 0.401 R (uniform: 0.465 R), the mass on average 42 % of the local chord behind the
+leading edge (uniform: 50 %), radius of the second moment of wing mass 0.471 R (uniform: 0.530 R, the area's)."""
+
+
 def _default_segments() -> tuple[Ellipsoid, ...]:
     """Head, thorax, abdomen of a 1.48 g body (model choice; see the module docstring).
 
@@ -163,10 +213,39 @@ class Morphology:
     segments: tuple[Ellipsoid, ...] = field(default_factory=_default_segments)
     hinge_from_thorax: tuple[float, float, float] = (0.0010, 0.0040, 0.0035)
     """Left hinge relative to the thorax centre [m]: near the front of the thorax, on its dorsolateral edge."""
+    axis_fraction: float = 0.25
+    """Feathering (pitching) axis as a fraction of the local chord behind the leading edge (0: on the leading
+    edge). 0.25 is hawksim 0.2's model choice (issue 22: it sets L+ and P+ by up to 10 %; docs/fidelity.md)."""
+    wing_mass_model: WingMassModel = UNIFORM_WING
+    """Areal density of the wing mass (:class:`WingMassModel`; default uniform)."""
+    name: str = "default"
+    """Label of the variant (tables, reports, :data:`MORPHOLOGIES`)."""
+
+    def __post_init__(self):
+        if not (math.isfinite(self.axis_fraction) and 0.0 <= self.axis_fraction <= 1.0):
+            raise ValueError(f"axis_fraction must lie in [0, 1] (fraction of the chord behind the leading edge), "
+                             f"got {self.axis_fraction!r}")
+        if not (math.isfinite(self.wing_mass) and 0.0 < 2 * self.wing_mass < self.total_mass):
+            raise ValueError(f"wing_mass must be positive and the two wings lighter than total_mass, "
+                             f"got {self.wing_mass!r}")
+
+    @classmethod
+    def sourced(cls) -> Morphology:
+        """Issue 22's alternative: the feathering axis on the leading edge and the :data:`VEINED_WING` mass
+        distribution; everything else as the default. NOT the default: every shipped table, network and test is
+        built on ``Morphology()``; switching needs the pipeline regenerated (issue 22, item 4).
+
+        Sources: the axis on the leading edge follows the hawkmoth wing's structure, whose leading-edge veins form
+        the spar about which the wing pronates and supinates, with the centre of mass behind the torsional axis
+        (Wootton 1993, J. Exp. Biol. 180:105, on Lepidoptera forewings: "its centre of mass is commonly located
+        behind the torsional axis"); the axis positions of the paper's UVLM (Nguyen et al. 2016) and the other
+        hawkmoth models could not be read in this session's sources (docs/fidelity.md). The mass distribution's
+        constants are provisional (:data:`VEINED_WING`). Wing mass 47 mg as the default (Berman & Wang 2007)."""
+        return cls(axis_fraction=0.0, wing_mass_model=VEINED_WING, name="sourced")
 
     @cached_property
     def planform(self) -> Planform:
-        return beta_planform(self.R, self.cbar, self.r2_hat)
+        return beta_planform(self.R, self.cbar, self.r2_hat, self.axis_fraction)
 
     @property
     def body_mass(self) -> float:
@@ -219,13 +298,14 @@ class Morphology:
         s = (np.arange(nx) + 0.5) / nx  # fraction of chord from the leading edge
         x = pl.leading_edge(r)[:, None] - s[None, :] * c[:, None]
         dA = (self.R / nr) * c[:, None] / nx * np.ones_like(x)
+        dA = dA * self.wing_mass_model.density(r[:, None] / self.R, s[None, :])
         pts = np.stack([x, np.broadcast_to(r[:, None], x.shape), np.zeros_like(x)], -1).reshape(-1, 3)
         w = dA.reshape(-1)
         return pts, self.wing_mass * w / w.sum()
 
     @cached_property
     def wing_com(self) -> np.ndarray:
-        """Centre of mass (3,) of the left wing in its wing frame [m] (uniform areal density)."""
+        """Centre of mass (3,) of the left wing in its wing frame [m] (areal density: ``wing_mass_model``)."""
         pts, m = self._wing_mass_grid
         return (m[:, None] * pts).sum(0) / m.sum()
 
@@ -233,8 +313,8 @@ class Morphology:
     def wing_inertia(self) -> np.ndarray:
         """Inertia (3, 3) of the left wing about its centre of mass, wing-frame axes [kg m^2].
 
-        A uniform plate of thickness ``wing_thickness`` (which only keeps the tensor strictly positive
-        definite): the out-of-plane inertia is Ixx + Iyy + m t^2 / 6.
+        A flat plate of areal density ``wing_mass_model`` and thickness ``wing_thickness`` (which only keeps the
+        tensor strictly positive definite): the out-of-plane inertia is Ixx + Iyy + m t^2 / 6.
         """
         pts, m = self._wing_mass_grid
         d = pts - self.wing_com
@@ -251,3 +331,15 @@ class Morphology:
 
 HAWKMOTH = Morphology()
 """The default hawkmoth."""
+
+MORPHOLOGIES = ("default", "sourced")
+"""Named variants (:func:`morphology`)."""
+
+
+def morphology(name: str = "default") -> Morphology:
+    """The named variant: "default" (:data:`HAWKMOTH`) or "sourced" (:meth:`Morphology.sourced`)."""
+    if name == "default":
+        return HAWKMOTH
+    if name == "sourced":
+        return Morphology.sourced()
+    raise ValueError(f"unknown morphology {name!r}; choose one of {', '.join(MORPHOLOGIES)}")

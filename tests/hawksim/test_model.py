@@ -104,3 +104,17 @@ def test_bad_model_files(tmp_path):
     other.write_text('<mujoco><worldbody><body name="body"><freejoint/><geom size="0.01"/></body></worldbody></mujoco>')
     with pytest.raises(ValueError, match="wing_left"):
         load_model(other)
+
+
+def test_committed_sourced_xml_is_the_generated_one():
+    """Issue 22's alternative morphology has its own committed MJCF; loading by morphology gives the same model."""
+    from hawksim.insect.model import MODEL_PATHS
+    from hawksim.insect.morphology import Morphology
+    sourced = Morphology.sourced()
+    assert MODEL_PATHS["sourced"].read_text() == mjcf(sourced), "regenerate with: python -m hawksim.insect.model"
+    m = load_model(morph=sourced)
+    wl = m.body("wing_left").id
+    np.testing.assert_allclose(m.body_ipos[wl], sourced.wing_com, rtol=TOL, atol=POSITION_ATOL)
+    assert m.body_mass[wl] == pytest.approx(sourced.wing_mass, rel=TOL)
+    with pytest.raises(ValueError, match="not both"):
+        load_model(MODEL_PATHS["sourced"], morph=sourced)

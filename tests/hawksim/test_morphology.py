@@ -88,3 +88,72 @@ def test_beta_function_matches_scipy():
     for a in grid:
         for b in grid:
             assert _beta_fn(a, b) == pytest.approx(beta(a, b), rel=BETA_FN_RTOL)
+
+
+# ---- issue 22: the feathering axis and the wing mass distribution as parameters -----------------------------
+
+VARIANT_RTOL = 1e-3
+"""Relative: the centre of mass, r2 of mass and mean chord position of the wing mass models vs the values their
+docstrings state (3 digits). The quadrature (400 x 60 midpoints) is converged far below that: measured 2e-4 at
+worst (rounding of the stated digits)."""
+
+
+def _mass_moments(m):
+    pts, w = m._wing_mass_grid
+    pl = m.planform
+    s = (pl.leading_edge(pts[:, 1]) - pts[:, 0]) / pl.chord(pts[:, 1])
+    r2 = np.sqrt((w * pts[:, 1] ** 2).sum() / w.sum()) / m.R
+    return m.wing_com[1] / m.R, r2, (w * s).sum() / w.sum()
+
+
+def test_default_is_hawksim_0_2s_wing():
+    """The default keeps the quarter-chord axis and the uniform density (every shipped result depends on it)."""
+    from hawksim.insect.morphology import UNIFORM_WING, morphology
+    m = HAWKMOTH
+    assert m.axis_fraction == 0.25 and m.wing_mass_model == UNIFORM_WING and morphology("default") is m
+    com, r2, s = _mass_moments(m)
+    # uniform density: the centre of mass is the planform's r1 = 0.465 R, r2 of mass the area's 0.53
+    assert com == pytest.approx(m.planform.r1_hat, rel=VARIANT_RTOL)
+    assert r2 == pytest.approx(0.53, rel=VARIANT_RTOL)
+    assert s == pytest.approx(0.5, rel=VARIANT_RTOL)
+
+
+def test_sourced_variant():
+    from hawksim.insect.morphology import VEINED_WING, Morphology, morphology
+    m = Morphology.sourced()
+    assert m.name == "sourced" and morphology("sourced") == m
+    assert m.axis_fraction == 0.0 and m.wing_mass_model == VEINED_WING
+    r = np.linspace(0, m.R, 7)
+    np.testing.assert_array_equal(m.planform.leading_edge(r), 0.0)  # axis on the leading edge
+    np.testing.assert_allclose(-m.planform.trailing_edge(r), m.planform.chord(r), atol=EDGE_ATOL)
+    # only the axis and the density differ: same mass, area, body
+    assert m.wing_mass == HAWKMOTH.wing_mass and m.wing_area == HAWKMOTH.wing_area
+    np.testing.assert_array_equal(m.body_inertia, HAWKMOTH.body_inertia)
+    com, r2, s = _mass_moments(m)
+    assert (com, r2, s) == pytest.approx((0.401, 0.471, 0.42), rel=VARIANT_RTOL * 10)  # VEINED_WING's docstring
+    ev = np.linalg.eigvalsh(m.wing_inertia)
+    assert np.all(ev > 0) and ev[0] + ev[1] >= ev[2] * (1 - INERTIA_TRIANGLE_RTOL)
+    assert m.wing_com[0] < HAWKMOTH.wing_com[0] < 0  # axis moved forward of the centre of mass
+
+
+def test_mass_model_moves_the_mass_inboard_and_forward():
+    from hawksim.insect.morphology import Morphology, WingMassModel
+    base = _mass_moments(HAWKMOTH)
+    span = _mass_moments(Morphology(wing_mass_model=WingMassModel("s", span_decay=1.0)))
+    chord = _mass_moments(Morphology(wing_mass_model=WingMassModel("c", chord_decay=1.0)))
+    assert span[0] < base[0] and span[1] < base[1] and span[2] == pytest.approx(base[2], rel=VARIANT_RTOL)
+    assert chord[2] < base[2] and chord[0] == pytest.approx(base[0], rel=VARIANT_RTOL)
+    # chordwise exp(-s): mean s = 1 - 1/(e - 1), exact for the density, to the quadrature's accuracy
+    assert chord[2] == pytest.approx(1 - 1 / (np.e - 1), rel=VARIANT_RTOL)
+
+
+def test_bad_variants_rejected():
+    from hawksim.insect.morphology import Morphology, WingMassModel, morphology
+    with pytest.raises(ValueError, match="axis_fraction"):
+        Morphology(axis_fraction=1.5)
+    with pytest.raises(ValueError, match="wing_mass"):
+        Morphology(wing_mass=0.0)
+    with pytest.raises(ValueError, match="span_decay"):
+        WingMassModel(span_decay=float("nan"))
+    with pytest.raises(ValueError, match="unknown morphology"):
+        morphology("nope")
