@@ -370,7 +370,8 @@ def fit(path, cfg: TrainConfig, *, command: str = "", max_flights: int | None = 
     net, hist = train(rows_tr, rows_va, cfg, log=log)
     test = [flights[i] for i in te]
     sc = score(net, test)
-    meta = {"command": command, "data": str(path), "data_sha256": _flights_sha256(path), "config": {
+    meta = {"command": command, "data": str(path), "data_sha256": _flights_sha256(path, max_flights),
+            "max_flights": max_flights, "config": {
                 "hidden": list(cfg.hidden), "lags": list(cfg.lags), "epochs": cfg.epochs, "batch": cfg.batch,
                 "lr": cfg.lr, "seed": cfg.seed}, "n_flights": len(flights), "n_train_rows": int(len(rows_tr.y)),
             "n_val_rows": int(len(rows_va.y)), "test_flights": [int(flights[i].idx) for i in te],
@@ -378,16 +379,19 @@ def fit(path, cfg: TrainConfig, *, command: str = "", max_flights: int | None = 
     return StepNetwork(net.weights, net.x_mean, net.x_std, net.y_mean, net.y_std, lags=net.lags, meta=meta), sc
 
 
-def _flights_sha256(path) -> str:
-    """SHA-256 of the flights' stored rows and specs (independent of the SQLite page layout)."""
+def _flights_sha256(path, max_flights: int | None = None) -> str:
+    """SHA-256 of the flights' stored rows and specs (independent of the SQLite page layout); with ``max_flights``
+    of the flights idx < max_flights only (a network trained on a prefix of a data set that grew since: the
+    resumable generation appends flights, so the prefix's hash is the one the network recorded)."""
     import hashlib
 
     from hawksim.surrogate.dataset import open_dataset
 
     h = hashlib.sha256()
     conn = open_dataset(path)
+    where = "" if max_flights is None else f" WHERE idx < {int(max_flights)}"
     try:
-        for row in conn.execute("SELECT seed, idx, speed, status, data FROM flights ORDER BY seed, idx"):
+        for row in conn.execute(f"SELECT seed, idx, speed, status, data FROM flights{where} ORDER BY seed, idx"):
             h.update(repr(row[:4]).encode())
             h.update(row[4])
     finally:
