@@ -17,6 +17,7 @@ import json
 import sys
 
 from aero.vector_width import apply_vector_width
+from hawksim import interrupts
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim
 from hawksim.cli.args import Parser, UsageError
@@ -95,6 +96,7 @@ def main(argv: list[str] | None = None) -> int:
         spc = getattr(args, "steps_per_cycle", None)
         if spc is not None and spc < MIN_STEPS_PER_CYCLE:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")
+        interrupts.begin_work()  # from here a Ctrl-C lets the command clean up (until here it left at once)
         out = args.func(args)
     except BaseException as exc:
         code, line = failure(exc)  # re-raises what is not one of the contract's failures (a bug: its traceback)
