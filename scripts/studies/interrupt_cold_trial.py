@@ -20,6 +20,10 @@ leaves no process of its group running after ``LINGER_S``, and leaves no file bu
     python scripts/studies/interrupt_cold_trial.py [--rev REV] [--install editable|wheel] [--cold hawksim|all]
         [--commands dataset stability] [--delays 0.1 0.2 ...] [--repeats N] [--venv DIR] [--out FILE]
 
+Each trial also records when the command had installed its signal handlers (``handlers_at_s``: its SIGTERM shows
+in /proc/PID/status's SigCgt), so that a signal that came before (``before_handlers``: the interpreter still
+starting, Python's defaults in force) is counted apart from one the command could handle.
+
 ``--venv DIR`` reuses (or first makes) the clone and environment in DIR instead of a temporary one. Prints ONE
 JSON object: per trial the command, signal, delay, exit status, seconds from the signal to the exit, stderr's
 lines (up to 5), the files and processes left and the reasons of a failure; per command and signal the count that
@@ -120,6 +124,15 @@ def group_members(pgid: int) -> list[str]:
     return out
 
 
+def handlers_installed(pid: int) -> bool:
+    """Whether ``pid`` catches SIGTERM: hawksim.interrupts.install has run (Python's defaults leave it alone)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    return bool(int(status.split("SigCgt:")[1].split()[0], 16) & (1 << (signal.SIGTERM - 1)))
+
+
 def trial(clone: Path, argv: list[str], signum: int, delay: float, env: dict) -> dict:
     """One run: the signal to the process group after ``delay`` s; the row of the output."""
     exe = str(clone / ".venv" / "bin" / "hawksim")
@@ -129,7 +142,12 @@ def trial(clone: Path, argv: list[str], signum: int, delay: float, env: dict) ->
         p = subprocess.Popen([exe, *argv], cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              stdin=subprocess.DEVNULL, start_new_session=True,
                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
-        time.sleep(delay)
+        started = time.perf_counter()
+        installed = None
+        while time.perf_counter() < started + delay:
+            if installed is None and handlers_installed(p.pid):
+                installed = time.perf_counter() - started
+            time.sleep(0.002)
         early = p.poll()
         t0 = time.perf_counter()
         if early is None:
@@ -172,7 +190,9 @@ def trial(clone: Path, argv: list[str], signum: int, delay: float, env: dict) ->
         why.append(f"{len(left_procs)} processes of its group running {LINGER_S:g} s after: {left_procs[0][:60]}")
     if files not in ([], ["d.sqlite"]) or (files == ["d.sqlite"] and not rows):
         why.append(f"left {files} ({rows} rows)" if files == ["d.sqlite"] else f"left {files}")
-    return {"command": argv[0], "signal": signal.Signals(signum).name, "delay_s": delay, "exit": p.returncode,
+    return {"command": argv[0], "signal": signal.Signals(signum).name, "delay_s": delay,
+            "handlers_at_s": None if installed is None else round(installed, 3),
+            "before_handlers": installed is None, "exit": p.returncode,
             "seconds": round(took, 3), "stderr": lines[:3] + (["..."] if len(lines) > 5 else lines[3:5]),
             "stderr_lines": len(lines), "files_left": files, "rows": rows, "processes_at_exit": first_left,
             "linger_s": round(linger, 2), "processes_left": left_procs,
@@ -211,6 +231,8 @@ def main() -> None:
                         print(f"{'pass' if row['pass'] else 'FAIL'}  {name} {sig} at {delay:g} s: exit "
                               f"{row['exit']} in {row['seconds']:.2f} s {'; '.join(row['why'])}", file=sys.stderr)
         summary = {}
+        early = [r for r in rows if r["before_handlers"]]
+        at = [r["handlers_at_s"] for r in rows if r["handlers_at_s"] is not None]
         for r in rows:
             key = f"{r['command']} {r['signal']}"
             s = summary.setdefault(key, {"passed": 0, "ran": 0})
@@ -219,6 +241,10 @@ def main() -> None:
         emit({"rev": rev, "install": a.install, "cold": a.cold, "install_s": round(install_s, 1),
               "trials_s": round(time.perf_counter() - t_start, 1), "ran": len(rows),
               "passed": sum(r["pass"] for r in rows), "by_command": summary,
+              "before_handlers": {"ran": len(early), "passed": sum(r["pass"] for r in early)},
+              "after_handlers": {"ran": len(rows) - len(early), "passed": sum(r["pass"] for r in rows
+                                                                               if not r["before_handlers"])},
+              "handlers_at_s": {"min": min(at), "max": max(at)} if at else None,
               "failed": [f"{r['command']} {r['signal']} {r['delay_s']:g} s: {'; '.join(r['why'])}"
                          for r in rows if not r["pass"]],
               "exit_limit_s": EXIT_LIMIT_S, "trials": rows}, a.out, host=True)
