@@ -43,7 +43,7 @@ REDELIVERY_DELAY_S = 0.01
 LINE = "hawksim: interrupted"
 """The one line of an interrupt (stderr)."""
 
-_state = {"installed": False, "working": False, "pending": False, "thread": None}
+_state = {"installed": False, "working": False, "pending": False, "thread": None, "before_leaving": None}
 
 
 def install() -> None:
@@ -57,8 +57,16 @@ def install() -> None:
 
 def begin_work() -> None:
     """Phase 2, "working": from here an interrupt raises KeyboardInterrupt (at a safe point) so that the command
-    cleans up. A no-op where :func:`install` did not run (the CLI called in-process, by tests)."""
+    cleans up. The CLI calls it before the subcommand runs; a subcommand that writes nothing for a while (train,
+    until its network) calls it itself before its first write. A no-op where :func:`install` did not run (the CLI
+    called in-process, by tests)."""
     _state["working"] = _state["installed"]
+
+
+def set_before_leaving(fn) -> None:
+    """Call ``fn()`` (errors ignored) before :func:`leave` prints its line: the CLI closes its progress bars, so
+    that on a terminal the line starts a line of its own."""
+    _state["before_leaving"] = fn
 
 
 def _in_import_or_hook(frame) -> bool:
@@ -128,6 +136,11 @@ def leave(code: int, line: str | None = None) -> None:
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, signal.SIG_IGN)
     _state["pending"] = False
+    if _state["before_leaving"] is not None:
+        try:
+            _state["before_leaving"]()
+        except Exception:
+            pass
     if line is not None:
         try:
             sys.stderr.flush()

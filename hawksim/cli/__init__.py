@@ -109,7 +109,9 @@ def main(argv: list[str] | None = None) -> int:
         if spc is not None and spc < MIN_STEPS_PER_CYCLE:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")
         _preload(args)
-        interrupts.begin_work()  # from here a Ctrl-C lets the command clean up (until here it left at once)
+        interrupts.set_before_leaving(close_all)  # a progress bar ends its line before the interrupt's
+        if not getattr(args, "work_begins_in_command", False):  # (train: at its first write)
+            interrupts.begin_work()  # from here a Ctrl-C lets the command clean up (until here it left at once)
         out = args.func(args)
     except BaseException as exc:
         code, line = failure(exc)  # re-raises what is not one of the contract's failures (a bug: its traceback)
