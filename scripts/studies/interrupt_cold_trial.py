@@ -196,7 +196,7 @@ def trial(clone: Path, argv: list[str], signum: int, delay: float, env: dict) ->
             "seconds": round(took, 3), "stderr": lines[:3] + (["..."] if len(lines) > 5 else lines[3:5]),
             "stderr_lines": len(lines), "files_left": files, "rows": rows, "processes_at_exit": first_left,
             "linger_s": round(linger, 2), "processes_left": left_procs,
-            "pass": not why, "why": why}
+            "pass": not why, "why": why, **({"stderr_tail": lines[-8:]} if why and len(lines) > 5 else {})}
 
 
 def main() -> None:
