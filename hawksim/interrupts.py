@@ -24,10 +24,11 @@ So the handler (:func:`install`) works in two phases:
    :data:`REDELIVERY_DELAY_S` until the handler runs at a safe point. A KeyboardInterrupt that Python dropped (a
    weakref callback) reaches :func:`_unraisable` and is made pending the same way.
 
-Before :func:`install` runs, the interpreter's own defaults apply: a signal in the first ~50 ms of a fresh install
-(interpreter start and ``site``; up to 0.2 s when every module is compiled from source) kills the process by the
-signal (a shell shows 130 for SIGINT, 143 for SIGTERM) or makes Python print a KeyboardInterrupt traceback of
-``site``; nothing of hawksim has run then, so nothing is written.
+Before :func:`install` runs, the interpreter's own defaults apply: a signal then (the interpreter's start and
+``site``: 24-131 ms after the exec on a fresh install, 0.24-0.47 s with every module compiled from source, measured
+at a load average of 6-9, results/cli/interrupt_cold/) kills the process (SIGTERM: a shell shows 143) or makes
+Python print a traceback of ``site`` ("Fatal Python error: init_import_site", SIGINT); nothing of hawksim has run
+then, so nothing is written. No program can move that moment.
 """
 
 from __future__ import annotations

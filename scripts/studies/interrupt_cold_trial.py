@@ -28,6 +28,24 @@ starting, Python's defaults in force) is counted apart from one the command coul
 JSON object: per trial the command, signal, delay, exit status, seconds from the signal to the exit, stderr's
 lines (up to 5), the files and processes left and the reasons of a failure; per command and signal the count that
 passed; the install's seconds; the host (date, load average).
+
+Last runs (2026-12-02, 2-core development machine shared with other jobs, load average 6-9; editable installs;
+results/cli/interrupt_cold/, the before runs with this script against commit e795e67):
+
+| rev | cold | trials | pass | after the handlers | before them | exit after the signal |
+|---|---|---|---|---|---|---|
+| e795e67 (before) | hawksim | 96 (dataset, stability, fly, train) | 86 | 86 of 88 | 0 of 8 | <= 0.55 s |
+| e795e67 (before) | all | 48 (dataset, stability) | 33 | 32 of 34 | 1 of 14 | <= 0.39 s |
+| c2c9681 (after) | hawksim | 192 (the four, twice) | 180 | 180 of 180 | 0 of 12 | median 0.056 s, <= 1.2 s |
+| d3aa1ee (after) | all | 48 (dataset, stability) | 34 | 34 of 34 | 0 of 14 | <= 0.12 s |
+
+The failures before the fix, after the handlers: a worker's traceback after "hawksim: interrupted" (stability,
+SIGINT at 2 s: a worker spawned while the command left), an 83-line traceback with exit 1 (fly, SIGTERM at 4.5 s),
+numpy's ImportError with exit 1 (dataset SIGINT at 0.5 s, stability SIGINT at 0.7 s, all cold: the interrupt inside
+numpy's import). Every failure left, before and after, is a signal that came before the command had installed its
+handlers (at 0.05 s; up to 0.3 s all cold): the interpreter's own start, where Python's defaults apply
+(hawksim.interrupts). A run at 1f10dd5 (before train waited for its first write to begin its work) had one more:
+train, SIGTERM at 2 s, exit 130 after 3.6 s (the Ctrl-C waited for torch's import to end).
 """
 
 from __future__ import annotations
