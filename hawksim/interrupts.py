@@ -102,11 +102,11 @@ def _unraisable(unraisable) -> None:
 
 
 def _defer() -> None:
-    """Keep the interrupt pending and make sure the thread that re-delivers it runs. Not a threading.Timer per
-    try: one thread, which signals the main thread until the handler has raised at a safe point."""
+    """Keep the interrupt pending and make sure the thread that re-delivers it runs: one thread, started at the
+    first deferral and running until the process ends (so that no deferral can find it just ending), which
+    signals the main thread while an interrupt is pending."""
     _state["pending"] = True
-    t = _state["thread"]
-    if t is None or not t.is_alive():
+    if _state["thread"] is None:
         t = threading.Thread(target=_redeliver, args=(threading.main_thread().ident,), name="hawksim interrupt",
                              daemon=True)
         _state["thread"] = t
@@ -115,8 +115,9 @@ def _defer() -> None:
 
 def _redeliver(main_ident: int) -> None:
     # a real signal to the main thread (not _thread.interrupt_main), so that a blocking call there returns
-    while _state["pending"]:
-        threading.Event().wait(REDELIVERY_DELAY_S)
+    tick = threading.Event()
+    while True:
+        tick.wait(REDELIVERY_DELAY_S)
         if _state["pending"]:
             signal.pthread_kill(main_ident, signal.SIGINT)
 
