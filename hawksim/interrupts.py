@@ -49,8 +49,10 @@ _state = {"installed": False, "working": False, "pending": False, "thread": None
 
 def install() -> None:
     """Make SIGINT and SIGTERM interrupts of the command (phase 1, "starting"; see the module docstring) and hand
-    dropped KeyboardInterrupts back (``sys.unraisablehook``)."""
-    signal.signal(signal.SIGINT, _handler)
+    dropped KeyboardInterrupts back (``sys.unraisablehook``). A SIGINT the command was started with ignored stays
+    ignored, as Python leaves it (a shell starts background jobs so: a Ctrl-C at the terminal is not theirs)."""
+    if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
+        signal.signal(signal.SIGINT, _handler)
     signal.signal(signal.SIGTERM, _handler)
     sys.unraisablehook = _unraisable
     _state["installed"] = True
@@ -114,12 +116,13 @@ def _defer() -> None:
 
 
 def _redeliver(main_ident: int) -> None:
-    # a real signal to the main thread (not _thread.interrupt_main), so that a blocking call there returns
+    # a real signal to the main thread (not _thread.interrupt_main), so that a blocking call there returns; SIGTERM,
+    # whose handler is always ours (SIGINT may be ignored: install)
     tick = threading.Event()
     while True:
         tick.wait(REDELIVERY_DELAY_S)
         if _state["pending"]:
-            signal.pthread_kill(main_ident, signal.SIGINT)
+            signal.pthread_kill(main_ident, signal.SIGTERM)
 
 
 def leave(code: int, line: str | None = None) -> None:

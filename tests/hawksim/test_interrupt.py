@@ -177,7 +177,12 @@ def run_program(tmp_path: Path, phase: str, where: str) -> subprocess.CompletedP
         (tmp_path / name).write_text(textwrap.dedent(text))
     (tmp_path / "prog.py").write_text(PROGRAM)
     return subprocess.run([sys.executable, str(tmp_path / "prog.py"), phase, where, str(tmp_path)],
-                          capture_output=True, text=True, timeout=60)
+                          capture_output=True, text=True, timeout=60, preexec_fn=_sigint_default)
+
+
+def _sigint_default() -> None:
+    """SIGINT as a terminal's foreground job has it (pytest may run with it ignored: a background job)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 @pytest.mark.parametrize("where,python_says", [("weakref", "lost"), ("import", "interrupted False False"),
@@ -238,3 +243,14 @@ def _alive(pid: int) -> bool:
     except OSError:
         return False
     return stat[stat.rindex(")") + 2] != "Z"
+
+
+def test_an_ignored_sigint_stays_ignored():
+    """A command started with SIGINT ignored (a shell's background job) keeps it so, as Python alone does; SIGTERM
+    is still an interrupt."""
+    prog = ("import signal; from hawksim import interrupts; interrupts.install(); "
+            "print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN, signal.getsignal(signal.SIGTERM) is not "
+            "signal.SIG_DFL)")
+    p = subprocess.run([sys.executable, "-c", prog], capture_output=True, text=True, timeout=60,
+                       preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
+    assert p.stdout.split() == ["True", "True"], p.stderr
