@@ -160,21 +160,35 @@ def leave(code: int, line: str | None = None) -> None:
     os._exit(code)
 
 
+def _never(*args, **kwargs):
+    """In place of fork and exec while the process leaves: the thread that calls it waits for the exit."""
+    threading.Event().wait()
+
+
 def _end_children() -> None:
-    """SIGKILL every child process but multiprocessing's resource tracker, twice 20 ms apart (a worker whose spawn
-    was under way in another thread at the first look is there at the second)."""
+    """Stop new child processes (fork and ``_posixsubprocess.fork_exec``, behind subprocess and multiprocessing's
+    spawn, now wait for the exit: a Dask nanny restarts a worker killed here at once, and the restarted worker, its
+    start-up data cut off by the exit, printed a traceback in a clean-clone CI run), then SIGKILL every child but
+    multiprocessing's resource tracker until a look finds none (20 ms apart, at most 0.5 s: a spawn already past
+    the gate when it closed shows up)."""
+    import _posixsubprocess
+
+    _posixsubprocess.fork_exec = _never
+    os.fork = _never
     spare = set()
     tracker = sys.modules.get("multiprocessing.resource_tracker")
     if tracker is not None and getattr(tracker._resource_tracker, "_pid", None):
         spare.add(tracker._resource_tracker._pid)
-    for attempt in range(2):
-        for pid in _children() - spare:
+    for _ in range(25):
+        left = _children() - spare
+        if not left:
+            break
+        for pid in left:
             try:
                 os.kill(pid, signal.SIGKILL)
             except OSError:
                 pass
-        if attempt == 0:
-            threading.Event().wait(0.02)
+        threading.Event().wait(0.02)
 
 
 def _children() -> set[int]:
@@ -192,7 +206,8 @@ def _children() -> set[int]:
         try:
             with open(f"/proc/{name}/stat", "rb") as fh:
                 stat = fh.read()
-            if int(stat[stat.rindex(b")") + 2:].split()[1]) == me:
+            fields = stat[stat.rindex(b")") + 2:].split()
+            if int(fields[1]) == me and fields[0] != b"Z":  # a killed child stays a zombie until the exit
                 found.add(int(name))
         except (OSError, ValueError, IndexError):
             continue
