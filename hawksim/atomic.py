@@ -34,3 +34,8 @@ def write_bytes(path: str | Path, data: bytes, what: str = "file") -> Path:
     finally:
         tmp.unlink(missing_ok=True)
     return path
+
+
+def write_text(path: str | Path, text: str, what: str = "file") -> Path:
+    """:func:`write_bytes` of ``text`` in UTF-8 (JSON, Markdown tables)."""
+    return write_bytes(path, text.encode("utf-8"), what)

@@ -17,6 +17,7 @@ import json
 import sys
 
 from aero.vector_width import apply_vector_width
+from hawksim import interrupts
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim
 from hawksim.cli.args import Parser, UsageError
@@ -87,6 +88,18 @@ def _interrupted(exc: BaseException) -> bool:
     return False
 
 
+def _preload(args) -> None:
+    """Import the modules a subcommand names in ``preload`` (a tuple, or a function of the arguments giving one)
+    while a Ctrl-C still leaves at once (:mod:`hawksim.interrupts`): once the command works, a Ctrl-C during an
+    import waits for its end, and dask.distributed took 1.3 s of it when compiled from source (the Dask commands'
+    first lazy import; measured with scripts/studies/interrupt_cold_trial.py --cold all)."""
+    import importlib
+
+    names = getattr(args, "preload", ())
+    for name in names(args) if callable(names) else names:
+        importlib.import_module(name)
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         parser = build_parser()  # imports the subcommands' modules (mujoco, ...): a Ctrl-C may come here too
@@ -95,6 +108,10 @@ def main(argv: list[str] | None = None) -> int:
         spc = getattr(args, "steps_per_cycle", None)
         if spc is not None and spc < MIN_STEPS_PER_CYCLE:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")
+        _preload(args)
+        interrupts.set_before_leaving(close_all)  # a progress bar ends its line before the interrupt's
+        if not getattr(args, "work_begins_in_command", False):  # (train: at its first write)
+            interrupts.begin_work()  # from here a Ctrl-C lets the command clean up (until here it left at once)
         out = args.func(args)
     except BaseException as exc:
         code, line = failure(exc)  # re-raises what is not one of the contract's failures (a bug: its traceback)

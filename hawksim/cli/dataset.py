@@ -40,6 +40,12 @@ def cmd_dataset(args) -> dict:
             "wall_time_s": r.wall_time_s, "samples_per_s": r.samples_per_s}
 
 
+def _preload(args) -> tuple[str, ...]:
+    """The modules the command imports (hawksim.cli._preload)."""
+    mod = "hawksim.surrogate.flights" if args.kind == "flights" else "hawksim.surrogate.dataset"
+    return (mod, "hawksim.cluster", "dask.distributed")
+
+
 def register(sub) -> None:
     p = sub.add_parser("dataset", help="resumable generation of UVLM training samples (SQLite, Dask)")
     p.add_argument("--kind", choices=("samples", "flights"), default="samples",
@@ -57,4 +63,4 @@ def register(sub) -> None:
     add_resolution_args(p, TRAINING, "training")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=cmd_dataset)
+    p.set_defaults(func=cmd_dataset, preload=_preload)

@@ -33,7 +33,26 @@ def cmd_reproduce(args) -> dict:
                          "name another directory")
     minutes = sum(EXPECTED_MINUTES[s] for s in args.only)
     print(f"hawksim reproduce: {', '.join(args.only)} into {out}/, about {minutes} min on 2 cores", file=sys.stderr)
-    return run_all(out, log=lambda m: print(m, file=sys.stderr), only=tuple(args.only))
+    before = _directories(out)
+    try:
+        return run_all(out, log=lambda m: print(m, file=sys.stderr), only=tuple(args.only))
+    except BaseException:
+        _remove_new_empty_directories(out, before)
+        raise
+
+
+def _directories(root: Path) -> set[Path]:
+    return {root, *(p for p in root.rglob("*") if p.is_dir())} if root.is_dir() else set()
+
+
+def _remove_new_empty_directories(root: Path, before: set[Path]) -> None:
+    """After a failure (a full disk, an interrupt): remove the directories this run made and left empty, deepest
+    first. Every file written is whole (hawksim.atomic) and stays: the parts done before the failure."""
+    for d in sorted(_directories(root) - before, key=lambda p: len(p.parts), reverse=True):
+        try:
+            d.rmdir()
+        except OSError:  # not empty: it holds a finished part
+            pass
 
 
 def register(sub) -> None:

@@ -87,6 +87,17 @@ def orbit_json(orbit) -> dict:
             "floor": orbit.floor, "warm_beats": orbit.warm_beats, "wall_time_s": orbit.wall_time_s}
 
 
+def _preload(args) -> tuple[str, ...]:
+    """The modules the command imports (hawksim.cli._preload): Dask's only where the UVLM runs go to workers."""
+    names = ["hawksim.cluster", "hawksim.trim.tables", "hawksim.stability.report", "hawksim.stability.derivatives",
+             "hawksim.stability.system"]
+    if args.floquet:
+        names += ["hawksim.flight.orbit", "hawksim.stability.floquet"]
+    if args.aero == "uvlm" and (args.workers != 1 or args.scheduler):
+        names.append("dask.distributed")
+    return tuple(names)
+
+
 def register(sub) -> None:
     p = sub.add_parser("stability", help="stability derivatives, A matrices and modes at the trim; --floquet: "
                                          "free-flight orbit and Floquet multipliers")
@@ -102,4 +113,4 @@ def register(sub) -> None:
     p.add_argument("--scheduler", help="address of a running Dask scheduler to run them on instead")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=cmd_stability)
+    p.set_defaults(func=cmd_stability, preload=_preload)

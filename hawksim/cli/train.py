@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import shlex
 
+from hawksim import interrupts
 from hawksim.cli.args import UsageError, positive_int_arg, seconds_arg, seed_arg, speed_arg, writable_file
 from hawksim.cli.progress import progress_for
 
@@ -49,6 +50,7 @@ def cmd_train_step(args) -> dict:
                "--weight-decay", f"{args.weight_decay:g}", "--ensemble", str(args.ensemble)]
     net, sc = fit(args.data, cfg, command=shlex.join(command),
                   log=None if args.no_progress else lambda s: print(s, file=sys.stderr, flush=True))
+    interrupts.begin_work()  # until the network is written, a Ctrl-C leaves at once (nothing to clean up)
     net.save(args.out)
     return {"kind": "step", "n_train": net.meta["n_train_rows"], "n_val": net.meta["n_val_rows"],
             "n_test": sc["n_rows"], "test_flights": sc["n_flights"], "r2": sc["r2"], "r2_min": sc["r2_min"],
@@ -111,6 +113,7 @@ def cmd_train(args) -> dict:
               groups=np.round(table.speed * 1000).astype(int) if speed is None else None, status=status)
     if bar is not None:
         bar.close()
+    interrupts.begin_work()  # until the network is written, a Ctrl-C leaves at once (nothing to clean up)
     r.surrogate.save(args.out)
     if args.validation_png:
         from hawksim.surrogate.plots import validation_figure
@@ -152,4 +155,6 @@ def register(sub) -> None:
                    help="write the held-out scatter plot (PNG at 300 dpi, and a PDF beside it)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=cmd_train)
+    # it writes nothing before the network: a Ctrl-C until then leaves at once, wherever it lands (the import of
+    # torch takes 2-4 s on two loaded cores, and a Ctrl-C in an import would wait for its end: hawksim.interrupts)
+    p.set_defaults(func=cmd_train, work_begins_in_command=True)

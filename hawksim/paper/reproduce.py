@@ -12,6 +12,7 @@ import json
 from dataclasses import replace
 from pathlib import Path
 
+from hawksim.atomic import write_text
 from hawksim.paper.reference import PAPER_TABLE4 as TABLE4
 
 
@@ -64,7 +65,7 @@ def orbits_all(out_dir: Path, log=print, aeros=("quasi-steady", "uvlm"), speeds=
             log(f"orbit {aero} V={v:g} ...")
             rows[v] = periodic_orbit(v, aero, log=lambda m, a=aero, s=v: log(f"  {a} V={s:g}: {m}"))
             table = orbit_table([rows[k] for k in sorted(rows)], "hawksim reproduce --only orbits")
-            path.write_text(json.dumps(table, indent=1))
+            write_text(path, json.dumps(table, indent=1), "orbit table")
         done[aero] = {"path": str(path), "converged": {f"{k:g}": rows[k].converged for k in sorted(rows)},
                       "residual": {f"{k:g}": rows[k].residual for k in sorted(rows)}}
     return done
@@ -97,7 +98,7 @@ def control_models_all(out_dir: Path, log=print, aero: str = "uvlm", speeds=None
         rows[v] = linearize(orb)
         log(f"  {aero} V={v:g}: {rows[v].wall_time_s:.0f} s, cross-coupling {rows[v].coupling:.1e}")
         table = control_model_table([rows[k] for k in sorted(rows)], "hawksim reproduce --only control_uvlm")
-        path.write_text(json.dumps(table, indent=1))
+        write_text(path, json.dumps(table, indent=1), "control model table")
     return {"path": str(path), "speeds": sorted(rows), "wall_time_s": {f"{k:g}": rows[k].wall_time_s for k in rows}}
 
 
@@ -112,7 +113,7 @@ def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
     done = {}
     if "uvlm_table4" in only:
         log("uvlm_table4 ...")
-        (out_dir / "uvlm_table4.json").write_text(json.dumps(table4_comparison(), indent=1))
+        write_text(out_dir / "uvlm_table4.json", json.dumps(table4_comparison(), indent=1), "table")
         done["uvlm_table4"] = str(out_dir / "uvlm_table4.json")
     if "stability" in only:
         log("stability ...")

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hawksim.atomic import write_text
 from hawksim.stability.system import a_lat, a_long
 
 
@@ -223,7 +224,7 @@ def write(reports: list[dict], out_dir: Path) -> dict:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     studies = summarize(reports)
-    (out_dir / "stability_reports.json").write_text(json.dumps(reports, indent=1))
-    (out_dir / "stability_studies.json").write_text(json.dumps(studies, indent=1))
+    write_text(out_dir / "stability_reports.json", json.dumps(reports, indent=1), "stability reports")
+    write_text(out_dir / "stability_studies.json", json.dumps(studies, indent=1), "stability studies")
     plot(studies, out_dir, trims_label(reports))
     return studies

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hawksim.atomic import write_text
 from hawksim.backends.averages import OUTPUTS as LOADS
 from hawksim.insect.kinematics import PARAM_NAMES, TABLE3_DEG, TABLE3_SPEEDS, Kinematics
 from hawksim.paper.reference import PAPER_POWER_FIT_W, PAPER_TABLE4
@@ -113,7 +114,7 @@ def compute(speeds=TABLE3_SPEEDS, *, seed: int = 0, population: int = 100_000, l
         row["uvlm_config"] = uvlm
         if cached is not None:
             cached.parent.mkdir(parents=True, exist_ok=True)
-            cached.write_text(json.dumps(row))
+            write_text(cached, json.dumps(row), "trim row")
         rows.append(row)
     sp = [r["speed"] for r in rows]
     fits = {"uvlm_balanced": power_fit(sp, [r["balanced"]["uvlm"]["power_W"] for r in rows]),
@@ -320,10 +321,10 @@ def write_trim_results(out_dir: str | Path, speeds=TABLE3_SPEEDS, *, seed: int =
     out_dir.mkdir(parents=True, exist_ok=True)
     res = compute(speeds, seed=seed, population=population, log=log, rows_dir=out_dir / "rows")
     res["command"] = f"hawksim reproduce --out {out_dir.parent}"
-    (out_dir / "trim_results.json").write_text(json.dumps(res, indent=1))
-    (out_dir / "table3.md").write_text(table3_markdown(res))
-    (out_dir / "table4.md").write_text(table4_markdown(res))
-    (out_dir / "trim_table.json").write_text(json.dumps(trim_table(res, res["command"]), indent=1))
+    write_text(out_dir / "trim_results.json", json.dumps(res, indent=1), "trim results")
+    write_text(out_dir / "table3.md", table3_markdown(res), "table")
+    write_text(out_dir / "table4.md", table4_markdown(res), "table")
+    write_text(out_dir / "trim_table.json", json.dumps(trim_table(res, res["command"]), indent=1), "trim table")
     figs = figures(res, out_dir)
     return {"dir": str(out_dir), "power_fit_W": res["power_fit_W"], "figures": [str(p) for p in figs],
             "balanced_converged": [r["balanced"]["converged"] for r in res["rows"] if "balanced" in r]}

@@ -39,6 +39,7 @@ Its eigenvalues are paired with the Floquet exponents by the assignment of least
 
 from __future__ import annotations
 
+import io
 import itertools
 import json
 import time
@@ -47,6 +48,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hawksim.atomic import write_bytes, write_text
 from hawksim.flight.orbit import Orbit, fly_orbit, periodic_orbit
 from hawksim.stability.floquet import LAT, LONG, monodromy, state_scale
 
@@ -414,10 +416,14 @@ def plot_speed(res: dict, out_dir: Path) -> list[str]:
                      fontsize=10)
         fig.tight_layout(rect=(0, 0, 1, 0.97))
         stem = out_dir / f"validation_{res['aero'].replace('-', '_')}_{res['speed']:g}ms_{name}"
-        for ext in plotting.FORMATS:
-            fig.savefig(f"{stem}.{ext}", dpi=plotting.DPI)
-            paths.append(f"{stem}.{ext}")
-        plt.close(fig)
+        try:
+            for ext in plotting.FORMATS:  # each file all or nothing (a full disk: OSError naming it)
+                buf = io.BytesIO()
+                fig.savefig(buf, format=ext, dpi=plotting.DPI)
+                write_bytes(f"{stem}.{ext}", buf.getvalue(), "figure")
+                paths.append(f"{stem}.{ext}")
+        finally:
+            plt.close(fig)
     return paths
 
 
@@ -445,7 +451,7 @@ def write(results: list[dict], out_dir: Path, meta: dict, figures: bool = True, 
            "entries": keep + rows,
            "speeds": keep_speeds + [{k: v for k, v in r.items() if k not in ("_flights",)} for r in results],
            "figures": sorted(set(old.get("figures", []) + [Path(p).name for p in figs]))}
-    path.write_text(json.dumps(doc, indent=1))
+    write_text(path, json.dumps(doc, indent=1), "validation")
     return {"json": str(path), "figures": figs}
 
 

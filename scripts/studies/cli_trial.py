@@ -16,8 +16,11 @@ reasons of a failure; and the count that behaves as the contract says.
 
     python scripts/studies/cli_trial.py [--only SUBSTRING ...] [--out results/cli/cli_trial.json]
 
-Last run: results/cli/cli_trial.json (104 of 104 cases as the contract says, 2026-12-02, load average 7.6-8.1 on
-2 cores, 266 s of commands).
+Last run: results/cli/cli_trial.json (108 of 108 cases as the contract says, 2026-12-02, load average 5.4-6.2 on
+2 cores, 316 s of commands; new since the 104-case run: reproduce on a full tmpfs, new and over an earlier result
+with --force, reproduce Ctrl-C, training from the shipped data set on a read-only disk). One case was re-run alone
+and merged (its row says so): "fly control lqr with uvlm" had become a valid command (issue 20: UVLM control at 1,
+1.5 and 2 m/s, exit 0, rightly), and now asks for 0.5 m/s, off the schedule.
 """
 
 from __future__ import annotations
@@ -57,7 +60,9 @@ class Case:
     left: files (relative to {tmp}) that may remain, must: files that must; setup(tmp) makes the inputs; fsize: the
     RLIMIT_FSIZE of a full disk; signal: (signal number, seconds after the start); mount: 'full' or 'ro' runs the
     command in {tmp}/mnt, a tmpfs that is full or read-only; rival: argv of a first writer started before this one;
-    check(tmp, result) returns the reason of a failure or None; max_s bounds the seconds (from the signal, if any)."""
+    check(tmp, result) returns the reason of a failure or None; max_s bounds the seconds (from the signal, if any);
+    logs: the beginnings of the progress lines a command prints on stderr before its failure (not counted: the
+    failure itself is the one line left)."""
 
     name: str
     argv: tuple
@@ -74,6 +79,7 @@ class Case:
     max_s: float | None = None
     env: tuple = ()
     pty: bool = False
+    logs: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -120,14 +126,6 @@ def _dataset_with_rows(tmp: Path, rows: int = 1000) -> None:
         insert_sample(conn, Sample(1.0, 99, i, (26.0, 0.1, 0.2, 0.0, 0.0, 1.0, 0.8), (1.0, 0.1, 0.0, 0.9), 0.08, 0.5,
                                    peak_cf=1.5, y_prev=(1.0, 0.1, 0.0, 0.9)), res)
     conn.close()
-
-
-def _rollback_copy(tmp: Path) -> None:
-    """The shipped training set, copied and turned to the rollback journal (reading it then writes nothing; the
-    shipped file is in WAL mode, whose readers make a -shm file)."""
-    shutil.copy(DATA, tmp / "d.sqlite")
-    with sqlite3.connect(tmp / "d.sqlite") as c:
-        c.execute("PRAGMA journal_mode=DELETE")
 
 
 def _rows_intact(rows: int = 1000):
@@ -219,7 +217,8 @@ def cases() -> list[Case]:
         Case("fly gust malformed", (*fly, "--gust", "1,2@3"), 2, "--gust"),
         Case("fly ascent-profile zero beats", (*fly, "--ascent-profile", "1:0"), 2, "--ascent-profile"),
         Case("fly sensing-delay negative", (*fly, "--sensing-delay", "-1"), 2, "--sensing-delay"),
-        Case("fly control lqr with uvlm", (*fly, "--aero", "uvlm", "--control", "lqr"), 2, "--control"),
+        Case("fly control lqr with uvlm off its schedule", ("fly", "--speed", "0.5", "--cycles", "2", "--aero", "uvlm",
+                                                           "--control", "lqr"), 2, "--speed 0.5"),
         # fly: numerical failure, honest results, human output
         Case("fly perturb q=1e9 blows up", (*fly, "--perturb", "q=1e9", "--json", "--no-progress"), 3, "BADQACC"),
         Case("fly open loop departs without roll", ("fly", "--speed", "1", "--cycles", "30", "--control", "none",
@@ -317,11 +316,14 @@ def cases() -> list[Case]:
              "--hidden"),
         Case("train out full disk", ("train", "--data", "d.sqlite", "--out", "m.safetensors", "--speed", "1",
                                      "--hidden", "300", "--max-iter", "1", "--no-progress"), 1, "m.safetensors",
-             left=("d.sqlite",), setup=_rollback_copy, fsize=16000),
+             left=("d.sqlite",), setup=_copy(DATA, "d.sqlite"), fsize=16000),
         Case("train validation-png full disk", ("train", "--data", "d.sqlite", "--out", "m.safetensors", "--speed",
                                                 "1", "--hidden", "300", "--max-iter", "1", "--validation-png",
                                                 "v.png", "--no-progress"), 1, "v.p",
-             left=("d.sqlite", "m.safetensors", "v.pdf"), setup=_rollback_copy, fsize=60000),
+             left=("d.sqlite", "m.safetensors", "v.pdf"), setup=_copy(DATA, "d.sqlite"), fsize=60000),
+        Case("train data on a read-only file system", ("train", "--data", "mnt/d.sqlite", "--out", "m.safetensors",
+                                                       "--speed", "1", "--hidden", "300", "--max-iter", "1",
+                                                       "--no-progress"), 0, left=("m.safetensors",), mount="ro-data"),
         Case("train Ctrl-C", ("train", "--data", "{data}", "--out", "m.safetensors", "--speed", "1",
                               "--no-progress"), 130, signal=(signal.SIGINT, 8.0), max_s=10),
         Case("train bar shows its stage", ("train", "--data", "{data}", "--out", "m.safetensors", "--speed", "1"),
@@ -355,6 +357,13 @@ def cases() -> list[Case]:
         Case("reproduce default results not empty", ("reproduce",), 2, "--force",
              left=("results", "results/old.json"), setup=_write("results/old.json", b"{}")),
         Case("reproduce on a read-only file system", ("reproduce", "--out", "mnt/r"), 2, "--out", mount="ro"),
+        Case("reproduce on a full tmpfs", ("reproduce", "--only", "uvlm_table4", "--out", "mnt/r"), 1,
+             "uvlm_table4.json", mount="full", logs=("hawksim reproduce:", "uvlm_table4 ...")),
+        Case("reproduce on a full tmpfs, existing results", ("reproduce", "--only", "uvlm_table4", "--out", "mnt/r",
+                                                              "--force"), 1, "uvlm_table4.json", mount="full-keep",
+             logs=("hawksim reproduce:", "uvlm_table4 ...")),
+        Case("reproduce Ctrl-C", ("reproduce", "--only", "uvlm_table4", "--out", "r"), 130,
+             signal=(signal.SIGINT, 8.0), max_s=3, logs=("hawksim reproduce:", "uvlm_table4 ...")),
         Case("reproduce only unknown", ("reproduce", "--only", "figure99"), 2, "--only"),
         # the command itself
         Case("no subcommand", (), 2, "command"),
@@ -457,11 +466,18 @@ def _drain(fd: int, timeout: float) -> bytes:
 
 
 _INNER = r"""
-import json, os, subprocess, sys, time
-mnt, how, argv, cwd = sys.argv[1], sys.argv[2], json.loads(sys.argv[3]), sys.argv[4]
-opts = "size=1m" if how == "full" else "ro,size=1m"
+import json, os, shutil, subprocess, sys, time
+mnt, how, argv, cwd, data = sys.argv[1], sys.argv[2], json.loads(sys.argv[3]), sys.argv[4], sys.argv[5]
+opts = {"full": "size=1m", "full-keep": "size=1m", "ro": "ro,size=1m", "ro-data": "size=16m"}[how]
 subprocess.run(["mount", "-t", "tmpfs", "-o", opts, "tmpfs", mnt], check=True)
-if how == "full":
+if how == "ro-data":  # the shipped data set on a read-only disk
+    shutil.copy(data, os.path.join(mnt, "d.sqlite"))
+    subprocess.run(["mount", "-o", "remount,ro", mnt], check=True)
+if how == "full-keep":  # an earlier result, which a failed rerun must leave as it was
+    os.makedirs(os.path.join(mnt, "r"))
+    with open(os.path.join(mnt, "r", "uvlm_table4.json"), "w") as fh:
+        fh.write('{"old": 1}')
+if how in ("full", "full-keep"):
     try:
         with open(os.path.join(mnt, "filler"), "wb") as fh:
             while True:
@@ -473,8 +489,12 @@ t0 = time.perf_counter()
 p = subprocess.run(argv, cwd=cwd, capture_output=True, text=True)
 files = sorted(os.path.relpath(os.path.join(d, f), cwd) for d, ds, fs in os.walk(cwd) for f in ds + fs)
 files = [f for f in files if f != os.path.join("mnt", "filler")]
+kept = None
+if how == "full-keep":
+    with open(os.path.join(mnt, "r", "uvlm_table4.json")) as fh:
+        kept = fh.read()
 print(json.dumps({"code": p.returncode, "stdout": p.stdout, "stderr": p.stderr, "files": files,
-                  "seconds": time.perf_counter() - t0}))
+                  "seconds": time.perf_counter() - t0, "kept": kept}))
 """
 
 
@@ -486,15 +506,21 @@ def namespaces() -> bool:
 def _run_mounted(case: Case, tmp: Path) -> Result:
     (tmp / "mnt").mkdir()
     p = subprocess.run(["unshare", "-rm", sys.executable, "-c", _INNER, str(tmp / "mnt"), case.mount,
-                        json.dumps([HAWKSIM, *_argv(case, tmp)]), str(tmp)], capture_output=True, text=True)
+                        json.dumps([HAWKSIM, *_argv(case, tmp)]), str(tmp), DATA], capture_output=True, text=True)
     r = json.loads(p.stdout)
-    return Result(r["code"], r["stdout"], r["stderr"], tuple(f for f in r["files"] if f != "mnt"), r["seconds"])
+    files = tuple(f for f in r["files"] if f != "mnt")
+    if case.mount == "ro-data":
+        files = tuple(f for f in files if f != os.path.join("mnt", "d.sqlite"))
+    if case.mount == "full-keep":  # the earlier result stays, as it was
+        kept = ("mnt/r", "mnt/r/uvlm_table4.json")
+        files = tuple(f for f in files if f not in kept) + (() if r["kept"] == '{"old": 1}' else ("CHANGED r",))
+    return Result(r["code"], r["stdout"], r["stderr"], files, r["seconds"])
 
 
 def judge(case: Case, r: Result, tmp: Path) -> list[str]:
     """The ways ``r`` breaks the contract for ``case`` (empty: it behaves)."""
     why = []
-    lines = r.stderr.strip().splitlines()
+    lines = [ln for ln in r.stderr.strip().splitlines() if not (case.logs and ln.startswith(case.logs))]
     if r.code != case.code:
         why.append(f"exit {r.code}, not {case.code}")
     if "Traceback" in r.stderr:

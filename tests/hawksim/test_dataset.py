@@ -250,3 +250,25 @@ def test_layout_1_files_are_read_but_not_continued(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "layout 1" in err[0]
     assert old.read_bytes() == before
+
+
+SHIPPED_NETWORK_DATA = {"uvlm_training_0.3.sqlite": ("samples", 15000), "uvlm_flights_0.2.0.sqlite": ("flights", 345)}
+"""The committed data sets and their row counts (hawksim/data/surrogates/README.md)."""
+
+
+@pytest.mark.parametrize("name", sorted(SHIPPED_NETWORK_DATA))
+def test_the_shipped_data_sets_are_in_rollback_journal_mode(name):
+    """A reader of a WAL-mode file needs a -shm file beside it, so the shipped sets could not be read from a
+    read-only disk (one line, exit 1: issue 18); in rollback mode a reader writes nothing. The SQLite header's
+    bytes 18-19 (write and read format versions) are 1 for the rollback journal, 2 for WAL
+    (https://www.sqlite.org/fileformat.html, section 1.3)."""
+    path = Path(__file__).resolve().parents[2] / "data" / name
+    header = path.read_bytes()[:100]
+    assert header[18:20] == b"\x01\x01", f"{name} is in WAL mode: PRAGMA journal_mode=DELETE on it"
+    table, rows = SHIPPED_NETWORK_DATA[name]
+    conn = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+    try:
+        assert conn.execute(f"SELECT count(*) FROM {table}").fetchone()[0] == rows
+    finally:
+        conn.close()
+    assert not list(path.parent.glob(name + "-*"))  # no -wal / -shm / -journal made by reading

@@ -194,3 +194,41 @@ def test_a_full_disk_under_a_trained_network(tmp_path):
     line = one_line(p)
     assert p.returncode == 1 and str(out) in line and "File too large" in line, p.stderr
     assert [q.name for q in tmp_path.iterdir()] == ["d.sqlite"]
+
+
+REPRODUCE = r"""
+import json, resource, signal, sys
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
+import hawksim.paper.reproduce as rp
+# the writing under test, not the UVLM (`hawksim reproduce --only uvlm_table4` flies 20 UVLM beats, ~1 min): a
+# stand-in table of the real one's size (~20 kB)
+rp.table4_comparison = lambda: {"rows": [{"speed": v, "per_cycle": [[0.123456789] * 4] * 40} for v in range(5)]}
+sys.argv = ["hawksim", "reproduce", "--only", "uvlm_table4", "--out", sys.argv[1], *sys.argv[2:]]
+from hawksim.__main__ import run
+sys.exit(run())
+"""
+
+
+@pytest.mark.parametrize("existing", [False, True], ids=["new-out", "existing-out-force"])
+def test_a_full_disk_under_reproduce(tmp_path, existing):
+    """`hawksim reproduce` on a full disk: exit 1, the failure in one last line naming the file (after the command's
+    progress lines), no traceback; the directory it made is removed again, and with --force an earlier file is left
+    as it was (each file is written all or nothing, hawksim.atomic)."""
+    out = tmp_path / "r"
+    extra = []
+    if existing:
+        out.mkdir()
+        (out / "uvlm_table4.json").write_text('{"old": 1}')
+        extra = ["--force"]
+    p = subprocess.run([sys.executable, "-c", REPRODUCE, str(out), *extra], capture_output=True, text=True,
+                       timeout=120)
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 1 and p.stdout == "" and "Traceback" not in p.stderr, p.stderr
+    assert lines[:-1] == [f"hawksim reproduce: uvlm_table4 into {out}/, about 1 min on 2 cores", "uvlm_table4 ..."]
+    assert str(out / "uvlm_table4.json") in lines[-1] and "File too large" in lines[-1], lines[-1]
+    if existing:
+        assert [q.name for q in out.iterdir()] == ["uvlm_table4.json"]
+        assert (out / "uvlm_table4.json").read_text() == '{"old": 1}'
+    else:
+        assert list(tmp_path.iterdir()) == []
