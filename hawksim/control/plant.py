@@ -140,7 +140,9 @@ class ControlledSimulator(Simulator):
             return
         row = lambda k: np.array([k.f, k.phi0, k.theta0, k.alpha0, k.phi_a, k.alpha_a])  # noqa: E731
         self._native.set_blend((row(self._old[0]), row(self._old[1])), (row(self._new[0]), row(self._new[1])),
-                               t0=self._t0, phase=self._phase, span=self._span, period=self._T, same=self._same)
+                               t0=self._t0, phase=self._phase, span=self._span, period=self._T, same=self._same,
+                               beta_old=(self._old[0].beta, self._old[1].beta),
+                               beta_new=(self._new[0].beta, self._new[1].beta))
 
     @property
     def wing_params(self) -> tuple[Kinematics, Kinematics]:

@@ -62,8 +62,10 @@ C_POWER = 68         # the held loads' aerodynamic power [W]
 # kinematic inputs; the air velocity (world, m/s); the mirror signs V, W, F, M (3 each)
 C_NET_ON, C_NET_ADDR, C_NET_K, C_NET_IN, C_NET_H, C_NET_L, C_EVERY, C_I0, C_OMEGA_F = range(69, 78)
 C_KIN, C_AIR, C_MIRROR = 78, 85, 88
-C_SCRATCH = 100      # 6 nv unit vectors, then 6 nv rows of M^-1
-N_FIXED = 100
+C_NET_PLANT = 100    # 1: the network's kinematic inputs and phase follow the mode-1 blend (the controlled plant)
+C_BETA_NEW, C_BETA_OLD = 101, 103  # 2 each (left, right): the stroke-plane angle beta of the blend's kinematics
+C_SCRATCH = 105      # 6 nv unit vectors, then 6 nv rows of M^-1
+N_FIXED = 105
 
 REC_T, REC_POS, REC_R, REC_QVEL, REC_WR, REC_WO, REC_TAU, REC_QD = 0, 1, 4, 13, 19, 37, 43, 49
 REC_F, REC_M, REC_PA = 55, 61, 67
@@ -366,6 +368,31 @@ def mlp(x, buf, K, n_in, h, L):
 
 
 @njit(cache=True)
+def _plant_inputs(ctx, t, x):
+    """The controlled plant's network inputs at time t: each wing's seven parameters (PARAM_NAMES order) into
+    x[:, :7] and the returned phase [rad], the blend of :meth:`hawksim.control.plant.ControlledSimulator.
+    network_kinematics` (the previous beat's parameters and phase into the new ones by the smoothstep s)."""
+    tau = t - ctx[C_T0]
+    ph = ctx[C_PHASE]
+    wn = ph + 2 * math.pi * ctx[C_NEW] * tau
+    Tb = ctx[C_T] if ctx[C_SPAN] == 1.0 else ctx[C_SPAN] * ctx[C_T]
+    xs = min(max(tau / Tb, 0.0), 1.0)
+    s = xs * xs * xs * (10 - 15 * xs + 6 * xs * xs)
+    blend = not (ctx[C_SAME] != 0.0 or s >= 1.0)
+    for r in range(2):
+        kn, ko = C_NEW + 6 * r, C_OLD + 6 * r
+        # (f, beta, phi0, theta0, alpha0, phi_a, alpha_a) from the rows (f, phi0, theta0, alpha0, phi_a, alpha_a)
+        new = (ctx[kn], ctx[C_BETA_NEW + r], ctx[kn + 1], ctx[kn + 2], ctx[kn + 3], ctx[kn + 4], ctx[kn + 5])
+        old = (ctx[ko], ctx[C_BETA_OLD + r], ctx[ko + 1], ctx[ko + 2], ctx[ko + 3], ctx[ko + 4], ctx[ko + 5])
+        for j in range(7):
+            x[r, j] = (1 - s) * old[j] + s * new[j] if blend else new[j]
+    if not blend:
+        return wn
+    wo = ph + 2 * math.pi * ctx[C_OLD] * tau
+    return (1 - s) * wo + s * wn
+
+
+@njit(cache=True)
 def _surrogate_loads(ctx, t, qvel, xmat, cvel, buf):
     """The per-step surrogate's loads at the step's start into ctx (C_FORCE, C_MOMENT, C_POWER): the operations of
     ``StepSurrogateBackend.loads`` on the body's velocity relative to the air and angular velocity in body axes."""
@@ -382,9 +409,13 @@ def _surrogate_loads(ctx, t, qvel, xmat, cvel, buf):
     n_in = int(ctx[C_NET_IN])
     x = np.zeros((2, n_in), np.float32)
     ph = ctx[C_OMEGA_F] * t
+    if ctx[C_NET_PLANT] != 0.0 and ctx[C_MODE] == MODE_BLEND:
+        ph = _plant_inputs(ctx, t, x)
+    else:
+        for r in range(2):
+            for j in range(7):
+                x[r, j] = ctx[C_KIN + j]
     for r in range(2):
-        for j in range(7):
-            x[r, j] = ctx[C_KIN + j]
         x[r, 7] = math.sin(ph)
         x[r, 8] = math.cos(ph)
     for j in range(3):
@@ -519,7 +550,8 @@ class NativeNetwork:
     """A per-step surrogate for the callback (:meth:`hawksim.backends.step_surrogate.StepSurrogateBackend.native`):
     ``buffer`` float64-aligned bytes: its first float64 the number of float32 values that follow (the layout of
     :func:`mlp`); members, n_in, hidden, layers; ``every`` steps per update; omega_f = 2 pi f [rad/s] of its phase
-    input; kinematics (7,) its kinematic inputs (SI); mirrors (12,) MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M."""
+    input; kinematics (7,) its kinematic inputs (SI); mirrors (12,) MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M;
+    plant_kinematics below."""
 
     buffer: np.ndarray
     members: int
@@ -530,6 +562,9 @@ class NativeNetwork:
     omega_f: float
     kinematics: np.ndarray
     mirrors: np.ndarray
+    plant_kinematics: bool = False
+    """True: the kinematic inputs and the phase are the controlled plant's blend (mode 1) instead of ``kinematics``
+    and omega_f t (:class:`hawksim.control.surrogate.ControlledStepSurrogate`)."""
 
     @staticmethod
     def pack(values: np.ndarray) -> np.ndarray:
@@ -576,10 +611,13 @@ class NativeControl:
         self.ctx[C_P:C_P + 6] = p
 
     def set_blend(self, old: tuple[np.ndarray, np.ndarray], new: tuple[np.ndarray, np.ndarray], *, t0: float,
-                  phase: float, span: float, period: float, same: bool) -> None:
-        """Mode 1: the blend of ControlledSimulator (old, new: (left, right) parameter rows as in set_eq1)."""
+                  phase: float, span: float, period: float, same: bool, beta_old=(0.0, 0.0),
+                  beta_new=(0.0, 0.0)) -> None:
+        """Mode 1: the blend of ControlledSimulator (old, new: (left, right) parameter rows as in set_eq1; the
+        stroke-plane angles beta [rad] of each, which the prescribed motion does not use but a network reads)."""
         c = self.ctx
         c[C_MODE] = MODE_BLEND
+        c[C_BETA_NEW:C_BETA_NEW + 2], c[C_BETA_OLD:C_BETA_OLD + 2] = beta_new, beta_old
         c[C_NEW:C_NEW + 6], c[C_NEW + 6:C_NEW + 12] = new
         c[C_OLD:C_OLD + 6], c[C_OLD + 6:C_OLD + 12] = old
         c[C_T0], c[C_PHASE], c[C_SPAN], c[C_T], c[C_SAME] = t0, phase, span, period, float(same)
@@ -614,6 +652,7 @@ class NativeControl:
         c[C_EVERY], c[C_OMEGA_F] = net.every, net.omega_f
         c[C_KIN:C_KIN + 7] = net.kinematics
         c[C_MIRROR:C_MIRROR + 12] = net.mirrors
+        c[C_NET_PLANT] = float(net.plant_kinematics)
         c[C_NET_ON] = 1.0
 
     def set_air(self, air_v) -> None:
