@@ -40,9 +40,8 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
             (:func:`hawksim.flight.orbit.periodic_orbit`; state order :data:`hawksim.flight.orbit.STATE_NAMES`):
             the flight starts exactly there (plus ``perturb``), with no calibration beat.
         progress: called as progress(step, n_steps).
-        partial_on_interrupt: a KeyboardInterrupt during the steps returns the wingbeats completed so far (a
-            result with fewer than cycles x steps_per_cycle rows) instead of propagating; none completed: it
-            propagates.
+        partial_on_interrupt: a KeyboardInterrupt during the steps returns the steps completed so far (a result
+            with fewer than cycles x steps_per_cycle rows) instead of propagating; none completed: it propagates.
     """
     speed, kin = trim.speed, trim.kinematics
     if not (np.isfinite(speed) and speed >= 0):
@@ -90,7 +89,10 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
                                          "non-finite state")
             if progress is not None:
                 progress(done, n)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
+        part = getattr(exc, "partial", None)
+        if part is not None and len(part):
+            batches.append(part)
         if not partial_on_interrupt or not batches:
             raise
     wall = time.perf_counter() - t0

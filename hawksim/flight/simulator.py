@@ -403,20 +403,43 @@ class Simulator:
         there, so Python runs once per backend update instead of once per step (the per-step surrogate and the
         UVLM update every :func:`aero_every_for` steps). Without it, a loop of :meth:`step`.
 
-        ``extras_every``: keep the backend's extras of the steps i % extras_every == 0 (0: none).
+        ``extras_every``: keep the backend's extras of the steps i % extras_every == 0 (0: none). A
+        KeyboardInterrupt leaves with the steps completed as its ``partial`` attribute (a StepBatch).
         """
         if n < 0 or int(n) != n:
             raise ValueError(f"advance needs a number of steps >= 0, got {n}")
         n = int(n)
         if self._native is None:
-            return StepBatch.of([self.step() for _ in range(n)], extras_every, self._i - n)
+            i0, records = self._i, []
+            try:
+                for _ in range(n):
+                    records.append(self.step())
+            except KeyboardInterrupt as exc:
+                exc.partial = StepBatch.of(records, extras_every, i0)  # the steps completed, for the caller
+                raise
+            return StepBatch.of(records, extras_every, i0)
         from hawksim.flight.native import REC_WIDTH
 
-        m, d, native = self.m, self.d, self._native
+        native = self._native
         rec = np.empty((n, REC_WIDTH))
         extras = []
-        i0, i = self._i, 0
+        i0 = self._i
         net = self._native_network()
+        try:
+            self._advance_native(n, rec, extras, net, extras_every)
+        except KeyboardInterrupt as exc:  # between two chunks: the steps completed, for the caller
+            self._native.end_chunk()
+            done = self._i - i0
+            exc.partial = StepBatch.from_record(rec[:done], [e for e in extras if e[0] < i0 + done], i0)
+            raise
+        if net is not None:
+            force, moment, power = native.held()
+            self._held = WingLoads(force=force, moment=moment, power=power)
+        return StepBatch.from_record(rec, extras, i0)
+
+    def _advance_native(self, n: int, rec: np.ndarray, extras: list, net, extras_every: int) -> None:
+        m, d, native = self.m, self.d, self._native
+        i = 0
         while i < n:
             if net is not None:  # the whole chunk in one call: the callback evaluates the network
                 native.set_air(getattr(self, "air_v", np.zeros(3)))
@@ -440,14 +463,10 @@ class Simulator:
             rows = native.end_chunk()
             if rows != k:
                 raise RuntimeError(f"the native callback recorded {rows} of {k} steps (a stage count off)")
-            i += k
             mujoco.mj_kinematics(m, d)
             mujoco.mj_comPos(m, d)
             mujoco.mj_comVel(m, d)
-        if net is not None:
-            force, moment, power = native.held()
-            self._held = WingLoads(force=force, moment=moment, power=power)
-        return StepBatch.from_record(rec, extras, i0)
+            i += k
 
     def _native_network(self):
         """The backend's network for the callback (:meth:`StepSurrogateBackend.native`), or None: a backend

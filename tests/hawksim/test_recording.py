@@ -332,25 +332,29 @@ def test_interrupt_writes_the_steps_flown(tmp_path, monkeypatch, capsys, signame
     import os
     import signal
 
-    from hawksim.cli import fly as cli_fly
     from hawksim.cli import main
 
-    at = 150
+    from hawksim.backends.quasi_steady import QuasiSteadyBackend
 
-    def progress_for(args, desc):
-        def hook(i, n):
-            if i == at:
-                os.kill(os.getpid(), getattr(signal, signame))
-        return hook
+    at = 150  # mid-beat: the signal comes while Simulator.advance runs the beat's steps
+    calls = []
+    loads = QuasiSteadyBackend.loads
 
-    monkeypatch.setattr(cli_fly, "progress_for", progress_for)
+    def counted(self, state):
+        if not calls and round(state.t / state.dt) == at:  # the call for step `at`: steps 0 .. at - 1 are flown
+            calls.append(state.t)
+            os.kill(os.getpid(), getattr(signal, signame))
+        return loads(self, state)
+
+    monkeypatch.setattr(QuasiSteadyBackend, "loads", counted)
     before = signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)
     path = tmp_path / "cut.rrd"
-    assert main(["fly", "--speed", "1", "--cycles", "3", "--control", "none", "--rrd", str(path), "--json"]) == 130
+    assert main(["fly", "--speed", "1", "--cycles", "3", "--control", "none", "--rrd", str(path), "--json",
+                 "--no-progress"]) == 130
     assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before  # handlers restored
     assert [p.name for p in tmp_path.iterdir()] == ["cut.rrd"]
     steps, _ = temporal_column(read_chunks(path), "/world/moth", "Transform3D:quaternion")
-    assert at <= len(steps) <= at + 2 and np.array_equal(steps, np.arange(len(steps)))
+    assert calls and at <= len(steps) <= at + 2 and np.array_equal(steps, np.arange(len(steps)))
     err = capsys.readouterr()
     assert err.out == "" and "interrupted at step" in err.err and str(path) in err.err
     assert len(err.err.strip().splitlines()) == 1  # the contract's one line
