@@ -32,6 +32,10 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit, prange
+from numba.core import cgutils, types
+from numba.extending import intrinsic
+
+from aero.scheduling import KERNEL_LOCK
 
 FOUR_PI = 4.0 * np.pi
 TINY = 1e-300
@@ -42,9 +46,31 @@ RSQRT_MIN = 1e-36
 closer than 1e-18 m to a lattice corner counts as on it (the edges from that corner then give zero, as in
 :func:`induced_velocity`)."""
 
+CHUNKS_PER_THREAD = 16
+"""Target chunks per thread in :func:`lattice_induced_velocity`'s work queue: enough that a thread slowed by
+another process on its core leaves the chunks it cannot reach to the others (a chunk costs one more pass over
+the corners' blocks; 16 was 1.00x of 4 on an idle machine: docs/uvlm.md, "Speed")."""
+
 LATTICE_BLOCK = 192
 """Corners per block in :func:`lattice_induced_velocity` (the block's per-target scratch, 6 x 8 bytes per
 corner, and inputs stay in a 48 KiB L1 data cache)."""
+
+
+@intrinsic
+def claim(typingctx, counter):
+    """claim(counter) in njit code: atomically add 1 to counter[0] (a 1-D int64 array) and return its previous
+    value (sequentially consistent): the next free chunk of a work queue shared by the threads of a ``prange``
+    (:mod:`aero.scheduling`)."""
+    if not (isinstance(counter, types.Array) and counter.dtype == types.int64 and counter.ndim == 1):
+        return None
+
+    def codegen(context, builder, signature, args):
+        aryty = signature.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        ptr = cgutils.get_item_pointer(context, builder, aryty, ary, [context.get_constant(types.intp, 0)])
+        return builder.atomic_rmw("add", ptr, context.get_constant(types.int64, 1), "seq_cst")
+
+    return types.int64(counter), codegen
 
 
 @njit(fastmath=True, error_model="numpy", inline="always", cache=True)
@@ -116,14 +142,17 @@ def _edge_sum(m, x1, y1, z1, e1, f1, g1, x2, y2, z2, e2, f2, g2, gamma, rr, ux, 
 
 @njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
 def lattice_induced_velocity(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out,
-                             nchunk):
+                             nchunk, ntask):
     """out[i] += velocity (3,) at targets[i] (n, 3) induced by the edges of a flattened lattice [m/s].
 
     Corners (nc,) each of vx, vy, vz [m], row-major with ``stride`` corners per row; the edge from corner c to
     c + 1 has circulation span_gamma[c] and rr = |r0|^2 r_c^2 span_rr[c], the edge from c to c + stride
     chord_gamma[c], chord_rr[c]. Edges that do not exist (from the last corner of a row, from the last row) must
     have gamma 0 and rr > 0: they then add exactly zero, so lattices with the same stride can be stacked.
-    The targets are split into nchunk contiguous chunks run in parallel (a few per thread balance the load).
+    The targets are split into nchunk contiguous chunks, which ntask parallel tasks (one per thread: numba's
+    ``get_num_threads()``) take from a shared counter (:func:`claim`) until none is left (dynamic scheduling,
+    :mod:`aero.scheduling`). A target's arithmetic does not depend on its chunk or task: the result is the same,
+    bit for bit, for any nchunk, ntask and thread count.
     """
     n = targets.shape[0]
     nc = vx.shape[0]
@@ -132,10 +161,10 @@ def lattice_induced_velocity(targets, vx, vy, vz, stride, span_gamma, span_rr, c
     block = LATTICE_BLOCK
     nb = (nc + block - 1) // block
     nchunk = max(1, min(n, nchunk))
+    ntask = max(1, min(ntask, nchunk))
     scale = 1.0 / FOUR_PI
-    for q in prange(nchunk):
-        i0 = q * n // nchunk
-        i1 = (q + 1) * n // nchunk
+    counter = np.zeros(1, dtype=np.int64)
+    for _task in prange(ntask):
         size = block + stride + 1
         rx = np.empty(size)
         ry = np.empty(size)
@@ -143,35 +172,40 @@ def lattice_induced_velocity(targets, vx, vy, vz, stride, span_gamma, span_rr, c
         ex = np.empty(size)
         ey = np.empty(size)
         ez = np.empty(size)
-        for b in range(nb):
-            c0 = b * block
-            c1 = min(c0 + block, nc)
-            m = min(c1 + stride, nc) - c0
-            ms = min(c1, nc - 1) - c0
-            mc = min(c1, nc - stride) - c0
-            bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
-            sg, sr, cg, cr = span_gamma[c0:], span_rr[c0:], chord_gamma[c0:], chord_rr[c0:]
-            for i in range(i0, i1):
-                px, py, pz = targets[i, 0], targets[i, 1], targets[i, 2]
-                for k in range(m):
-                    x = px - bx[k]
-                    y = py - by[k]
-                    z = pz - bz[k]
-                    inv = rsqrt(max(x * x + y * y + z * z, RSQRT_MIN))
-                    rx[k] = x
-                    ry[k] = y
-                    rz[k] = z
-                    ex[k] = x * inv
-                    ey[k] = y * inv
-                    ez[k] = z * inv
-                ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:], ez[1:],
-                                       sg, sr, 0.0, 0.0, 0.0)
-                if mc > 0:
-                    ux, uy, uz = _edge_sum(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:], rz[stride:],
-                                           ex[stride:], ey[stride:], ez[stride:], cg, cr, ux, uy, uz)
-                out[i, 0] += ux * scale
-                out[i, 1] += uy * scale
-                out[i, 2] += uz * scale
+        q = claim(counter)
+        while q < nchunk:
+            i0 = q * n // nchunk
+            i1 = (q + 1) * n // nchunk
+            for b in range(nb):
+                c0 = b * block
+                c1 = min(c0 + block, nc)
+                m = min(c1 + stride, nc) - c0
+                ms = min(c1, nc - 1) - c0
+                mc = min(c1, nc - stride) - c0
+                bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
+                sg, sr, cg, cr = span_gamma[c0:], span_rr[c0:], chord_gamma[c0:], chord_rr[c0:]
+                for i in range(i0, i1):
+                    px, py, pz = targets[i, 0], targets[i, 1], targets[i, 2]
+                    for k in range(m):
+                        x = px - bx[k]
+                        y = py - by[k]
+                        z = pz - bz[k]
+                        inv = rsqrt(max(x * x + y * y + z * z, RSQRT_MIN))
+                        rx[k] = x
+                        ry[k] = y
+                        rz[k] = z
+                        ex[k] = x * inv
+                        ey[k] = y * inv
+                        ez[k] = z * inv
+                    ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
+                                           ez[1:], sg, sr, 0.0, 0.0, 0.0)
+                    if mc > 0:
+                        ux, uy, uz = _edge_sum(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:], rz[stride:],
+                                               ex[stride:], ey[stride:], ez[stride:], cg, cr, ux, uy, uz)
+                    out[i, 0] += ux * scale
+                    out[i, 1] += uy * scale
+                    out[i, 2] += uz * scale
+            q = claim(counter)
 
 
 @njit(parallel=True, fastmath=False, cache=True)
@@ -230,6 +264,7 @@ def segment_velocity(targets: np.ndarray, a: np.ndarray, b: np.ndarray, gamma: n
     out = np.zeros((targets.shape[0], 3))
     if np.size(gamma) == 0 or targets.shape[0] == 0:
         return out
-    induced_velocity(targets, *pack(a, b, gamma, rc2), out)
+    with KERNEL_LOCK:
+        induced_velocity(targets, *pack(a, b, gamma, rc2), out)
     return out
 

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import get_num_threads, njit
 
-from aero.biot_savart import lattice_induced_velocity
+from aero.biot_savart import CHUNKS_PER_THREAD, lattice_induced_velocity
+from aero.scheduling import KERNEL_LOCK
 
 
 @dataclass(frozen=True)
@@ -124,5 +125,8 @@ def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
             _fill(lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma, lat.chord_rc2, off, *arrays)
             off += lat.G.shape[0] * stride
         vx, vy, vz, sg, sr, cg, cr = arrays
-        lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out, 4 * get_num_threads())
+        threads = get_num_threads()
+        with KERNEL_LOCK:
+            lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out, CHUNKS_PER_THREAD * threads,
+                                     threads)
     return out
