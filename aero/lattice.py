@@ -13,10 +13,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import get_num_threads, njit
+from numba import njit
 
-from aero.biot_savart import CHUNKS_PER_THREAD, lattice_induced_velocity
-from aero.scheduling import KERNEL_LOCK
+from aero.biot_savart import lattice_induced_velocity
 
 
 @dataclass(frozen=True)
@@ -125,8 +124,5 @@ def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
             _fill(lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma, lat.chord_rc2, off, *arrays)
             off += lat.G.shape[0] * stride
         vx, vy, vz, sg, sr, cg, cr = arrays
-        threads = get_num_threads()
-        with KERNEL_LOCK:
-            lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out, CHUNKS_PER_THREAD * threads,
-                                     threads)
+        lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out)
     return out

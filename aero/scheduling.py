@@ -1,50 +1,95 @@
-"""How the numba kernels share the cores: the threading layer, a dynamic work queue, one launch at a time.
+"""How the Biot-Savart kernels share the cores: nogil numba kernels on a small thread pool, chunks taken on demand.
 
-**Threading layer.** numba picks TBB, else OpenMP, else its own ``workqueue`` layer. With GNU OpenMP (what a pip
-install of numba gets without TBB) the worker threads spin for a while after each parallel region (libgomp's
-default ``GOMP_SPINCOUNT``), and a UVLM step launches 4-5 short regions between stretches of serial numpy work: a
-spinning worker takes a core from the main thread whenever the cores are shared. On this 2-core machine, with a
-busy-loop competitor on one core, the reference case of ``scripts/benchmarks/bench_contention.py`` took 3.7x as
-long with 2 threads as with 1 under GNU OpenMP, and 0.4-0.6x with workqueue or with OpenMP told not to spin
-(``OMP_WAIT_POLICY=passive``) (2026-12-02; the figures and their commands are in docs/uvlm.md, "Speed").
-Importing :mod:`aero` therefore sets ``NUMBA_THREADING_LAYER=workqueue`` unless the user set it: its threads
-sleep on condition variables between regions, it is fork-safe, and, unlike ``OMP_WAIT_POLICY``, it touches no
-other library's OpenMP runtime (torch's).
+The kernels of :mod:`aero.biot_savart` are compiled without numba's ``parallel=True``. numba's threading layers
+split a ``prange`` statically, one equal part per thread, so a thread that shares its core with another process
+finishes last while the others wait; and GNU OpenMP (the layer a pip install of numba gets without TBB) keeps its
+workers spinning after each parallel region, where they take a core from the main thread's serial numpy work
+between the 4-5 short regions of a UVLM step. With a busy-loop competitor on one of this machine's two cores,
+the UVLM reference case took 1.6-2.2x as long with 2 numba threads as with 1 that way (docs/uvlm.md, "Speed";
+``scripts/benchmarks/bench_contention.py``). ``parallel=True`` also took 60 % of the kernels' compile time.
 
-**Dynamic work queue.** workqueue (like OpenMP's default schedule) splits a ``prange`` statically, one equal part
-per thread, so a thread that shares its core with another process finishes last and the others wait for it. The
-lattice kernel instead starts one task per thread, each of which takes the next chunk of targets from a shared
-counter (:func:`aero.biot_savart.claim`, an atomic fetch-and-add) until none is left: a thread on a free core
-takes more chunks.
-Which thread computes a target does not change its arithmetic, so results are bit-identical for any thread
-count and chunking (tested: ``tests/aero/test_scheduling.py``).
+Instead, :func:`run_chunked` splits a kernel's targets into chunks and runs the kernel as one task per thread:
+on the calling thread and on the threads of a pool (:class:`concurrent.futures.ThreadPoolExecutor`, the kernels
+release the GIL), each task taking the next chunk from a shared counter (:func:`aero.biot_savart.claim`, an
+atomic fetch-and-add) until none is left, so a thread on a free core takes more chunks. Idle pool threads sleep.
+Which task computes a target does not change its arithmetic: results are bit-identical for any thread count
+and chunking (``tests/aero/test_scheduling.py``), and to the former ``parallel=True`` kernels. Concurrent calls
+from several Python threads are safe (each call has its own counter).
 
-**One launch at a time.** workqueue cannot run two parallel regions at once (numba aborts the process if two
-Python threads launch kernels concurrently), so every parallel kernel launch in :mod:`aero` holds
-:data:`KERNEL_LOCK`; concurrent callers then take turns.
+The thread count is numba's (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``), so the settings that limit numba
+(dask workers: :data:`hawksim.cluster.ONE_THREAD`) limit these kernels too.
 """
 
 from __future__ import annotations
 
 import os
-import sys
 import threading
+from concurrent.futures import ThreadPoolExecutor
 
-ENV = "NUMBA_THREADING_LAYER"
-DEFAULT_LAYER = "workqueue"
-"""The layer set when the user has not chosen one (see the module docstring for the measurement)."""
+import numba
+import numpy as np
 
-KERNEL_LOCK = threading.RLock()
-"""Held around every parallel numba kernel launch in :mod:`aero` (workqueue is not re-entrant across threads)."""
+CHUNKS_PER_THREAD = 16
+"""Chunks per thread: enough that a thread slowed by another process on its core leaves the chunks it cannot
+reach to the others; a chunk costs one more pass over the source's blocks (tuned; 16 and 4 ran alike on an idle
+machine, docs/uvlm.md, "Speed")."""
+
+MIN_PARALLEL_WORK = 100_000
+"""Smallest kernel call [target-source pair evaluations] that is split over threads; smaller ones run on the
+calling thread alone (a pool hand-off costs ~20-50 us, ~1e4 pair evaluations; tuned, docs/uvlm.md, "Speed")."""
+
+_pool: ThreadPoolExecutor | None = None
+_pool_workers = 0
+_pool_lock = threading.Lock()
 
 
-def apply_threading_layer(environ=None) -> str:
-    """Set ``NUMBA_THREADING_LAYER`` to :data:`DEFAULT_LAYER` unless set; returns the value in force. Before
-    numba's first parallel launch (which reads it), also when numba is already imported."""
-    env = os.environ if environ is None else environ
-    env.setdefault(ENV, DEFAULT_LAYER)
-    if environ is None and "numba" in sys.modules:
-        from numba.core import config
+def thread_count() -> int:
+    """Threads a kernel call may use: numba's current setting (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``)."""
+    return numba.get_num_threads()
 
-        config.THREADING_LAYER = env[ENV]
-    return env[ENV]
+
+def _workers(n: int) -> ThreadPoolExecutor:
+    """The pool, with at least n threads."""
+    global _pool, _pool_workers
+    with _pool_lock:
+        if _pool is None or _pool_workers < n:
+            old = _pool
+            _pool, _pool_workers = ThreadPoolExecutor(max_workers=n, thread_name_prefix="aero-kernel"), n
+            if old is not None:
+                old.shutdown(wait=False)
+        return _pool
+
+
+def _forget_pool() -> None:
+    """In a forked child: the parent's pool threads do not exist there."""
+    global _pool, _pool_workers, _pool_lock
+    _pool, _pool_workers, _pool_lock = None, 0, threading.Lock()
+
+
+os.register_at_fork(after_in_child=_forget_pool)
+
+
+def run_chunked(kernel, args: tuple, n_items: int, work: float, threads: int | None = None) -> None:
+    """Run ``kernel(*args, counter, nchunk)`` as one task per thread over ``n_items`` items in chunks.
+
+    kernel: a nogil numba function whose tasks take chunk numbers q = claim(counter) until q >= nchunk and
+    process items [q n / nchunk, (q + 1) n / nchunk). work: the call's size [pair evaluations]; below
+    :data:`MIN_PARALLEL_WORK` the calling thread runs one chunk. threads: default :func:`thread_count`.
+    """
+    if n_items <= 0:
+        return
+    threads = thread_count() if threads is None else threads
+    if work < MIN_PARALLEL_WORK:
+        threads = 1
+    counter = np.zeros(1, dtype=np.int64)
+    if threads <= 1:
+        kernel(*args, counter, 1)
+        return
+    nchunk = min(n_items, CHUNKS_PER_THREAD * threads)
+    tasks = min(threads, nchunk)
+    futures = [_workers(tasks - 1).submit(kernel, *args, counter, nchunk) for _ in range(tasks - 1)]
+    try:
+        kernel(*args, counter, nchunk)
+    finally:
+        for f in futures:
+            f.result()

@@ -34,7 +34,6 @@ import scipy.linalg
 from aero.biot_savart import ring_influence
 from aero.lattice import Lattice, lattice_velocity, ring_lattice
 from aero.mesh import WingMesh
-from aero.scheduling import KERNEL_LOCK
 from aero.wake import Wake
 
 
@@ -253,15 +252,13 @@ class UVLM:
         corners = np.concatenate([
             np.stack([G[:-1, :-1], G[:-1, 1:], G[1:, 1:], G[1:, :-1]], axis=2).reshape(-1, 4, 3) for G in rings])
         A = np.empty((X.shape[0], corners.shape[0]))
-        with KERNEL_LOCK:
-            ring_influence(np.ascontiguousarray(X), np.ascontiguousarray(N), np.ascontiguousarray(corners),
-                           self.rb * self.rb, A)
+        ring_influence(np.ascontiguousarray(X), np.ascontiguousarray(N), np.ascontiguousarray(corners),
+                       self.rb * self.rb, A)
         if mirror is not None:
             A_img = np.empty_like(A)
-            with KERNEL_LOCK:
-                ring_influence(np.ascontiguousarray(_reflect_points(X, *mirror)),
-                               np.ascontiguousarray(_reflect_vectors(N, mirror[1])), np.ascontiguousarray(corners),
-                               self.rb * self.rb, A_img)
+            ring_influence(np.ascontiguousarray(_reflect_points(X, *mirror)),
+                           np.ascontiguousarray(_reflect_vectors(N, mirror[1])), np.ascontiguousarray(corners),
+                           self.rb * self.rb, A_img)
             A += A_img
         gamma_all = scipy.linalg.lu_solve(scipy.linalg.lu_factor(A, check_finite=False), rhs, check_finite=False)
         if not np.all(np.isfinite(gamma_all)):

@@ -1,5 +1,5 @@
-"""aero.scheduling: the lattice kernel's dynamic work queue gives the same bits for any chunking and thread count,
-the threading layer defaults to workqueue, and concurrent Python threads take turns instead of aborting numba."""
+"""aero.scheduling: the kernels' chunks taken on demand give the same bits for any chunking and thread count, and
+concurrent Python threads may call the kernels."""
 
 import hashlib
 import json
@@ -10,9 +10,9 @@ import sys
 import numba
 import numpy as np
 
-from aero.biot_savart import lattice_induced_velocity
-from aero.lattice import _fill, lattice_velocity, ring_lattice
-from aero.scheduling import DEFAULT_LAYER, ENV, apply_threading_layer
+from aero import scheduling
+from aero.biot_savart import _lattice_chunks, _ring_chunks, _segment_chunks, pack, ring_influence
+from aero.lattice import _fill, ring_lattice
 
 
 def _wake_like(rows=40, ns=8, seed=0):
@@ -26,25 +26,54 @@ def _wake_like(rows=40, ns=8, seed=0):
     return lat, p
 
 
-def _kernel(lat, p, nchunk, ntask):
+def _lattice_args(lat, p):
     stride = lat.G.shape[1]
     arrays = np.empty((7, lat.G.shape[0] * stride))
     _fill(lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma, lat.chord_rc2, 0, *arrays)
-    out = np.zeros((p.shape[0], 3))
     vx, vy, vz, sg, sr, cg, cr = arrays
-    lattice_induced_velocity(p, vx, vy, vz, stride, sg, sr, cg, cr, out, nchunk, ntask)
-    return out
+    return (p, vx, vy, vz, stride, sg, sr, cg, cr, np.zeros((p.shape[0], 3)))
+
+
+def _tasks(kernel, args, nchunk, ntask):
+    """Run ntask tasks of kernel one after the other over nchunk chunks (as the threads would, in any order)."""
+    counter = np.zeros(1, dtype=np.int64)
+    for _ in range(ntask):
+        kernel(*args, counter, nchunk)
+    return counter[0]
 
 
 def test_any_chunking_and_task_count_gives_the_same_bits():
     """Every chunk is taken exactly once (a chunk done twice would double its targets, one skipped would leave
-    zeros) and a target's arithmetic does not depend on its chunk or task: bit-identical outputs."""
+    zeros) and a target's arithmetic does not depend on its chunk: bit-identical outputs, for the three kernels,
+    run as sequential tasks and on real threads."""
     lat, p = _wake_like()
-    ref = _kernel(lat, p, 1, 1)
-    assert np.abs(ref).max() > 0
-    for nchunk, ntask in ((3, 1), (7, 2), (64, 2), (64, 5), (300, 2), (1000, 3)):
-        out = _kernel(lat, p, nchunk, ntask)
-        assert np.array_equal(out, ref), (nchunk, ntask)
+    rng = np.random.default_rng(2)
+    corners = rng.normal(size=(30, 4, 3)) * 1e-2
+    normals = rng.normal(size=p.shape)
+    a = rng.normal(size=(50, 3)) * 1e-2
+    seg = pack(a, a + 1e-3 * rng.normal(size=a.shape), rng.normal(size=50), 1e-6)
+    cases = [(_lattice_chunks, lambda: _lattice_args(lat, p), -1),
+             (_ring_chunks, lambda: (p, normals, corners, 1e-6, np.zeros((p.shape[0], 30))), -1),
+             (_segment_chunks, lambda: (p, *seg, np.zeros((p.shape[0], 3))), -1)]
+    for kernel, make, out_index in cases:
+        args = make()
+        _tasks(kernel, args, 1, 1)
+        ref = args[out_index]
+        assert np.abs(ref).max() > 0
+        for nchunk, ntask in ((3, 1), (7, 2), (64, 5), (300, 2), (1000, 3)):
+            args = make()
+            claimed = _tasks(kernel, args, nchunk, ntask)
+            assert claimed == nchunk + ntask  # each chunk once, and one look past the end per task
+            assert np.array_equal(args[out_index], ref), (kernel, nchunk, ntask)
+        for threads in (2, 3):
+            args = make()
+            old = scheduling.MIN_PARALLEL_WORK
+            scheduling.MIN_PARALLEL_WORK = 0
+            try:
+                scheduling.run_chunked(kernel, args, p.shape[0], 1.0, threads=threads)
+            finally:
+                scheduling.MIN_PARALLEL_WORK = old
+            assert np.array_equal(args[out_index], ref), (kernel, threads)
 
 
 def test_thread_count_does_not_change_a_uvlm_run():
@@ -71,18 +100,10 @@ def test_thread_count_does_not_change_a_uvlm_run():
     assert runs[0] == runs[1]
 
 
-def test_threading_layer_default_and_user_choice():
-    env = {}
-    assert apply_threading_layer(env) == DEFAULT_LAYER and env[ENV] == "workqueue"
-    env = {ENV: "omp"}
-    assert apply_threading_layer(env) == "omp" and env[ENV] == "omp"
-
-
 PROBE = """
-import json, sys, threading
+import json, threading
 import numpy as np
 import aero
-import numba
 from aero.lattice import lattice_velocity, ring_lattice
 rng = np.random.default_rng(0)
 G = rng.normal(size=(41, 9, 3)) * 1e-2
@@ -98,22 +119,23 @@ for t in threads:
     t.start()
 for t in threads:
     t.join()
-print(json.dumps({"layer": numba.threading_layer(), "same": all(same), "calls": len(same)}))
+print(json.dumps({"same": all(same), "calls": len(same)}))
 """
 
 
-def test_concurrent_python_threads_take_turns_under_the_default_layer():
-    """numba's workqueue layer aborts the process when two threads launch parallel kernels at once; aero's
-    kernel lock makes them take turns (in a fresh process, where the default layer is chosen)."""
-    env = {k: v for k, v in os.environ.items() if k != ENV}
-    env["NUMBA_NUM_THREADS"] = "2"
+def test_concurrent_python_threads_may_call_the_kernels():
+    """Three Python threads calling the lattice kernel at once (2 kernel threads each) get the serial answer
+    (in a fresh process; numba's workqueue threading layer would abort the process here)."""
+    env = {**os.environ, "NUMBA_NUM_THREADS": "2"}
     proc = subprocess.run([sys.executable, "-c", PROBE], capture_output=True, text=True, env=env, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
-    out = json.loads(proc.stdout.strip().splitlines()[-1])
-    assert out == {"layer": "workqueue", "same": True, "calls": 60}
+    assert json.loads(proc.stdout.strip().splitlines()[-1]) == {"same": True, "calls": 60}
 
 
-def test_lattice_velocity_uses_the_queue_with_more_chunks_than_threads():
-    """lattice_velocity (the UVLM's entry point) equals the kernel run as one chunk on one task, bit for bit."""
-    lat, p = _wake_like(seed=1)
-    assert np.array_equal(lattice_velocity(p, [lat]), _kernel(lat, p, 1, 1))
+def test_small_calls_stay_on_the_calling_thread():
+    """Below MIN_PARALLEL_WORK no pool thread is used (a 4 x 3 influence matrix)."""
+    scheduling._forget_pool()
+    A = np.empty((4, 3))
+    rng = np.random.default_rng(3)
+    ring_influence(rng.normal(size=(4, 3)), rng.normal(size=(4, 3)), rng.normal(size=(3, 4, 3)), 1e-6, A)
+    assert scheduling._pool is None and np.all(np.isfinite(A))
