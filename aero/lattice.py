@@ -121,7 +121,9 @@ def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
         arrays = np.empty((7, stride * sum(lat.G.shape[0] for lat in lats)))
         off = 0
         for lat in lats:
-            _fill(lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma, lat.chord_rc2, off, *arrays)
+            # contiguous copies of the broadcast core arrays: one compiled specialisation of _fill, not two
+            _fill(*(np.ascontiguousarray(a) for a in (lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma,
+                                                      lat.chord_rc2)), off, *arrays)
             off += lat.G.shape[0] * stride
         vx, vy, vz, sg, sr, cg, cr = arrays
         lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out)

@@ -18,11 +18,11 @@ import sys
 
 from aero.vector_width import apply_vector_width
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
-from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim
+from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim, warmup
 from hawksim.cli.args import Parser, UsageError
 from hawksim.cli.progress import close_all
 
-SUBCOMMANDS = (fly, aero, stability, dataset, train, predict, trim, reproduce)
+SUBCOMMANDS = (fly, aero, stability, dataset, train, predict, trim, reproduce, warmup)
 """The subcommand modules, in the order `hawksim --help` lists them."""
 
 
@@ -95,6 +95,7 @@ def main(argv: list[str] | None = None) -> int:
         spc = getattr(args, "steps_per_cycle", None)
         if spc is not None and spc < MIN_STEPS_PER_CYCLE:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")
+        warmup.install_compile_notice()  # one line on stderr if this command has to compile a kernel first
         out = args.func(args)
     except BaseException as exc:
         code, line = failure(exc)  # re-raises what is not one of the contract's failures (a bug: its traceback)
