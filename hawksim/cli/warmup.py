@@ -51,10 +51,18 @@ def compile_counter(prefixes=PREFIXES, notice=None):
     return listener
 
 
+_NOTICE_LISTENER = None
+
+
 def install_compile_notice():
-    """Print :data:`NOTICE` on stderr once, before this process compiles its first hawksim kernel."""
-    cache = os.environ.get("NUMBA_CACHE_DIR", "numba's default cache")
-    return compile_counter(notice=lambda: print(NOTICE.format(cache=cache), file=sys.stderr, flush=True))
+    """Print :data:`NOTICE` on stderr once, before this process compiles its first hawksim kernel (installed
+    once per process; later calls return the same listener)."""
+    global _NOTICE_LISTENER
+    if _NOTICE_LISTENER is None:
+        cache = os.environ.get("NUMBA_CACHE_DIR", "numba's default cache")
+        _NOTICE_LISTENER = compile_counter(notice=lambda: print(NOTICE.format(cache=cache), file=sys.stderr,
+                                                                flush=True))
+    return _NOTICE_LISTENER
 
 
 def cmd_warmup(args) -> dict:
