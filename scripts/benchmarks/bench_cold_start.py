@@ -107,7 +107,8 @@ def main() -> None:
     sys.path.insert(0, REPO)
     from hawksim.jsonout import emit
 
-    emit({"command": " ".join(["python", *sys.argv]), "case": "hawksim aero --speed 0 (Table 3 hover), default resolution, fresh clone + venv + user cache",
+    emit({"command": " ".join(["python", *sys.argv]),
+          "case": "hawksim aero --speed 0 (Table 3 hover), default resolution, fresh clone + venv + user cache",
           "full_install": args.full_install, "results": results, "loadavg_start": start}, args.out, host=True)
 
 

@@ -120,7 +120,8 @@ def main() -> None:
         for name, _ in settings[1:]:
             summary[cond][name][f"ratio_to_{settings[0][0].replace(' ', '_')}"] = round(
                 summary[cond][name]["median_s"] / base, 3)
-    out = {"command": " ".join(["python", *sys.argv]), "case": f"bench_uvlm reference case, {args.steps} steps", "repeats": args.repeats,
+    out = {"command": " ".join(["python", *sys.argv]),
+           "case": f"bench_uvlm reference case, {args.steps} steps", "repeats": args.repeats,
            "settings": {name: env for name, env in settings}, "competitor_cpu": cpu,
            "affinity": sorted(os.sched_getaffinity(0)), "results": summary, "loadavg_start": start}
     sys.path.insert(0, os.path.dirname(os.path.dirname(HERE)))

@@ -74,7 +74,8 @@ def main() -> None:
     settings = [(int(c), int(w)) for c in args.chunks.split(",") for w in args.min_work.split(",")]
     run_case(steps=4, cycles=4 / 220 * 3)
     run(table3_kinematics(0.0), 0.0, DEFAULT)
-    out = {"command": " ".join(["python", *sys.argv]), "threads": scheduling.thread_count(), "handoff_us": round(handoff_us(), 1), "settings": {}}
+    out = {"command": " ".join(["python", *sys.argv]),
+           "threads": scheduling.thread_count(), "handoff_us": round(handoff_us(), 1), "settings": {}}
     rows = {s: {"reference_s": [], "aero_s": [], "loadavg": [], "hash": set()} for s in settings}
     for _ in range(args.repeats):
         for s in settings:
