@@ -4,9 +4,11 @@ The kernels of :mod:`aero.biot_savart` are compiled without numba's ``parallel=T
 split a ``prange`` statically, one equal part per thread, so a thread that shares its core with another process
 finishes last while the others wait; and GNU OpenMP (the layer a pip install of numba gets without TBB) keeps its
 workers spinning after each parallel region, where they take a core from the main thread's serial numpy work
-between the 4-5 short regions of a UVLM step. With a busy-loop competitor on one of this machine's two cores,
-the UVLM reference case took 1.6-2.2x as long with 2 numba threads as with 1 that way (docs/uvlm.md, "Speed";
-``scripts/benchmarks/bench_contention.py``). ``parallel=True`` also took 60 % of the kernels' compile time.
+between the 4-5 short regions of a UVLM step. On this shared 2-core machine the UVLM reference case took
+1.6-2.5x as long with 2 numba threads as with 1 that way (ratio of medians 1.8x; 1.7x with a busy-loop
+competitor on one core); with the scheme below, 0.63-0.79x with the competitor (docs/uvlm.md, "Speed";
+``scripts/benchmarks/bench_contention.py``). ``parallel=True`` also more than doubled the lattice kernel's
+compile time (7.2 s against 3.3 s), which a user meets on the first run after an install.
 
 Instead, :func:`run_chunked` splits a kernel's targets into chunks and runs the kernel as one task per thread:
 on the calling thread and on the threads of a pool (:class:`concurrent.futures.ThreadPoolExecutor`, the kernels
@@ -31,12 +33,14 @@ import numpy as np
 
 CHUNKS_PER_THREAD = 16
 """Chunks per thread: enough that a thread slowed by another process on its core leaves the chunks it cannot
-reach to the others; a chunk costs one more pass over the source's blocks (tuned; 16 and 4 ran alike on an idle
-machine, docs/uvlm.md, "Speed")."""
+reach to the others (a chunk costs one more pass over the source's blocks). Tuned: 4 and 16 ran alike within the
+run-to-run spread on the shared machine (scripts/benchmarks/bench_scheduling.py, docs/uvlm.md, "Speed")."""
 
 MIN_PARALLEL_WORK = 100_000
 """Smallest kernel call [target-source pair evaluations] that is split over threads; smaller ones run on the
-calling thread alone (a pool hand-off costs ~20-50 us, ~1e4 pair evaluations; tuned, docs/uvlm.md, "Speed")."""
+calling thread alone. Tuned: a pool hand-off measured 30 us (~1e4 pair evaluations on one core), so a split
+call of 1e5 pairs (~0.3 ms) saves more than it costs; 0 and 1e5 ran alike within the spread
+(scripts/benchmarks/bench_scheduling.py)."""
 
 _pool: ThreadPoolExecutor | None = None
 _pool_workers = 0
