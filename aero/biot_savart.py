@@ -47,6 +47,18 @@ RSQRT_MIN = 1e-36
 closer than 1e-18 m to a lattice corner counts as on it (the edges from that corner then give zero, as in
 :func:`induced_velocity`)."""
 
+RSQRT_MIN32 = np.float32(1e-30)
+"""Smallest squared distance [m^2] of the mixed-precision lattice kernel's float32 1/sqrt (a target closer than
+1e-15 m to a corner counts as on it)."""
+
+TINY32 = np.float32(1e-37)
+"""The float32 counterpart of TINY (a normal float32, so that no denominator is zero)."""
+
+PRECISIONS = ("float64", "mixed")
+"""Pair-evaluation precisions of :func:`lattice_induced_velocity`: float64 throughout, or "mixed": each
+target-edge evaluation in float32 (after the target-corner differences are formed in float64) and the sums over
+edges accumulated in float64."""
+
 LATTICE_BLOCK = 192
 """Corners per block in :func:`lattice_induced_velocity` (the block's per-target scratch, 6 x 8 bytes per
 corner, and inputs stay in a 48 KiB L1 data cache)."""
@@ -199,8 +211,84 @@ def _lattice_chunks(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamm
         q = claim(counter)
 
 
+@njit(fastmath=True, error_model="numpy", inline="always", cache=True)
+def _edge_sum_mixed(m, x1, y1, z1, e1, f1, g1, x2, y2, z2, e2, f2, g2, gamma, rr, ux, uy, uz):
+    """:func:`_edge_sum` on float32 distances, unit vectors, circulations and rr; each edge's velocity is
+    evaluated in float32 and added to the float64 sums ux, uy, uz."""
+    for k in range(m):
+        ax, ay, az = x1[k], y1[k], z1[k]
+        bx, by, bz = x2[k], y2[k], z2[k]
+        cx = ay * bz - az * by
+        cy = az * bx - ax * bz
+        cz = ax * by - ay * bx
+        K = (ax - bx) * (e1[k] - e2[k]) + (ay - by) * (f1[k] - f2[k]) + (az - bz) * (g1[k] - g2[k])
+        f = gamma[k] * K / (cx * cx + cy * cy + cz * cz + rr[k] + TINY32)
+        ux += np.float64(f * cx)
+        uy += np.float64(f * cy)
+        uz += np.float64(f * cz)
+    return ux, uy, uz
+
+
+@njit(nogil=True, fastmath=True, error_model="numpy", cache=True)
+def _lattice_chunks_mixed(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out, counter,
+                          nchunk):
+    """:func:`_lattice_chunks` with float32 pair evaluations (precision "mixed"): the target-corner differences
+    are formed in float64 and rounded to float32, 1/sqrt is float32 (hardware estimate and one Newton step under
+    fastmath), span/chord gamma and rr are float32 arrays; the per-target sums are float64."""
+    n = targets.shape[0]
+    nc = vx.shape[0]
+    if n == 0 or nc == 0:
+        return
+    block = LATTICE_BLOCK
+    nb = (nc + block - 1) // block
+    scale = 1.0 / FOUR_PI
+    size = block + stride + 1
+    rx = np.empty(size, np.float32)
+    ry = np.empty(size, np.float32)
+    rz = np.empty(size, np.float32)
+    ex = np.empty(size, np.float32)
+    ey = np.empty(size, np.float32)
+    ez = np.empty(size, np.float32)
+    one = np.float32(1.0)
+    q = claim(counter)
+    while q < nchunk:
+        i0 = q * n // nchunk
+        i1 = (q + 1) * n // nchunk
+        for b in range(nb):
+            c0 = b * block
+            c1 = min(c0 + block, nc)
+            m = min(c1 + stride, nc) - c0
+            ms = min(c1, nc - 1) - c0
+            mc = min(c1, nc - stride) - c0
+            bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
+            sg, sr, cg, cr = span_gamma[c0:], span_rr[c0:], chord_gamma[c0:], chord_rr[c0:]
+            for i in range(i0, i1):
+                px, py, pz = targets[i, 0], targets[i, 1], targets[i, 2]
+                for k in range(m):
+                    x = np.float32(px - bx[k])
+                    y = np.float32(py - by[k])
+                    z = np.float32(pz - bz[k])
+                    inv = one / np.sqrt(max(x * x + y * y + z * z, RSQRT_MIN32))
+                    rx[k] = x
+                    ry[k] = y
+                    rz[k] = z
+                    ex[k] = x * inv
+                    ey[k] = y * inv
+                    ez[k] = z * inv
+                ux, uy, uz = _edge_sum_mixed(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
+                                             ez[1:], sg, sr, 0.0, 0.0, 0.0)
+                if mc > 0:
+                    ux, uy, uz = _edge_sum_mixed(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:],
+                                                 rz[stride:], ex[stride:], ey[stride:], ez[stride:], cg, cr, ux, uy,
+                                                 uz)
+                out[i, 0] += ux * scale
+                out[i, 1] += uy * scale
+                out[i, 2] += uz * scale
+        q = claim(counter)
+
+
 def lattice_induced_velocity(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out,
-                             threads=None):
+                             threads=None, precision="float64"):
     """out[i] += velocity (3,) at targets[i] (n, 3) induced by the edges of a flattened lattice [m/s].
 
     Corners (nc,) each of vx, vy, vz [m], row-major with ``stride`` corners per row; the edge from corner c to
@@ -208,9 +296,16 @@ def lattice_induced_velocity(targets, vx, vy, vz, stride, span_gamma, span_rr, c
     chord_gamma[c], chord_rr[c]. Edges that do not exist (from the last corner of a row, from the last row) must
     have gamma 0 and rr > 0: they then add exactly zero, so lattices with the same stride can be stacked.
     All arrays contiguous float64. threads: default numba's thread count (:func:`aero.scheduling.run_chunked`;
-    the result is the same, bit for bit, for any thread count).
+    the result is the same, bit for bit, for any thread count). precision: one of :data:`PRECISIONS`.
     """
-    run_chunked(_lattice_chunks, (targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out),
+    if precision not in PRECISIONS:
+        raise ValueError(f"precision must be one of {PRECISIONS}, got {precision!r}")
+    kernel = _lattice_chunks
+    if precision == "mixed":
+        kernel = _lattice_chunks_mixed
+        span_gamma, span_rr, chord_gamma, chord_rr = (a.astype(np.float32)
+                                                      for a in (span_gamma, span_rr, chord_gamma, chord_rr))
+    run_chunked(kernel, (targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out),
                 targets.shape[0], targets.shape[0] * vx.shape[0], threads)
 
 

@@ -107,10 +107,10 @@ def _fill(G, span_gamma, span_rc2, chord_gamma, chord_rc2, off, vx, vy, vz, sg, 
                 cr[c] = 1.0
 
 
-def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
+def lattice_velocity(targets: np.ndarray, lattices, precision: str = "float64") -> np.ndarray:
     """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the edges of all lattices (Scully cores, the
     formula of :mod:`aero.biot_savart`). Lattices with the same number of corners per row share one kernel
-    call."""
+    call. precision: the pair evaluations' (:data:`aero.biot_savart.PRECISIONS`)."""
     targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
     out = np.zeros((targets.shape[0], 3))
     groups: dict[int, list[Lattice]] = {}
@@ -126,5 +126,5 @@ def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
                                                       lat.chord_rc2)), off, *arrays)
             off += lat.G.shape[0] * stride
         vx, vy, vz, sg, sr, cg, cr = arrays
-        lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out)
+        lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out, precision=precision)
     return out

@@ -31,7 +31,7 @@ from typing import Sequence
 import numpy as np
 import scipy.linalg
 
-from aero.biot_savart import ring_influence
+from aero.biot_savart import PRECISIONS, ring_influence
 from aero.lattice import Lattice, lattice_velocity, ring_lattice
 from aero.mesh import WingMesh
 from aero.wake import Wake
@@ -75,7 +75,11 @@ class UVLMConfig:
     rotor value the low-speed free wake amplifies round-off (a relative 1e-10 change of the kinematics) into up
     to 0.17 of L+ within 4 beats at hover; with 1e-2 the change stays below 1e-8 over those beats at every
     speed, and L+ changes by -0.2 % at 2 m/s and -4 % at 1 m/s against the rotor value;
-    max_wake_rows: keep only this many of the newest wake rows (None: no truncation).
+    max_wake_rows: keep only this many of the newest wake rows (None: no truncation);
+    wake_precision: the pair evaluations of the wake-on-wake velocities that convect the free wake, "float64" or
+    "mixed" (float32 evaluations, float64 sums: :data:`aero.biot_savart.PRECISIONS`; opt-in, its effect on the
+    cycle averages is measured by scripts/studies/mixed_precision.py, docs/uvlm.md, "Speed"). The wings'
+    velocities, and the wake's velocity at the wings, stay float64.
     """
 
     rho: float = 1.225
@@ -88,6 +92,11 @@ class UVLMConfig:
     convection_core_chords: float = 0.1
     a_prime: float = 1e-2
     max_wake_rows: int | None = None
+    wake_precision: str = "float64"
+
+    def __post_init__(self):
+        if self.wake_precision not in PRECISIONS:
+            raise ValueError(f"UVLMConfig.wake_precision must be one of {PRECISIONS}, got {self.wake_precision!r}")
 
 
 @dataclass(frozen=True)
@@ -176,13 +185,14 @@ class UVLM:
         self.chord = float(np.mean([m.panel_areas.sum() / np.ptp(m.vertices[..., 1]) for m in self.meshes]))
 
     # ---- velocities --------------------------------------------------------------------------------
-    def _induced(self, targets: np.ndarray, lattices: list[Lattice], mirror) -> np.ndarray:
+    def _induced(self, targets: np.ndarray, lattices: list[Lattice], mirror, precision: str = "float64"
+                 ) -> np.ndarray:
         """Velocity (n, 3) induced at targets by the lattices (and their mirror images)."""
         n = targets.shape[0]
         if not lattices or n == 0:
             return np.zeros((n, 3))
         pts = targets if mirror is None else np.concatenate([targets, _reflect_points(targets, *mirror)])
-        out = lattice_velocity(pts, lattices)
+        out = lattice_velocity(pts, lattices, precision)
         if mirror is None:
             return out
         return out[:n] + _reflect_vectors(out[n:], mirror[1])
@@ -351,7 +361,11 @@ class UVLM:
         if c.free_wake:
             rcv = c.convection_core_chords * self.chord
             bound = [ring_lattice(G, g, rcv * rcv, rcv * rcv) for G, g in zip(rings, gammas)]
-            v = v + self._induced(pts, bound + self._wake_lattices(r_attached=rcv), mirror)
+            if c.wake_precision == "float64":
+                v = v + self._induced(pts, bound + self._wake_lattices(r_attached=rcv), mirror)
+            else:  # wake on wake in the given precision, the wings' share in float64
+                v = v + (self._induced(pts, bound, mirror)
+                         + self._induced(pts, self._wake_lattices(r_attached=rcv), mirror, c.wake_precision))
         if not np.all(np.isfinite(v)):
             raise FloatingPointError(f"UVLM blow-up at step {self.step_count}: non-finite wake velocity")
         off = 0
