@@ -95,7 +95,8 @@ def main(argv: list[str] | None = None) -> int:
         spc = getattr(args, "steps_per_cycle", None)
         if spc is not None and spc < MIN_STEPS_PER_CYCLE:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")
-        warmup.install_compile_notice()  # one line on stderr if this command has to compile a kernel first
+        if not getattr(args, "no_progress", False):  # one line on a terminal if this command must compile first
+            warmup.install_compile_notice()
         out = args.func(args)
     except BaseException as exc:
         code, line = failure(exc)  # re-raises what is not one of the contract's failures (a bug: its traceback)

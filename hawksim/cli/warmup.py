@@ -6,7 +6,7 @@ numba compiles each kernel the first time it runs in an install and keeps the ma
 coarse held-body UVLM evaluation, a quasi-steady one and one open-loop quasi-steady wingbeat, which between them
 use every kernel of ``hawksim aero`` and ``hawksim fly`` with the argument types those commands pass. The
 README's install command runs it. Any command that does have to compile says so first, in one line on stderr
-(:func:`install_compile_notice`).
+when stderr is a terminal and progress is on (:func:`install_compile_notice`).
 """
 
 from __future__ import annotations
@@ -54,13 +54,15 @@ def compile_counter(prefixes=PREFIXES, notice=None):
 _NOTICE_LISTENER = None
 
 
-def install_compile_notice():
-    """Print :data:`NOTICE` on stderr once, before this process compiles its first hawksim kernel (installed
-    once per process; later calls return the same listener)."""
+def install_compile_notice(stream=None):
+    """Print :data:`NOTICE` on ``stream`` (default stderr) once, before this process compiles its first hawksim
+    kernel, where the stream is a terminal (like the progress bars: a script or test that reads stderr sees only
+    the contract's lines). Installed once per process; returns the listener, or None off a terminal."""
     global _NOTICE_LISTENER
-    if _NOTICE_LISTENER is None:
+    stream = sys.stderr if stream is None else stream
+    if _NOTICE_LISTENER is None and stream.isatty():
         cache = os.environ.get("NUMBA_CACHE_DIR", "numba's default cache")
-        _NOTICE_LISTENER = compile_counter(notice=lambda: print(NOTICE.format(cache=cache), file=sys.stderr,
+        _NOTICE_LISTENER = compile_counter(notice=lambda: print(NOTICE.format(cache=cache), file=stream,
                                                                 flush=True))
     return _NOTICE_LISTENER
 

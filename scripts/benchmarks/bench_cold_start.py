@@ -73,8 +73,7 @@ def variant(label: str, commit: str, warmup: bool, runs: int, full: bool, work: 
         if proc.returncode:
             raise RuntimeError(f"{label}: hawksim warmup failed: {proc.stderr[-2000:]}")
         w = json.loads(proc.stdout.strip().splitlines()[-1])
-        out["warmup"] = {"command_s": round(sec, 2), "compiled": w["compiled"], "loadavg": load,
-                         "stderr": proc.stderr.strip().splitlines()[-1:] if proc.stderr.strip() else []}
+        out["warmup"] = {"command_s": round(sec, 2), "compiled": w["compiled"], "loadavg": load}
     for _ in range(runs):
         load = _loadavg()
         sec, proc = _timed([hawksim, "aero", "--speed", "0", "--kinematics", TABLE3_HOVER, "--json",
@@ -83,8 +82,7 @@ def variant(label: str, commit: str, warmup: bool, runs: int, full: bool, work: 
             raise RuntimeError(f"{label}: hawksim aero failed: {proc.stderr[-2000:]}")
         r = json.loads(proc.stdout.strip().splitlines()[-1])
         out["aero"].append({"command_s": round(sec, 2), "wall_time_s": round(r["wall_time_s"], 3),
-                            "L_plus": r["L_plus"], "P_plus": r["P_plus"], "loadavg": load,
-                            "notice": [ln for ln in proc.stderr.splitlines() if "compiling" in ln]})
+                            "L_plus": r["L_plus"], "P_plus": r["P_plus"], "loadavg": load})
     return out
 
 
