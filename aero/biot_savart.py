@@ -11,7 +11,8 @@ this is the singular formula times h^2 / (h^2 + r_c^2): exact far from the core,
 r_c = 0 it is the classical formula (a point on the segment's line gets zero).
 
 Segments are passed as structure-of-arrays: start (ax, ay, az), direction r0 = b - a (dx, dy, dz), gamma,
-and rr = |r0|^2 r_c^2; targets as (n, 3). The loops are parallel over targets (``prange``) and, with
+and rr = |r0|^2 r_c^2; targets as (n, 3). The loops run over chunks of targets on all threads
+(:func:`aero.scheduling.run_chunked`: nogil kernels on a thread pool, chunks taken on demand) and, with
 ``fastmath`` (float64 still; only reassociation of the sums changes, ~1e-15 relative) and IEEE division
 (``error_model="numpy"``: no Python zero-division checks), vectorised over segments. Cost per evaluation: two
 square roots and one division, which bound it at ~0.45 G evaluations/s per core with 256-bit vectors here.
@@ -31,7 +32,11 @@ in blocks of LATTICE_BLOCK, so that a block's corner distances stay in the L1 ca
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
+from numba.core import cgutils, types
+from numba.extending import intrinsic
+
+from aero.scheduling import run_chunked
 
 FOUR_PI = 4.0 * np.pi
 TINY = 1e-300
@@ -42,9 +47,38 @@ RSQRT_MIN = 1e-36
 closer than 1e-18 m to a lattice corner counts as on it (the edges from that corner then give zero, as in
 :func:`induced_velocity`)."""
 
+RSQRT_MIN32 = np.float32(1e-30)
+"""Smallest squared distance [m^2] of the mixed-precision lattice kernel's float32 1/sqrt (a target closer than
+1e-15 m to a corner counts as on it)."""
+
+TINY32 = np.float32(1e-37)
+"""The float32 counterpart of TINY (a normal float32, so that no denominator is zero)."""
+
+PRECISIONS = ("float64", "mixed")
+"""Pair-evaluation precisions of :func:`lattice_induced_velocity`: float64 throughout, or "mixed": each
+target-edge evaluation in float32 (after the target-corner differences are formed in float64) and the sums over
+edges accumulated in float64."""
+
 LATTICE_BLOCK = 192
 """Corners per block in :func:`lattice_induced_velocity` (the block's per-target scratch, 6 x 8 bytes per
 corner, and inputs stay in a 48 KiB L1 data cache)."""
+
+
+@intrinsic
+def claim(typingctx, counter):
+    """claim(counter) in njit code: atomically add 1 to counter[0] (a 1-D int64 array) and return its previous
+    value (sequentially consistent): the next free chunk of a work queue shared by a kernel's tasks
+    (:func:`aero.scheduling.run_chunked`)."""
+    if not (isinstance(counter, types.Array) and counter.dtype == types.int64 and counter.ndim == 1):
+        return None
+
+    def codegen(context, builder, signature, args):
+        aryty = signature.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        ptr = cgutils.get_item_pointer(context, builder, aryty, ary, [context.get_constant(types.intp, 0)])
+        return builder.atomic_rmw("add", ptr, context.get_constant(types.int64, 1), "seq_cst")
+
+    return types.int64(counter), codegen
 
 
 @njit(fastmath=True, error_model="numpy", inline="always", cache=True)
@@ -61,39 +95,49 @@ def rsqrt(s):
     return y + y * e * (0.5 + 0.375 * e)
 
 
-@njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
-def induced_velocity(targets, ax, ay, az, dx, dy, dz, gamma, rr, out):
-    """out[i] = velocity (3,) at targets[i] induced by all segments [m/s]; out is overwritten."""
+@njit(nogil=True, fastmath=True, error_model="numpy", cache=True)
+def _segment_chunks(targets, ax, ay, az, dx, dy, dz, gamma, rr, out, counter, nchunk):
+    """One task of :func:`induced_velocity`: chunks q = claim(counter) < nchunk of the targets."""
     n = targets.shape[0]
     m = ax.shape[0]
-    for i in prange(n):
-        px, py, pz = targets[i, 0], targets[i, 1], targets[i, 2]
-        ux = 0.0
-        uy = 0.0
-        uz = 0.0
-        for k in range(m):
-            r0x = dx[k]
-            r0y = dy[k]
-            r0z = dz[k]
-            r1x = px - ax[k]
-            r1y = py - ay[k]
-            r1z = pz - az[k]
-            r2x = r1x - r0x
-            r2y = r1y - r0y
-            r2z = r1z - r0z
-            cx = r1y * r2z - r1z * r2y
-            cy = r1z * r2x - r1x * r2z
-            cz = r1x * r2y - r1y * r2x
-            n1 = np.sqrt(r1x * r1x + r1y * r1y + r1z * r1z)
-            n2 = np.sqrt(r2x * r2x + r2y * r2y + r2z * r2z)
-            num = (r0x * r1x + r0y * r1y + r0z * r1z) * n2 - (r0x * r2x + r0y * r2y + r0z * r2z) * n1
-            f = gamma[k] * num / (n1 * n2 * (cx * cx + cy * cy + cz * cz + rr[k]) + TINY)
-            ux += f * cx
-            uy += f * cy
-            uz += f * cz
-        out[i, 0] = ux / FOUR_PI
-        out[i, 1] = uy / FOUR_PI
-        out[i, 2] = uz / FOUR_PI
+    q = claim(counter)
+    while q < nchunk:
+        for i in range(q * n // nchunk, (q + 1) * n // nchunk):
+            px, py, pz = targets[i, 0], targets[i, 1], targets[i, 2]
+            ux = 0.0
+            uy = 0.0
+            uz = 0.0
+            for k in range(m):
+                r0x = dx[k]
+                r0y = dy[k]
+                r0z = dz[k]
+                r1x = px - ax[k]
+                r1y = py - ay[k]
+                r1z = pz - az[k]
+                r2x = r1x - r0x
+                r2y = r1y - r0y
+                r2z = r1z - r0z
+                cx = r1y * r2z - r1z * r2y
+                cy = r1z * r2x - r1x * r2z
+                cz = r1x * r2y - r1y * r2x
+                n1 = np.sqrt(r1x * r1x + r1y * r1y + r1z * r1z)
+                n2 = np.sqrt(r2x * r2x + r2y * r2y + r2z * r2z)
+                num = (r0x * r1x + r0y * r1y + r0z * r1z) * n2 - (r0x * r2x + r0y * r2y + r0z * r2z) * n1
+                f = gamma[k] * num / (n1 * n2 * (cx * cx + cy * cy + cz * cz + rr[k]) + TINY)
+                ux += f * cx
+                uy += f * cy
+                uz += f * cz
+            out[i, 0] = ux / FOUR_PI
+            out[i, 1] = uy / FOUR_PI
+            out[i, 2] = uz / FOUR_PI
+        q = claim(counter)
+
+
+def induced_velocity(targets, ax, ay, az, dx, dy, dz, gamma, rr, out):
+    """out[i] = velocity (3,) at targets[i] (n, 3) induced by all segments [m/s]; out (n, 3) is overwritten.
+    Segments as structure-of-arrays (:func:`pack`), all contiguous float64."""
+    run_chunked(_segment_chunks, (targets, ax, ay, az, dx, dy, dz, gamma, rr, out), targets.shape[0],
+                targets.shape[0] * ax.shape[0])
 
 
 @njit(fastmath=True, error_model="numpy", inline="always", cache=True)
@@ -114,35 +158,27 @@ def _edge_sum(m, x1, y1, z1, e1, f1, g1, x2, y2, z2, e2, f2, g2, gamma, rr, ux, 
     return ux, uy, uz
 
 
-@njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
-def lattice_induced_velocity(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out,
-                             nchunk):
-    """out[i] += velocity (3,) at targets[i] (n, 3) induced by the edges of a flattened lattice [m/s].
-
-    Corners (nc,) each of vx, vy, vz [m], row-major with ``stride`` corners per row; the edge from corner c to
-    c + 1 has circulation span_gamma[c] and rr = |r0|^2 r_c^2 span_rr[c], the edge from c to c + stride
-    chord_gamma[c], chord_rr[c]. Edges that do not exist (from the last corner of a row, from the last row) must
-    have gamma 0 and rr > 0: they then add exactly zero, so lattices with the same stride can be stacked.
-    The targets are split into nchunk contiguous chunks run in parallel (a few per thread balance the load).
-    """
+@njit(nogil=True, fastmath=True, error_model="numpy", cache=True)
+def _lattice_chunks(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out, counter, nchunk):
+    """One task of :func:`lattice_induced_velocity`: chunks q = claim(counter) < nchunk of the targets."""
     n = targets.shape[0]
     nc = vx.shape[0]
     if n == 0 or nc == 0:
         return
     block = LATTICE_BLOCK
     nb = (nc + block - 1) // block
-    nchunk = max(1, min(n, nchunk))
     scale = 1.0 / FOUR_PI
-    for q in prange(nchunk):
+    size = block + stride + 1
+    rx = np.empty(size)
+    ry = np.empty(size)
+    rz = np.empty(size)
+    ex = np.empty(size)
+    ey = np.empty(size)
+    ez = np.empty(size)
+    q = claim(counter)
+    while q < nchunk:
         i0 = q * n // nchunk
         i1 = (q + 1) * n // nchunk
-        size = block + stride + 1
-        rx = np.empty(size)
-        ry = np.empty(size)
-        rz = np.empty(size)
-        ex = np.empty(size)
-        ey = np.empty(size)
-        ez = np.empty(size)
         for b in range(nb):
             c0 = b * block
             c1 = min(c0 + block, nc)
@@ -164,53 +200,161 @@ def lattice_induced_velocity(targets, vx, vy, vz, stride, span_gamma, span_rr, c
                     ex[k] = x * inv
                     ey[k] = y * inv
                     ez[k] = z * inv
-                ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:], ez[1:],
-                                       sg, sr, 0.0, 0.0, 0.0)
+                ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
+                                       ez[1:], sg, sr, 0.0, 0.0, 0.0)
                 if mc > 0:
                     ux, uy, uz = _edge_sum(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:], rz[stride:],
                                            ex[stride:], ey[stride:], ez[stride:], cg, cr, ux, uy, uz)
                 out[i, 0] += ux * scale
                 out[i, 1] += uy * scale
                 out[i, 2] += uz * scale
+        q = claim(counter)
 
 
-@njit(parallel=True, fastmath=False, cache=True)
+@njit(fastmath=True, error_model="numpy", inline="always", cache=True)
+def _edge_sum_mixed(m, x1, y1, z1, e1, f1, g1, x2, y2, z2, e2, f2, g2, gamma, rr, ux, uy, uz):
+    """:func:`_edge_sum` on float32 distances, unit vectors, circulations and rr; each edge's velocity is
+    evaluated in float32 and added to the float64 sums ux, uy, uz."""
+    for k in range(m):
+        ax, ay, az = x1[k], y1[k], z1[k]
+        bx, by, bz = x2[k], y2[k], z2[k]
+        cx = ay * bz - az * by
+        cy = az * bx - ax * bz
+        cz = ax * by - ay * bx
+        K = (ax - bx) * (e1[k] - e2[k]) + (ay - by) * (f1[k] - f2[k]) + (az - bz) * (g1[k] - g2[k])
+        f = gamma[k] * K / (cx * cx + cy * cy + cz * cz + rr[k] + TINY32)
+        ux += np.float64(f * cx)
+        uy += np.float64(f * cy)
+        uz += np.float64(f * cz)
+    return ux, uy, uz
+
+
+@njit(nogil=True, fastmath=True, error_model="numpy", cache=True)
+def _lattice_chunks_mixed(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out, counter,
+                          nchunk):
+    """:func:`_lattice_chunks` with float32 pair evaluations (precision "mixed"): the target-corner differences
+    are formed in float64 and rounded to float32, 1/sqrt is float32 (hardware estimate and one Newton step under
+    fastmath), span/chord gamma and rr are float32 arrays; the per-target sums are float64."""
+    n = targets.shape[0]
+    nc = vx.shape[0]
+    if n == 0 or nc == 0:
+        return
+    block = LATTICE_BLOCK
+    nb = (nc + block - 1) // block
+    scale = 1.0 / FOUR_PI
+    size = block + stride + 1
+    rx = np.empty(size, np.float32)
+    ry = np.empty(size, np.float32)
+    rz = np.empty(size, np.float32)
+    ex = np.empty(size, np.float32)
+    ey = np.empty(size, np.float32)
+    ez = np.empty(size, np.float32)
+    one = np.float32(1.0)
+    q = claim(counter)
+    while q < nchunk:
+        i0 = q * n // nchunk
+        i1 = (q + 1) * n // nchunk
+        for b in range(nb):
+            c0 = b * block
+            c1 = min(c0 + block, nc)
+            m = min(c1 + stride, nc) - c0
+            ms = min(c1, nc - 1) - c0
+            mc = min(c1, nc - stride) - c0
+            bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
+            sg, sr, cg, cr = span_gamma[c0:], span_rr[c0:], chord_gamma[c0:], chord_rr[c0:]
+            for i in range(i0, i1):
+                px, py, pz = targets[i, 0], targets[i, 1], targets[i, 2]
+                for k in range(m):
+                    x = np.float32(px - bx[k])
+                    y = np.float32(py - by[k])
+                    z = np.float32(pz - bz[k])
+                    inv = one / np.sqrt(max(x * x + y * y + z * z, RSQRT_MIN32))
+                    rx[k] = x
+                    ry[k] = y
+                    rz[k] = z
+                    ex[k] = x * inv
+                    ey[k] = y * inv
+                    ez[k] = z * inv
+                ux, uy, uz = _edge_sum_mixed(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
+                                             ez[1:], sg, sr, 0.0, 0.0, 0.0)
+                if mc > 0:
+                    ux, uy, uz = _edge_sum_mixed(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:],
+                                                 rz[stride:], ex[stride:], ey[stride:], ez[stride:], cg, cr, ux, uy,
+                                                 uz)
+                out[i, 0] += ux * scale
+                out[i, 1] += uy * scale
+                out[i, 2] += uz * scale
+        q = claim(counter)
+
+
+def lattice_induced_velocity(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out,
+                             threads=None, precision="float64"):
+    """out[i] += velocity (3,) at targets[i] (n, 3) induced by the edges of a flattened lattice [m/s].
+
+    Corners (nc,) each of vx, vy, vz [m], row-major with ``stride`` corners per row; the edge from corner c to
+    c + 1 has circulation span_gamma[c] and rr = |r0|^2 r_c^2 span_rr[c], the edge from c to c + stride
+    chord_gamma[c], chord_rr[c]. Edges that do not exist (from the last corner of a row, from the last row) must
+    have gamma 0 and rr > 0: they then add exactly zero, so lattices with the same stride can be stacked.
+    All arrays contiguous float64. threads: default numba's thread count (:func:`aero.scheduling.run_chunked`;
+    the result is the same, bit for bit, for any thread count). precision: one of :data:`PRECISIONS`.
+    """
+    if precision not in PRECISIONS:
+        raise ValueError(f"precision must be one of {PRECISIONS}, got {precision!r}")
+    kernel = _lattice_chunks
+    if precision == "mixed":
+        kernel = _lattice_chunks_mixed
+        span_gamma, span_rr, chord_gamma, chord_rr = (a.astype(np.float32)
+                                                      for a in (span_gamma, span_rr, chord_gamma, chord_rr))
+    run_chunked(kernel, (targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out),
+                targets.shape[0], targets.shape[0] * vx.shape[0], threads)
+
+
+@njit(nogil=True, fastmath=False, cache=True)
+def _ring_chunks(targets, normals, corners, rc2, out, counter, nchunk):
+    """One task of :func:`ring_influence`: chunks q = claim(counter) < nchunk of the targets."""
+    n = targets.shape[0]
+    L = corners.shape[0]
+    q = claim(counter)
+    while q < nchunk:
+        for i in range(q * n // nchunk, (q + 1) * n // nchunk):
+            px, py, pz = targets[i, 0], targets[i, 1], targets[i, 2]
+            nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
+            for l in range(L):
+                vn = 0.0
+                for s in range(4):
+                    e = (s + 1) % 4
+                    r1x = px - corners[l, s, 0]
+                    r1y = py - corners[l, s, 1]
+                    r1z = pz - corners[l, s, 2]
+                    r2x = px - corners[l, e, 0]
+                    r2y = py - corners[l, e, 1]
+                    r2z = pz - corners[l, e, 2]
+                    cx = r1y * r2z - r1z * r2y
+                    cy = r1z * r2x - r1x * r2z
+                    cz = r1x * r2y - r1y * r2x
+                    c2 = cx * cx + cy * cy + cz * cz
+                    r0x = r1x - r2x
+                    r0y = r1y - r2y
+                    r0z = r1z - r2z
+                    r0sq = r0x * r0x + r0y * r0y + r0z * r0z
+                    den = c2 + r0sq * rc2
+                    r1 = np.sqrt(r1x * r1x + r1y * r1y + r1z * r1z)
+                    r2 = np.sqrt(r2x * r2x + r2y * r2y + r2z * r2z)
+                    if den < TINY or r1 < 1e-15 or r2 < 1e-15:
+                        continue
+                    K = (r0x * r1x + r0y * r1y + r0z * r1z) / r1 - (r0x * r2x + r0y * r2y + r0z * r2z) / r2
+                    vn += K / (FOUR_PI * den) * (cx * nx + cy * ny + cz * nz)
+                out[i, l] = vn
+        q = claim(counter)
+
+
 def ring_influence(targets, normals, corners, rc2, out):
     """out[i, l] = normal velocity at targets[i] (along normals[i]) induced by ring l with unit circulation.
 
     corners (L, 4, 3): each ring's corners in loop order (the circulation runs 0 -> 1 -> 2 -> 3 -> 0).
-    """
-    n = targets.shape[0]
-    L = corners.shape[0]
-    for i in prange(n):
-        px, py, pz = targets[i, 0], targets[i, 1], targets[i, 2]
-        nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
-        for l in range(L):
-            vn = 0.0
-            for s in range(4):
-                e = (s + 1) % 4
-                r1x = px - corners[l, s, 0]
-                r1y = py - corners[l, s, 1]
-                r1z = pz - corners[l, s, 2]
-                r2x = px - corners[l, e, 0]
-                r2y = py - corners[l, e, 1]
-                r2z = pz - corners[l, e, 2]
-                cx = r1y * r2z - r1z * r2y
-                cy = r1z * r2x - r1x * r2z
-                cz = r1x * r2y - r1y * r2x
-                c2 = cx * cx + cy * cy + cz * cz
-                r0x = r1x - r2x
-                r0y = r1y - r2y
-                r0z = r1z - r2z
-                r0sq = r0x * r0x + r0y * r0y + r0z * r0z
-                den = c2 + r0sq * rc2
-                r1 = np.sqrt(r1x * r1x + r1y * r1y + r1z * r1z)
-                r2 = np.sqrt(r2x * r2x + r2y * r2y + r2z * r2z)
-                if den < TINY or r1 < 1e-15 or r2 < 1e-15:
-                    continue
-                K = (r0x * r1x + r0y * r1y + r0z * r1z) / r1 - (r0x * r2x + r0y * r2y + r0z * r2z) / r2
-                vn += K / (FOUR_PI * den) * (cx * nx + cy * ny + cz * nz)
-            out[i, l] = vn
+    All arrays contiguous float64; rc2: squared core radius [m^2] (scalar)."""
+    run_chunked(_ring_chunks, (targets, normals, corners, rc2, out), targets.shape[0],
+                4 * targets.shape[0] * corners.shape[0])
 
 
 def pack(a: np.ndarray, b: np.ndarray, gamma: np.ndarray, rc2) -> tuple:

@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import get_num_threads, njit
+from numba import njit
 
 from aero.biot_savart import lattice_induced_velocity
 
@@ -107,10 +107,10 @@ def _fill(G, span_gamma, span_rc2, chord_gamma, chord_rc2, off, vx, vy, vz, sg, 
                 cr[c] = 1.0
 
 
-def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
+def lattice_velocity(targets: np.ndarray, lattices, precision: str = "float64") -> np.ndarray:
     """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the edges of all lattices (Scully cores, the
     formula of :mod:`aero.biot_savart`). Lattices with the same number of corners per row share one kernel
-    call."""
+    call. precision: the pair evaluations' (:data:`aero.biot_savart.PRECISIONS`)."""
     targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
     out = np.zeros((targets.shape[0], 3))
     groups: dict[int, list[Lattice]] = {}
@@ -121,8 +121,10 @@ def lattice_velocity(targets: np.ndarray, lattices) -> np.ndarray:
         arrays = np.empty((7, stride * sum(lat.G.shape[0] for lat in lats)))
         off = 0
         for lat in lats:
-            _fill(lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma, lat.chord_rc2, off, *arrays)
+            # contiguous copies of the broadcast core arrays: one compiled specialisation of _fill, not two
+            _fill(*(np.ascontiguousarray(a) for a in (lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma,
+                                                      lat.chord_rc2)), off, *arrays)
             off += lat.G.shape[0] * stride
         vx, vy, vz, sg, sr, cg, cr = arrays
-        lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out, 4 * get_num_threads())
+        lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out, precision=precision)
     return out

@@ -34,7 +34,7 @@ from typing import Sequence
 import numpy as np
 import scipy.linalg
 
-from aero.biot_savart import ring_influence
+from aero.biot_savart import PRECISIONS, ring_influence
 from aero.lattice import Lattice, lattice_velocity, ring_lattice
 from aero.mesh import WingMesh
 from aero.wake import Wake
@@ -94,6 +94,10 @@ class UVLMConfig:
     "ring"; neither rule makes the lattice converged: docs/fidelity.md). The collocation points, normals and areas
     stay those of the panels.
     The sensitivity of L+ and P+ to every tuned constant here: docs/fidelity.md (section 5).
+    wake_precision: the pair evaluations of the wake-on-wake velocities that convect the free wake, "float64" or
+    "mixed" (float32 evaluations, float64 sums: :data:`aero.biot_savart.PRECISIONS`; opt-in, its effect on the
+    cycle averages is measured by scripts/studies/mixed_precision.py, docs/uvlm.md, "Speed"). The wings'
+    velocities, and the wake's velocity at the wings, stay float64.
     """
 
     rho: float = 1.225
@@ -108,12 +112,15 @@ class UVLMConfig:
     max_wake_rows: int | None = None
     shed_rule: str = "ring"
     shed_fraction: float = 0.25
+    wake_precision: str = "float64"
 
     def __post_init__(self):
         if self.shed_rule not in SHED_RULES:
             raise ValueError(f"UVLMConfig.shed_rule must be one of {', '.join(SHED_RULES)}, got {self.shed_rule!r}")
         if not (np.isfinite(self.shed_fraction) and 0.0 < self.shed_fraction <= 1.0):
             raise ValueError(f"UVLMConfig.shed_fraction must lie in (0, 1], got {self.shed_fraction!r}")
+        if self.wake_precision not in PRECISIONS:
+            raise ValueError(f"UVLMConfig.wake_precision must be one of {PRECISIONS}, got {self.wake_precision!r}")
 
 
 @dataclass(frozen=True)
@@ -202,13 +209,14 @@ class UVLM:
         self.chord = float(np.mean([m.panel_areas.sum() / np.ptp(m.vertices[..., 1]) for m in self.meshes]))
 
     # ---- velocities --------------------------------------------------------------------------------
-    def _induced(self, targets: np.ndarray, lattices: list[Lattice], mirror) -> np.ndarray:
+    def _induced(self, targets: np.ndarray, lattices: list[Lattice], mirror, precision: str = "float64"
+                 ) -> np.ndarray:
         """Velocity (n, 3) induced at targets by the lattices (and their mirror images)."""
         n = targets.shape[0]
         if not lattices or n == 0:
             return np.zeros((n, 3))
         pts = targets if mirror is None else np.concatenate([targets, _reflect_points(targets, *mirror)])
-        out = lattice_velocity(pts, lattices)
+        out = lattice_velocity(pts, lattices, precision)
         if mirror is None:
             return out
         return out[:n] + _reflect_vectors(out[n:], mirror[1])
@@ -382,7 +390,11 @@ class UVLM:
         if c.free_wake:
             rcv = c.convection_core_chords * self.chord
             bound = [ring_lattice(G, g, rcv * rcv, rcv * rcv) for G, g in zip(rings, gammas)]
-            v = v + self._induced(pts, bound + self._wake_lattices(r_attached=rcv), mirror)
+            if c.wake_precision == "float64":
+                v = v + self._induced(pts, bound + self._wake_lattices(r_attached=rcv), mirror)
+            else:  # wake on wake in the given precision, the wings' share in float64
+                v = v + (self._induced(pts, bound, mirror)
+                         + self._induced(pts, self._wake_lattices(r_attached=rcv), mirror, c.wake_precision))
         if not np.all(np.isfinite(v)):
             raise FloatingPointError(f"UVLM blow-up at step {self.step_count}: non-finite wake velocity")
         off = 0

@@ -19,11 +19,11 @@ import sys
 from aero.vector_width import apply_vector_width
 from hawksim import interrupts
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
-from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim
+from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim, warmup
 from hawksim.cli.args import Parser, UsageError
 from hawksim.cli.progress import close_all
 
-SUBCOMMANDS = (fly, aero, stability, dataset, train, predict, trim, reproduce)
+SUBCOMMANDS = (fly, aero, stability, dataset, train, predict, trim, reproduce, warmup)
 """The subcommand modules, in the order `hawksim --help` lists them."""
 
 
@@ -110,6 +110,8 @@ def main(argv: list[str] | None = None) -> int:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")
         _preload(args)
         interrupts.set_before_leaving(close_all)  # a progress bar ends its line before the interrupt's
+        if not getattr(args, "no_progress", False):  # one line on a terminal if this command must compile first
+            warmup.install_compile_notice()
         if not getattr(args, "work_begins_in_command", False):  # (train: at its first write)
             interrupts.begin_work()  # from here a Ctrl-C lets the command clean up (until here it left at once)
         out = args.func(args)
