@@ -17,6 +17,7 @@ it extrapolates without warning, like any regression.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -45,8 +46,6 @@ class StepSurrogateBackend:
     def native(self, every: int):
         """This network for the flight loop's native callback (:class:`hawksim.flight.native.NativeNetwork`),
         updated every ``every`` steps; None for a network with history lags (their record stays in Python)."""
-        from hawksim.flight.native import NativeNetwork
-
         if self.lags:
             return None
         blocks = self.blocks if self.blocks is not None else tuple(
@@ -125,6 +124,38 @@ class StepSurrogateBackend:
         moment = np.einsum("kij,kj->ki", WR, M_w)
         power = -float(np.sum((state.wing_omega - state.body_omega) * moment))
         return WingLoads(force=force, moment=moment, power=power)
+
+
+@dataclass(frozen=True)
+class NativeNetwork:
+    """A per-step surrogate for the flight loop's native callback (:meth:`StepSurrogateBackend.native`;
+    :func:`hawksim.flight.native.mlp` evaluates it):
+    ``buffer`` float64-aligned bytes: its first float64 the number of float32 values that follow (the layout of
+    :func:`mlp`); members, n_in, hidden, layers; ``every`` steps per update; omega_f = 2 pi f [rad/s] of its phase
+    input; kinematics (7,) its kinematic inputs (SI); mirrors (12,) MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M;
+    plant_kinematics below."""
+
+    buffer: np.ndarray
+    members: int
+    n_in: int
+    hidden: int
+    layers: int
+    every: int
+    omega_f: float
+    kinematics: np.ndarray
+    mirrors: np.ndarray
+    plant_kinematics: bool = False
+    """True: the kinematic inputs and the phase are the controlled plant's blend (mode 1) instead of ``kinematics``
+    and omega_f t (:class:`hawksim.control.surrogate.ControlledStepSurrogate`)."""
+
+    @staticmethod
+    def pack(values: np.ndarray) -> np.ndarray:
+        """The buffer for float32 ``values``: a float64 count, then the values."""
+        values = np.ascontiguousarray(values, np.float32)
+        out = np.zeros(1 + (len(values) + 1) // 2, np.float64)
+        out[0] = len(values)
+        out[1:].view(np.float32)[:len(values)] = values
+        return out
 
 
 def ensemble_blocks(layers) -> tuple[tuple[np.ndarray, np.ndarray], ...] | None:

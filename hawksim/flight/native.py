@@ -545,37 +545,6 @@ def _callback() -> _Trampoline | None:
     return _Trampoline(_control_impl.address, params)
 
 
-@dataclass(frozen=True)
-class NativeNetwork:
-    """A per-step surrogate for the callback (:meth:`hawksim.backends.step_surrogate.StepSurrogateBackend.native`):
-    ``buffer`` float64-aligned bytes: its first float64 the number of float32 values that follow (the layout of
-    :func:`mlp`); members, n_in, hidden, layers; ``every`` steps per update; omega_f = 2 pi f [rad/s] of its phase
-    input; kinematics (7,) its kinematic inputs (SI); mirrors (12,) MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M;
-    plant_kinematics below."""
-
-    buffer: np.ndarray
-    members: int
-    n_in: int
-    hidden: int
-    layers: int
-    every: int
-    omega_f: float
-    kinematics: np.ndarray
-    mirrors: np.ndarray
-    plant_kinematics: bool = False
-    """True: the kinematic inputs and the phase are the controlled plant's blend (mode 1) instead of ``kinematics``
-    and omega_f t (:class:`hawksim.control.surrogate.ControlledStepSurrogate`)."""
-
-    @staticmethod
-    def pack(values: np.ndarray) -> np.ndarray:
-        """The buffer for float32 ``values``: a float64 count, then the values."""
-        values = np.ascontiguousarray(values, np.float32)
-        out = np.zeros(1 + (len(values) + 1) // 2, np.float64)
-        out[0] = len(values)
-        out[1:].view(np.float32)[:len(values)] = values
-        return out
-
-
 class NativeControl:
     """One simulator's ctx array and the compiled callback (None where unavailable: use the Python callback).
 
@@ -593,7 +562,7 @@ class NativeControl:
         self.ctx = np.zeros(N_FIXED + 12 * nv)
         self.ctx[C_Q0], self.ctx[C_V0], self.ctx[C_NV] = q0, v0, nv
         self.ctx[C_BODY], self.ctx[C_WING0], self.ctx[C_WING1] = body, wings[0], wings[1]
-        self._net: NativeNetwork | None = None
+        self._net = None
         self.ctx[C_KP], self.ctx[C_KD] = kp, kd
         unit = self.ctx[C_SCRATCH:C_SCRATCH + 6 * nv].reshape(6, nv)
         unit[np.arange(6), v0 + np.arange(6)] = 1.0
@@ -640,8 +609,9 @@ class NativeControl:
         c[C_POWER] = power
         c[C_APPLY] = 1.0
 
-    def set_network(self, net: NativeNetwork | None) -> None:
-        """Evaluate the per-step surrogate ``net`` in the callback (None: the loads come from :meth:`hold`)."""
+    def set_network(self, net) -> None:
+        """Evaluate the per-step surrogate ``net`` (a :class:`hawksim.backends.step_surrogate.NativeNetwork`: the
+        layout of :func:`mlp`) in the callback (None: the loads come from :meth:`hold`)."""
         c = self.ctx
         self._net = net
         if net is None:
