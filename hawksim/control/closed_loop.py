@@ -28,9 +28,9 @@ import mujoco
 import numpy as np
 
 from hawksim.control.derivatives import stability_position
-from hawksim.control.plant import ControlledSimulator, command_of, saturate, wing_kinematics
+from hawksim.control.plant import command_of, controlled_plant, saturate, wing_kinematics
 from hawksim.control.schedule import Schedule
-from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend, read_body_state, set_body_state
+from hawksim.flight.orbit import STEPS_PER_CYCLE, read_body_state, set_body_state
 from hawksim.flight.result import FlightResult
 from hawksim.frames import attitude_of, pitch_of, quat_from_matrices
 from hawksim.insect.kinematics import Kinematics
@@ -203,8 +203,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         kin0, x0, chi0 = exact[0].orbit.kinematics, exact[0].orbit.initial_state.as_array(), exact[0].orbit.chi_ref
     if perturbation is not None:
         x0 = x0 + np.asarray(perturbation, float)
-    backend, every = make_orbit_backend(aero, symmetric=False)
-    sim = ControlledSimulator(model, kin0, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
+    sim = controlled_plant(model, kin0, aero)
     p_orbit = kin0.as_array()
     sim.set_wings(kin0, kin0)
     n = STEPS_PER_CYCLE

@@ -29,8 +29,9 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, saturate, wing_kinematics
-from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, scales, make_orbit_backend, read_body_state, set_body_state
+from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
+                                   wing_kinematics)
+from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, read_body_state, scales, set_body_state
 from hawksim.frames import STABILITY_TO_WORLD
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
@@ -49,6 +50,13 @@ FD_DELTA = 1e-5
 
 UVLM_FD_DELTA = 1e-3
 """The same for the UVLM, whose free wake amplifies round-off (as hawksim.flight.orbit.UVLM_FD_STEP)."""
+
+SURROGATE_FD_DELTA = 1e-3
+"""The same for the per-step surrogate, whose float32 network rounds the loads at ~1e-7 relative. Measured at 1 m/s
+(largest entry of A, B0, B1 ~1.4): steps 1e-4 / 3e-4 / 1e-3 / 3e-3 differ by 4.1e-3, 1.2e-3, 1.8e-3 between
+neighbours, i.e. round-off ~4e-4 and truncation ~2e-4 at 1e-3, the smallest total (the orbit solver's 1e-4 step,
+hawksim.flight.orbit.SURROGATE_FD_STEP, carries ~4e-3 of round-off here); the closed-loop multipliers agree to 1e-4
+at every step (docs/control.md, "The per-step surrogate in the loop")."""
 
 
 def xi_scale(kin: Kinematics) -> np.ndarray:
@@ -88,10 +96,8 @@ class _UVLMSnapshot:
         import copy
 
         self._copy = copy.deepcopy
-        backend, every = make_orbit_backend("uvlm", symmetric=False)
         kin = orbit.kinematics
-        sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True,
-                                  aero_every=every)
+        sim = controlled_plant(model, kin, orbit.aero)
         sim.set_wings(kin, kin)
         set_body_state(sim, orbit.launch_state.as_array(), orbit.chi_ref)
         for _ in range(orbit.warm_beats):
@@ -122,9 +128,8 @@ def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, 
     [m], stability axes). ``clip``: saturate each wing at Table 2 (off for derivatives, which may step past
     a bound the orbit sits on, e.g. phi_a = 60 deg)."""
     model = model if model is not None else load_model()
-    backend, every = make_orbit_backend(orbit.aero, symmetric=False)
     kin = orbit.kinematics
-    sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
+    sim = controlled_plant(model, kin, orbit.aero)
     sat = saturate if clip else (lambda p: p)
     lp, rp = (Kinematics.from_array(sat(p)) for p in wing_kinematics(kin, du_prev))
     sim.set_wings(lp, rp)
@@ -220,7 +225,7 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     wake kept: the derivatives hold the wake at the orbit's (its memory of the perturbation is left out)."""
     t0 = time.perf_counter()
     if delta is None:
-        delta = UVLM_FD_DELTA if orbit.warm_beats else FD_DELTA
+        delta = UVLM_FD_DELTA if orbit.warm_beats else SURROGATE_FD_DELTA if orbit.aero == "surrogate" else FD_DELTA
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     sc = xi_scale(kin)
