@@ -191,7 +191,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                             rate=rate)
     if any(p.orbit.aero != aero for p in schedule.points):
         raise ValueError(f"the schedule's orbits are not {aero} orbits")
-    if aero == "uvlm" and not any(p.speed == speed for p in schedule.points):
+    if aero == "uvlm" and not any(p.speed == speed for p in schedule.points):  # the wake needs its orbit's launch
         raise ValueError(f"--speed {speed:g} with --aero uvlm under control: the flight starts on a shipped UVLM "
                          f"orbit ({', '.join(f'{p.speed:g}' for p in schedule.points)} m/s here); command speeds in "
                          "between with --ascent-profile")
