@@ -148,7 +148,8 @@ def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, 
 class BeatMapModel:
     """The linearized controlled one-beat map about ``orbit`` (normalized, module docstring): A (11, 11), B0 and
     B1 (11, 7); ``scale`` (11,) SI per normalized state unit; ``coupling``: largest |entry| of the
-    longitudinal-lateral cross blocks of A, B0, B1; wall_time_s."""
+    longitudinal-lateral cross blocks of A, B0, B1; wall_time_s; ``clipped``: differenced on the map saturated at
+    Table 2 (:data:`SATURATED_DERIVATIVES`)."""
 
     orbit: Orbit
     A: np.ndarray
@@ -158,6 +159,7 @@ class BeatMapModel:
     coupling: float
     delta: float
     wall_time_s: float
+    clipped: bool = False
 
     @property
     def Bt(self) -> np.ndarray:
@@ -180,7 +182,7 @@ class BeatMapModel:
     def to_json(self) -> dict:
         return {"speed": self.orbit.speed, "aero": self.orbit.aero, "states": list(XI_NAMES), "inputs": list(INPUTS),
                 "A": self.A.tolist(), "B0": self.B0.tolist(), "B1": self.B1.tolist(), "scale": self.scale.tolist(),
-                "coupling": self.coupling, "delta": self.delta}
+                "coupling": self.coupling, "delta": self.delta, "clipped": self.clipped}
 
     @staticmethod
     def from_json(d: dict, orbit: Orbit) -> BeatMapModel:
@@ -190,7 +192,7 @@ class BeatMapModel:
         return BeatMapModel(orbit=orbit, A=np.asarray(d["A"], float), B0=np.asarray(d["B0"], float),
                             B1=np.asarray(d["B1"], float), scale=np.asarray(d["scale"], float),
                             coupling=float(d["coupling"]), delta=float(d["delta"]),
-                            wall_time_s=float(d.get("wall_time_s", 0.0)))
+                            wall_time_s=float(d.get("wall_time_s", 0.0)), clipped=bool(d.get("clipped", False)))
 
 
 def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
@@ -217,13 +219,30 @@ def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
     return A, Bt - B1, B1
 
 
-def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None) -> BeatMapModel:
-    """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady: each
-    derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with warm-up
-    beats): one flight is launched and flown over the warm-up beats, and every derivative beat branches from a
-    copy of it at the periodic beat's start, with the body state overwritten there (:func:`set_phase0`) and the
-    wake kept: the derivatives hold the wake at the orbit's (its memory of the perturbation is left out)."""
+SATURATED_DERIVATIVES = ("surrogate",)
+"""Backends whose control derivatives are taken on the map as flown, each wing saturated at Table 2
+(:func:`one_beat` with ``clip``). The per-step surrogate's network never saw parameters outside Table 2 (its
+training kinematics are clipped there), and its orbits sit on phi_a = 60 deg (the bound): a central difference
+that steps one wing past it differences the network's extrapolation (the unclipped dphi_a column's one-beat
+response is off by 11 % at 1 deg and 45 % at 3 deg at 1 m/s). With the clip, a small antisymmetric dphi_a lowers
+one wing's amplitude whichever its sign, so the central difference gives the lateral response of the flown plant
+(odd in dphi_a by mirror symmetry, half the unclipped slope) and no longitudinal one (even). The quasi-steady and
+UVLM models are smooth across the bound and keep the unclipped derivatives of their shipped tables."""
+
+
+def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None,
+              clip: bool | None = None) -> BeatMapModel:
+    """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady and surrogate:
+    each derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with
+    warm-up beats): one flight is launched and flown over the warm-up beats, and every derivative beat branches from
+    a copy of it at the periodic beat's start, with the body state overwritten there (:func:`set_phase0`) and the
+    wake kept: the derivatives hold the wake at the orbit's (its memory of the perturbation is left out). ``clip``:
+    difference the map with each wing saturated at Table 2 (default: for :data:`SATURATED_DERIVATIVES`)."""
     t0 = time.perf_counter()
+    if clip is None:
+        clip = orbit.aero in SATURATED_DERIVATIVES
+    if clip and orbit.warm_beats:
+        raise ValueError("saturated derivatives are implemented for orbits with a settable state (no warm-up beats)")
     if delta is None:
         delta = UVLM_FD_DELTA if orbit.warm_beats else SURROGATE_FD_DELTA if orbit.aero == "surrogate" else FD_DELTA
     model = model if model is not None else load_model()
@@ -239,7 +258,7 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
         x0 = orbit.launch_state.as_array()
 
         def beat(x, du_prev, du):
-            return one_beat(orbit, x, du_prev, du, model=model)
+            return one_beat(orbit, x, du_prev, du, model=model, clip=clip)
 
     def xi(out):
         x, disp = out
@@ -251,4 +270,4 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
                  (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
     return BeatMapModel(orbit=orbit, A=A, B0=B0, B1=B1, scale=sc, coupling=float(cross), delta=delta,
-                        wall_time_s=time.perf_counter() - t0)
+                        wall_time_s=time.perf_counter() - t0, clipped=bool(clip))

@@ -209,7 +209,8 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     if rate == "half-stroke" and aero != "quasi-steady":
         raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady ({HALF_STROKE_WHY.get(aero, '')})")
     orb, lin = _orbit_and_model(speed, aero, model, log)
-    long, lat = lqr_gain(lin, "long", delay, x_max, u_max), lqr_gain(lin, "lat", delay, x_max, u_max)
+    sym = symmetric_inputs(orb) if aero in ONE_SIDED_DROPPED else None
+    long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
     if rate == "beat":
         return SchedulePoint(float(speed), orb, lin, long, lat)
     key = (float(speed), aero)
@@ -223,6 +224,35 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     gt = periodic_lqr_gains([h.block("lat", j) for j in range(HALVES)], LAT_X, ANTI_INPUTS, d, x_max, um)
     return SchedulePoint(float(speed), orb, lin, gl[0], gt[0], rate="half-stroke", half=h, long_half=gl[1],
                          lat_half=gt[1])
+
+
+ONE_SIDED_DROPPED = ("surrogate",)
+"""Backends whose LQR leaves out a symmetric channel whose parameter sits on a Table 2 bound at the orbit
+(:func:`symmetric_inputs`): there the saturation passes only commands of one sign, a kink no linear design sees.
+The surrogate's (and the UVLM's) orbits sit on theta0 = 25 deg, the upper bound: with theta0 in the design the
+surrogate's perturbed starts at 0 and 2 m/s departed (theta0 clipped in every beat), without it they hold
+(docs/control.md, "The per-step surrogate in the loop"). The antisymmetric dphi_a at phi_a = 60 deg stays: one
+wing can always lower its amplitude (:data:`hawksim.control.derivatives.SATURATED_DERIVATIVES`). The quasi-steady
+orbits have theta0 at 14-16 deg and keep all four channels; the UVLM's shipped design is left as it was measured."""
+
+BOUND_TOL = 1e-3
+"""A parameter within this [rad; f: Hz] of a Table 2 bound counts as on it (the surrogate's orbits have theta0 at
+24.997-25.000 deg)."""
+
+
+def symmetric_inputs(orbit: Orbit) -> tuple[int, ...]:
+    """The symmetric channels of :data:`hawksim.control.plant.SYM_INPUTS` whose parameter (f, phi0, alpha0, theta0)
+    is not on a Table 2 bound at ``orbit`` (:data:`BOUND_TOL`)."""
+    from hawksim.insect.kinematics import PARAM_NAMES, bounds_si
+
+    lo, hi = bounds_si()
+    p = orbit.kinematics.as_array()
+    keep = []
+    for i in SYM_INPUTS:
+        j = PARAM_NAMES.index(INPUTS[i])
+        if min(p[j] - lo[j], hi[j] - p[j]) > BOUND_TOL:
+            keep.append(i)
+    return tuple(keep)
 
 
 class Schedule:
