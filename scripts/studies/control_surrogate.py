@@ -10,6 +10,7 @@ derivatives (hawksim/data/orbit_table_surrogate.json, control_models_surrogate.j
   for lateral gusts of 0.05-0.4 m/s (the largest the loop recovers from within 10 beats);
 * the one-beat sensing delay: the perturbed start at every speed and a 0.2 m/s lateral gust at 1 m/s, 100 beats
   (delay-aware gains, and gains without the delay), and the 0.5 m/s gust at 1 m/s;
+* an experiment: the same design with theta0 kept in it (the perturbed start and the gust at every speed);
 * an experiment: orbits with a margin below the Table 2 bounds the shipped orbits sit on (phi_a 58 instead of 60,
   theta0 23 instead of 25 deg; f and phi0 re-solved), linearized, and the lateral gusts flown from them (hover and
   2 m/s; not shipped);
@@ -122,6 +123,32 @@ def margin_experiment(speeds=(0.0, 2.0), phi_a_deg=58.0, theta0_deg=23.0, gusts=
     return out
 
 
+def theta0_experiment(speeds):
+    """The same design with theta0 kept (hawksim.control.schedule.ONE_SIDED_DROPPED emptied): the perturbed start
+    and the 0.5 m/s gust at every speed."""
+    from hawksim.control import schedule as S
+
+    saved = S.ONE_SIDED_DROPPED
+    S.ONE_SIDED_DROPPED = ()
+    try:
+        sch = S.Schedule(speeds[0], speeds[-1], aero=AERO)
+        out = {"long_inputs": [list(p.long.inputs) for p in sch.points],
+               "closed_loop_spectral_radius": [max(p.long.spectral_radius, p.lat.spectral_radius) for p in sch.points]}
+        pert = np.zeros(9)
+        pert[[1, 2, 6, 7]] = 0.05, 0.05, np.deg2rad(1.0), np.deg2rad(1.0)
+        for v in speeds:
+            cp = fly(v, 100, schedule=sch, perturbation=pert)
+            cg = fly(v, 30, schedule=sch, gusts=[GUST])
+            out[f"{v:g}"] = {
+                "perturbed_start": {"diverged": cp} if isinstance(cp, str) else {**stats(cp), "settled_at_beat":
+                                                                                  settled_at(cp)},
+                "gust_recovered_beats_after": None if isinstance(cg, str) else recovered_after(cg, 6)}
+    finally:
+        S.ONE_SIDED_DROPPED = saved
+    log(f"theta0 kept: {json.dumps(out, default=float)[:500]}")
+    return out
+
+
 def main():
     t0 = time.time()
     speeds = surrogate_schedule_speeds()
@@ -204,6 +231,10 @@ def main():
             cl = fly(v, 100, delay=1, schedule=s_, perturbation=pert)
             row[f"perturbed_start_{v:g}"] = {"diverged": cl} if isinstance(cl, str) else {
                 "stats": stats(cl), "beats_11_100": stats(cl, 10), "settled_at_beat": settled_at(cl)}
+        for v in speeds:  # half the perturbation
+            cl = fly(v, 100, delay=1, schedule=s_, perturbation=pert / 2)
+            row[f"perturbed_start_half_{v:g}"] = {"diverged": cl} if isinstance(cl, str) else {
+                "stats": stats(cl), "beats_11_100": stats(cl, 10), "settled_at_beat": settled_at(cl)}
         for g in (0.2, 0.5):
             cl = fly(1.0, 100, delay=1, schedule=s_, gusts=[Gust(np.array([0.0, g, 0.0]), 5, 2)])
             row[f"gust_{g:g}_1"] = {"diverged": cl} if isinstance(cl, str) else {
@@ -212,6 +243,7 @@ def main():
         log(f"delay {name}: {json.dumps(row, default=float)[:600]}")
     res["delay_1_beat_1ms_gust"] = dl
     res["margin_orbit_experiment"] = margin_experiment()
+    res["theta0_in_the_design_experiment"] = theta0_experiment(speeds)
     ol = fly(1.0, 40, control="none", schedule=sch[0])
     res["open_loop_1ms"] = {"diverged": ol} if isinstance(ol, str) else {
         "departed_at_beat": next((b["beat"] for b in ol.beats if abs(b["speed_error"]) > 0.1

@@ -117,7 +117,7 @@ def test_closed_loop_multipliers_inside_the_unit_circle(schedule, delay):
 def test_linear_model_predicts_the_controlled_flight():
     """A 0.01 deg bank at 2 m/s under the LQR: the nonlinear flight's lateral states follow the linear closed loop
     (z_{k+1} = (Az - Bz K) z_k) to 5 % of the initial bank over 12 beats. Guards the saturation handling: with the
-    flown (clipped) dphi_a fed back instead of the one sent, this flight grew 50-fold in 20 beats."""
+    flown (clipped) dphi_a fed back instead of the one sent, this flight's bank grew 46-fold in 22 beats."""
     p = schedule_point(2.0, aero="surrogate")
     A, B0, B1 = p.model.block("lat")
     Az, Bz = augment(A, B0, B1, 0)
@@ -190,11 +190,45 @@ def test_100_beats_from_each_orbit(schedule, speed):
     assert max(abs(b["speed_error"]) for b in cl.beats) < 1e-4
 
 
+def _pert(scale=1.0):
+    p = np.zeros(9)
+    p[[1, 2, 6, 7]] = 0.05 * scale, 0.05 * scale, np.deg2rad(scale), np.deg2rad(scale)
+    return p
+
+
+def test_small_gust_recovered_at_1_m_s(schedule):
+    """A 0.2 m/s lateral gust over beats 5-6 at 1 m/s: within the bounds again 6 beats after it (measured 6; the
+    0.5 m/s gust of issue 20 takes 11, docs/control.md)."""
+    from hawksim.control.closed_loop import Gust
+
+    cl = fly_closed_loop(1.0, 30, schedule=schedule, aero="surrogate", gusts=[Gust(np.array([0, 0.2, 0]), 5, 2)])
+    assert all(_within(b) for b in cl.beats[12:])
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("speed", SPEEDS)
 def test_perturbed_start_recovers(schedule, speed):
-    """From the perturbed start every speed is within the bounds from beat 4 on (measured 2-3) and stays there."""
-    pert = np.zeros(9)
-    pert[[1, 2, 6, 7]] = 0.05, 0.05, np.deg2rad(1.0), np.deg2rad(1.0)
-    cl = fly_closed_loop(speed, 100, schedule=schedule, aero="surrogate", perturbation=pert)
+    """From the perturbed start every speed is within the bounds from beat 10 on and stays there (measured: from
+    beat 9, 3, 3, 3, 6 at 0, 0.5, 1, 1.5, 2 m/s)."""
+    cl = fly_closed_loop(speed, 100, schedule=schedule, aero="surrogate", perturbation=_pert())
+    assert all(_within(b) for b in cl.beats[9:])
+
+
+@pytest.mark.slow
+def test_ascent_profile_without_overshoot(schedule):
+    """0:2, 1:25, 2:25 then 2 m/s (60 beats; the surrogate's reference moves 0.05 m/s per beat): no beat above its
+    command by 0.1 m/s (measured: none above it at all), within 0.02 m/s of 2 m/s from beat 55 on (measured 52)."""
+    cl = fly_closed_loop(0.0, 60, schedule=schedule, aero="surrogate", profile=[(0.0, 2), (1.0, 25), (2.0, 25)])
+    assert max(b["mean_vertical_speed"] - b["speed_command"] for b in cl.beats) < 0.1
+    assert all(abs(b["mean_vertical_speed"] - 2.0) <= 0.02 for b in cl.beats[54:])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_one_beat_delay_half_perturbation(speed):
+    """Delay-aware gains with a one-beat sensing delay: the half-size perturbed start is within the bounds from
+    beat 4 on at every speed (measured from beat 1-2; the full-size start departs at 0, 1.5 and 2 m/s,
+    docs/control.md)."""
+    s = Schedule(0.0, 2.0, aero="surrogate", delay=1)
+    cl = fly_closed_loop(speed, 60, schedule=s, aero="surrogate", delay=1, perturbation=_pert(0.5))
     assert all(_within(b) for b in cl.beats[3:])
