@@ -213,15 +213,20 @@ def compare(out_dir: Path, log=print) -> dict:
 
 
 def _mu(ms, n=2) -> str:
+    """The ``n`` largest distinct multipliers (a complex pair once, marked c; * if flagged not resolved)."""
     if not ms:
         return "-"
     out = []
-    for m in ms[:n]:
+    for m in ms:
         z = m["multiplier"] if isinstance(m, dict) else m
+        if z[1] < -1e-9:  # the conjugate of a pair already listed
+            continue
         s = f"{abs(complex(*z)):.2f}" + ("c" if abs(z[1]) > 1e-9 else "")
         if isinstance(m, dict) and not m["resolved"]:
             s += "*"
         out.append(s)
+        if len(out) == n:
+            break
     return ", ".join(out)
 
 
@@ -248,14 +253,14 @@ def markdown(res: dict) -> str:
                 f"{r['holds_beats']}{'+' if r['holds_all_flown'] else ''}")
         c = r["controlled"]
         if "worst" in c:
-            ctl = (f"{c['worst']['speed_error']:.4f} / {c['worst']['pitch_error_deg']:.2f} / "
-                   f"{c['worst']['roll_deg']:.2f} ({c['beats']} beats)")
-            gust = "-"
+            ctl = (f"{c['worst']['speed_error']:.1e} / {c['worst']['pitch_error_deg']:.1e} / "
+                   f"{c['worst']['roll_deg']:.1e} ({c['beats']} beats)")
+            gust = "not flown"
         elif "from_orbit_100" in c:
             f = c["from_orbit_100"]
             pp = c["perturbed_start_100"]
             ctl = ("diverged" if "diverged" in f else
-                   f"{f['worst']['speed_error']:.1e} / {f['worst']['pitch_error_deg']:.3f} / "
+                   f"{f['worst']['speed_error']:.1e} / {f['worst']['pitch_error_deg']:.1e} / "
                    f"{f['worst']['roll_deg']:.1e} (100 beats); perturbed start: "
                    + ("diverged" if "diverged" in pp else
                       f"within bounds from beat {pp['within_bounds_from_beat']}"))
@@ -270,9 +275,22 @@ def markdown(res: dict) -> str:
         lines.append(f"| {r['speed']:g} | {r['aero']} | {orb} | {lp} | {mu} | {hold} | {ctl} | {gust} | {wall} |")
     lines.append("")
     lines.append(f"`hawksim reproduce --only backends`, {res['date']}, load average {res['loadavg_start'][0]:.1f} to "
-                 f"{res['loadavg_end'][0]:.1f}. Floquet: the two largest |mu| per beat (c: a complex pair; *: flagged "
-                 "not resolved by the UVLM's reach test). Trim holds: open-loop beats from the orbit beat within "
-                 f"{HOLD_SPEED} m/s and {HOLD_PITCH_DEG} deg of it (+: every beat flown).")
+                 f"{res['loadavg_end'][0]:.1f}. L+ of the orbit beat is 1 by periodicity (a check). Floquet: the two "
+                 "largest distinct |mu| per beat of each system (c: a complex pair; *: flagged not resolved by the "
+                 "UVLM's reach test). Trim holds: open-loop beats from the orbit beat within "
+                 f"{HOLD_SPEED} m/s and {HOLD_PITCH_DEG} deg of it (+: every beat flown). Controlled: issue 20's "
+                 "per-beat LQR; the UVLM's 20 beats from results/control/control_uvlm.json. Wall time: the open-loop "
+                 "flight's loop (recording included) per beat, and its ratio to the quasi-steady flight's at that "
+                 "speed in the same sitting.")
+    lines += ["", "The orbits' kinematics (Hz, deg; f and phi0 solved by Newton, the other five the start's: the "
+              "held-body trim for the quasi-steady model and the UVLM, the UVLM orbit's for the surrogate):", "",
+              "| V (m/s) | backend | f | beta | phi0 | theta0 | alpha0 | phi_a | alpha_a | P+ |", "|" + "---|" * 10]
+    for r in res["rows"]:
+        o = r.get("orbit") or {}
+        k = o.get("kinematics")
+        if k:
+            lines.append(f"| {r['speed']:g} | {r['aero']} | " + " | ".join(f"{k[n]:.2f}" for n in (
+                "f", "beta", "phi0", "theta0", "alpha0", "phi_a", "alpha_a")) + f" | {o['P_plus']:.3f} |")
     return "\n".join(lines) + "\n"
 
 
