@@ -4,7 +4,8 @@ At 0, 1 and 2 m/s, for the quasi-steady model, the per-step surrogate of the UVL
 
 * the periodic orbit of the free body (:func:`hawksim.flight.orbit.shipped_orbit`; the UVLM's and the surrogate's are
   the shipped tables, not recomputed): its kinematics, Newton residual, whether it converged;
-* an open-loop flight from it (:func:`hawksim.cli.fly.fly_named`, `hawksim fly --aero NAME --control none`): the
+* an open-loop flight from it (:func:`hawksim.flight.fly.fly` from the orbit's launch state, as
+  `hawksim fly --aero NAME --control none` flies it): the
   cycle-mean L+ (world-z aerodynamic force / weight) and P+ of the orbit's beat (the first after the backend's
   warm-up beats), how many beats from there the trim holds within :data:`HOLD_SPEED` and :data:`HOLD_PITCH_DEG`
   of it, and the wall time per wingbeat of that flight (one sitting, load average and date recorded; ratios to the
@@ -101,9 +102,12 @@ def floquet(aero: str, speed: float, out_dir: Path) -> dict:
 
 def open_loop(aero: str, speed: float) -> dict:
     """The open-loop flight from the shipped orbit (module docstring)."""
-    from hawksim.cli.fly import fly_named
+    from hawksim.backends import flight_backend
+    from hawksim.flight.fly import fly
     from hawksim.flight.orbit import periodic_orbit, shipped_orbit
+    from hawksim.insect.model import load_model
     from hawksim.insect.morphology import HAWKMOTH, P0_W
+    from hawksim.trim.point import Trim
 
     orb = shipped_orbit(speed, aero)
     if aero == "quasi-steady" and orb is None:
@@ -117,7 +121,9 @@ def open_loop(aero: str, speed: float) -> dict:
         return row
     w = orb.warm_beats
     n = w + OPEN_LOOP_BEATS[aero]
-    r = fly_named(speed, n, aero, start="orbit")
+    trim = Trim(float(speed), orb.kinematics, model=aero, source="shipped periodic orbit of the free body")
+    r = fly(trim, flight_backend(aero, kinematics=orb.kinematics), n, model=load_model(),
+            start_state=(orb.launch_state.as_array(), orb.chi_ref))  # as `hawksim fly --aero NAME --control none`
     beats = r.summary()["beats"]
     lift, _ = r.lift_drag()
     spc = r.steps_per_cycle
