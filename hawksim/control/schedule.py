@@ -122,7 +122,8 @@ class SchedulePoint:
                "closed_loop_spectral_radius_long": self.long.spectral_radius,
                "closed_loop_spectral_radius_lat": self.lat.spectral_radius,
                "closed_loop_multipliers_long": mu(self.long), "closed_loop_multipliers_lat": mu(self.lat),
-               "K_long": self.long.K.tolist(), "K_lat": self.lat.K.tolist()}
+               "K_long": self.long.K.tolist(), "K_lat": self.lat.K.tolist(),
+               "inputs_long": [INPUTS[i] for i in self.long.inputs], "inputs_lat": [INPUTS[i] for i in self.lat.inputs]}
         if self.rate == "half-stroke":
             out["K_long_half"], out["K_lat_half"] = self.long_half.K.tolist(), self.lat_half.K.tolist()
         return out
