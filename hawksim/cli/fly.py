@@ -183,13 +183,15 @@ def _control_of(args) -> str | None:
         if rate is not None:
             raise ValueError(f"--control-rate {rate} needs --control lqr")
         return None
-    if args.aero not in ("quasi-steady", "uvlm") or args.kinematics is not None \
+    if args.aero not in ("quasi-steady", "uvlm", "surrogate") or args.kinematics is not None \
             or args.steps_per_cycle != STEPS_PER_CYCLE or args.start == "trim":
-        raise ValueError(f"--control {control} / --gust / --ascent-profile need --aero quasi-steady or uvlm from the "
-                         f"orbit (no --kinematics, --start trim or --steps-per-cycle other than {STEPS_PER_CYCLE})")
-    if args.aero == "uvlm" and rate == "half-stroke":
-        raise ValueError("--control-rate half-stroke needs --aero quasi-steady (the UVLM's wake cannot be set at "
-                         "phase 0.5 to linearize the half-stroke maps)")
+        raise ValueError(f"--control {control} / --gust / --ascent-profile need --aero quasi-steady, uvlm or surrogate "
+                         f"from the orbit (no --kinematics, --start trim or --steps-per-cycle other than "
+                         f"{STEPS_PER_CYCLE})")
+    if args.aero != "quasi-steady" and rate == "half-stroke":
+        from hawksim.control.schedule import HALF_STROKE_WHY
+
+        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady ({HALF_STROKE_WHY[args.aero]})")
     if control == "none" and profile:
         raise ValueError("--ascent-profile needs --control lqr (an open-loop flight cannot follow it)")
     return control
@@ -242,8 +244,8 @@ def register(sub) -> None:
 
     f.add_argument("--control", choices=CONTROL_CHOICES, default=None,
                    help="lqr: the wingbeat-to-wingbeat LQR (default for quasi-steady from the orbit; with --aero uvlm "
-                        "at 1, 1.5 or 2 m/s, the shipped UVLM orbits, scheduled over 1-2 m/s); none: open loop "
-                        "(default otherwise)")
+                        "at 1, 1.5 or 2 m/s, the shipped UVLM orbits, scheduled over 1-2 m/s; with --aero surrogate "
+                        "over 0-2 m/s from its shipped orbits); none: open loop (default otherwise)")
     from hawksim.control.schedule import RATES
 
     f.add_argument("--control-rate", choices=RATES, default=None,

@@ -4,11 +4,13 @@ Per wingbeat k, at phase 0 (:func:`fly_closed_loop`; per half-stroke steps 3-4 r
 the gains and reference state of each phase):
 
 1. the speed reference V_k moves toward the commanded speed (the ascent profile) by at most
-   :data:`SPEED_RATE` m/s per beat (a rate-limited prefilter: a step of 1 m/s is far outside the linear model);
+   :data:`SPEED_RATE` m/s per beat (:data:`SPEED_RATES` for some backends; a rate-limited prefilter: a step of
+   1 m/s is far outside the linear model);
 2. the schedule (:class:`hawksim.control.schedule.Schedule`, periodic orbits and LQR gains at grid speeds) gives
    the reference at V_k by linear interpolation between the two neighbouring orbits: state, kinematics, gains;
 3. the sensed state (body state and horizontal position of beat k - d, d the sensing delay) and the commands
-   already sent make the augmented deviation z (:mod:`hawksim.control.lqr`); each neighbour's gain gives
+   already flown (as saturated at Table 2; for a schedule whose derivatives were taken through the saturation, the
+   surrogate's, as sent) make the augmented deviation z (:mod:`hawksim.control.lqr`); each neighbour's gain gives
    u = -K z in its own normalization, and the two are blended with the interpolation weights;
 4. each wing's kinematics (reference + command, :func:`hawksim.control.plant.wing_kinematics`) saturate at
    Table 2 and the beat blends into them (:class:`hawksim.control.plant.ControlledSimulator`); a gust is a
@@ -28,9 +30,9 @@ import mujoco
 import numpy as np
 
 from hawksim.control.derivatives import stability_position
-from hawksim.control.plant import ControlledSimulator, command_of, saturate, wing_kinematics
+from hawksim.control.plant import command_of, controlled_plant, saturate, wing_kinematics
 from hawksim.control.schedule import Schedule
-from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend, read_body_state, set_body_state
+from hawksim.flight.orbit import STEPS_PER_CYCLE, read_body_state, set_body_state
 from hawksim.flight.result import FlightResult
 from hawksim.frames import attitude_of, pitch_of, quat_from_matrices
 from hawksim.insect.kinematics import Kinematics
@@ -39,6 +41,13 @@ from hawksim.insect.morphology import HAWKMOTH, P0_W
 
 SPEED_RATE = 0.2
 """Largest change of the speed reference per wingbeat [m/s]."""
+
+SPEED_RATES = {"surrogate": 0.05}
+"""Backends with a slower speed reference [m/s per wingbeat]. Tuned: the per-step surrogate's orbits flap at
+32-36 Hz (the quasi-steady ones at 25-31 Hz), so a 0.2 or 0.1 m/s-per-beat ramp from hover drives f to Table 2's
+40 Hz within 2-3 beats, and the saturated flight pitches away (pitch errors of 34 and 120 deg on the 0 -> 1 -> 2 m/s
+profile); at 0.05 f stays <= 39.1 Hz and the profile is tracked without overshoot (docs/control.md, "The per-step
+surrogate in the loop"). What it moves: the ramp's duration (20 beats per m/s) and the lag behind the reference."""
 
 SATURATION_TOL = 1e-9
 """A wing counts as saturated when Table 2 clipped a parameter by more than this [SI] (the orbit sits on
@@ -138,13 +147,14 @@ class ClosedLoop:
     control: str = "lqr"
     delay: int = 0
     gusts: list = field(default_factory=list)
+    speed_rate: float = SPEED_RATE
 
     def series(self, key: str) -> np.ndarray:
         return np.array([b[key] for b in self.beats])
 
     def to_json(self) -> dict:
         return {"mode": self.control, "update_rate": self.schedule.rate, "delay_beats": self.delay,
-                "speed_rate_m_s_per_beat": SPEED_RATE,
+                "speed_rate_m_s_per_beat": self.speed_rate,
                 "body_length_m": body_length(), "schedule": [p.to_json() for p in self.schedule.points],
                 "gusts": [{"velocity": list(map(float, g.velocity)), "start": g.start, "beats": g.beats}
                           for g in self.gusts],
@@ -164,7 +174,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     model: mujoco.MjModel | None = None, record: bool = False, log=None,
                     progress: Callable[[int, int], None] | None = None,
                     design_delay: int | None = None, aero: str = "quasi-steady", rate: str = "beat",
-                    partial_on_interrupt: bool = False) -> ClosedLoop:
+                    partial_on_interrupt: bool = False, speed_rate: float | None = None) -> ClosedLoop:
     """Fly ``beats`` wingbeats from the quasi-steady orbit at ``speed`` [m/s] (plus ``perturbation`` (9,) SI in
     :data:`hawksim.flight.orbit.STATE_NAMES` order) under the LQR (``control='lqr'``) or open loop (``'none'``:
     the orbit's kinematics throughout), commanded by ``profile`` [(speed, beats)] (default: ``speed``), with
@@ -176,7 +186,8 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     orbit's launch state and flies its warm-up beats open loop before the ``beats`` controlled ones (only those
     are reported). ``rate``: control updates once per ``'beat'`` or per ``'half-stroke'`` (phases 0 and 0.5,
     quasi-steady only) for the schedule made here (a given ``schedule`` brings its own).
-    ``progress(k, beats)`` is called before the first beat (k = 0) and after each complete beat.
+    ``speed_rate``: the speed reference's largest change per beat [m/s] (default :data:`SPEED_RATES` of ``aero``, else
+    :data:`SPEED_RATE`). ``progress(k, beats)`` is called before the first beat (k = 0) and after each complete beat.
     ``partial_on_interrupt`` (with ``record``): a KeyboardInterrupt during the beats returns the steps and beats
     completed so far (``result`` with fewer than beats x 200 rows, ``beats`` the complete ones) instead of
     propagating; with no step completed it propagates."""
@@ -191,7 +202,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                             rate=rate)
     if any(p.orbit.aero != aero for p in schedule.points):
         raise ValueError(f"the schedule's orbits are not {aero} orbits")
-    if aero == "uvlm" and not any(p.speed == speed for p in schedule.points):
+    if aero == "uvlm" and not any(p.speed == speed for p in schedule.points):  # the wake needs its orbit's launch
         raise ValueError(f"--speed {speed:g} with --aero uvlm under control: the flight starts on a shipped UVLM "
                          f"orbit ({', '.join(f'{p.speed:g}' for p in schedule.points)} m/s here); command speeds in "
                          "between with --ascent-profile")
@@ -203,8 +214,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         kin0, x0, chi0 = exact[0].orbit.kinematics, exact[0].orbit.initial_state.as_array(), exact[0].orbit.chi_ref
     if perturbation is not None:
         x0 = x0 + np.asarray(perturbation, float)
-    backend, every = make_orbit_backend(aero, symmetric=False)
-    sim = ControlledSimulator(model, kin0, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
+    sim = controlled_plant(model, kin0, aero)
     p_orbit = kin0.as_array()
     sim.set_wings(kin0, kin0)
     n = STEPS_PER_CYCLE
@@ -224,6 +234,9 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     lag, design_lag = delay * nseg, schedule.delay * nseg  # the sensing delay and the gains' one, in updates
     keep = max(lag, design_lag) + 2 * nseg
     flown = [(p_orbit, p_orbit)] * keep  # (left, right) of the updates before the first
+    # the past commands the gains see: those flown (saturated), or for derivatives taken through the saturation
+    # (hawksim.control.derivatives.SATURATED_DERIVATIVES) those sent, which is what that model's inputs are
+    sent = any(p.model.clipped for p in schedule.points)
     if nseg == 1:
         sensed = [(x0, np.zeros(2))] * keep
     else:  # the entry m updates before the start was sensed at phase m mod 2 (the orbit's state there)
@@ -232,7 +245,8 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         sensed = [(x0, np.zeros(2)) if (keep - 1 - i) % 2 == 0 else (x_h, pos_h) for i in range(keep)]
     out, refs = [], []
     v_ref = float(speed)
-    rate_limit = SPEED_RATE / nseg  # the reference moves at each update, SPEED_RATE per beat
+    speed_rate = SPEED_RATES.get(aero, SPEED_RATE) if speed_rate is None else float(speed_rate)
+    rate_limit = speed_rate / nseg  # the reference moves at each update, speed_rate per beat
     if progress is not None:
         progress(0, beats)
     try:
@@ -271,7 +285,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     raise FloatingPointError(f"controlled flight diverged in beat {k}")
                 x = read_body_state(sim, chi_ref)
                 pos = stability_position(sim.d.qpos[:3]) - hold
-                flown.append((ls, rs))
+                flown.append((lp, rp) if sent else (ls, rs))
                 sensed.append((x, pos))
                 flown, sensed = flown[-keep:], sensed[-keep:]
             refs.append(v_ref)
@@ -309,4 +323,4 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
             trim_source=f"periodic orbit of the free body, {control} control", beat_steps=n,
             speed_commands=np.array(refs))
     return ClosedLoop(beats=out, schedule=schedule, result=result, wall_time_s=time.perf_counter() - t_start,
-                      control=control, delay=int(delay), gusts=gusts)
+                      control=control, delay=int(delay), gusts=gusts, speed_rate=speed_rate)

@@ -73,6 +73,27 @@ def check_uvlm_control(speed: float, profile) -> None:
                          f"{SP[0]:g} to {SP[-1]:g} m/s")
 
 
+def check_surrogate_control(speed: float, profile) -> None:
+    """ValueError (one line naming the option) unless a controlled surrogate flight can fly this: the start speed
+    and every commanded speed lie within the range of the shipped surrogate orbits of the shipped network
+    (:func:`hawksim.control.schedule.surrogate_schedule_speeds`; the gains are interpolated between them, and a start
+    between two grid speeds is the interpolated reference, as for the quasi-steady schedule)."""
+    from hawksim.control.schedule import surrogate_schedule_speeds
+
+    sp = surrogate_schedule_speeds()
+    if not sp:
+        raise ValueError("--aero surrogate under control: no shipped surrogate orbit for this step network "
+                         "(hawksim/data/orbit_table_surrogate.json was solved with another network)")
+    lo, hi = sp[0], sp[-1]
+    if not (lo - 1e-9 <= speed <= hi + 1e-9):
+        raise ValueError(f"--speed {speed:g} with --aero surrogate under control: the surrogate schedule covers "
+                         f"{lo:g} to {hi:g} m/s (its shipped orbits at {', '.join(f'{v:g}' for v in sp)} m/s)")
+    bad = [v for v, _ in profile or [] if not (lo - 1e-9 <= v <= hi + 1e-9)]
+    if bad:
+        raise ValueError(f"--ascent-profile speed {bad[0]:g} m/s with --aero surrogate: the surrogate schedule "
+                         f"covers {lo:g} to {hi:g} m/s")
+
+
 def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=None, delay: int = 0,
                 perturb: dict | None = None, model_path=None, progress=None, log=None,
                 aero: str = "quasi-steady", rate: str = "beat", partial_on_interrupt: bool = False):
@@ -92,6 +113,8 @@ def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=
         x[STATE_NAMES.index(k)] += v * (deg if k in ("p", "q", "r", "theta", "phi") else 1.0)
     if aero == "uvlm":
         check_uvlm_control(speed, profile)
+    elif aero == "surrogate":
+        check_surrogate_control(speed, profile)
     return fly_closed_loop(speed, cycles, profile=profile, gusts=gusts, delay=delay, control=control, perturbation=x,
                            model=load_model(model_path), record=True, log=log, progress=progress, aero=aero,
                            rate=rate, partial_on_interrupt=partial_on_interrupt)

@@ -29,8 +29,9 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, saturate, wing_kinematics
-from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, scales, make_orbit_backend, read_body_state, set_body_state
+from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
+                                   wing_kinematics)
+from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, read_body_state, scales, set_body_state
 from hawksim.frames import STABILITY_TO_WORLD
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
@@ -49,6 +50,13 @@ FD_DELTA = 1e-5
 
 UVLM_FD_DELTA = 1e-3
 """The same for the UVLM, whose free wake amplifies round-off (as hawksim.flight.orbit.UVLM_FD_STEP)."""
+
+SURROGATE_FD_DELTA = 1e-3
+"""The same for the per-step surrogate, whose float32 network rounds the loads at ~1e-7 relative. Measured at 1 m/s
+(largest entry of A, B0, B1 ~1.4): steps 1e-4 / 3e-4 / 1e-3 / 3e-3 differ by 4.1e-3, 1.2e-3, 1.8e-3 between
+neighbours, i.e. round-off ~4e-4 and truncation ~2e-4 at 1e-3, the smallest total (the orbit solver's 1e-4 step,
+hawksim.flight.orbit.SURROGATE_FD_STEP, carries ~4e-3 of round-off here); the closed-loop multipliers agree to 1e-4
+at every step (docs/control.md, "The per-step surrogate in the loop")."""
 
 
 def xi_scale(kin: Kinematics) -> np.ndarray:
@@ -88,10 +96,8 @@ class _UVLMSnapshot:
         import copy
 
         self._copy = copy.deepcopy
-        backend, every = make_orbit_backend("uvlm", symmetric=False)
         kin = orbit.kinematics
-        sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True,
-                                  aero_every=every)
+        sim = controlled_plant(model, kin, orbit.aero)
         sim.set_wings(kin, kin)
         set_body_state(sim, orbit.launch_state.as_array(), orbit.chi_ref)
         for _ in range(orbit.warm_beats):
@@ -122,9 +128,8 @@ def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, 
     [m], stability axes). ``clip``: saturate each wing at Table 2 (off for derivatives, which may step past
     a bound the orbit sits on, e.g. phi_a = 60 deg)."""
     model = model if model is not None else load_model()
-    backend, every = make_orbit_backend(orbit.aero, symmetric=False)
     kin = orbit.kinematics
-    sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
+    sim = controlled_plant(model, kin, orbit.aero)
     sat = saturate if clip else (lambda p: p)
     lp, rp = (Kinematics.from_array(sat(p)) for p in wing_kinematics(kin, du_prev))
     sim.set_wings(lp, rp)
@@ -143,7 +148,8 @@ def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, 
 class BeatMapModel:
     """The linearized controlled one-beat map about ``orbit`` (normalized, module docstring): A (11, 11), B0 and
     B1 (11, 7); ``scale`` (11,) SI per normalized state unit; ``coupling``: largest |entry| of the
-    longitudinal-lateral cross blocks of A, B0, B1; wall_time_s."""
+    longitudinal-lateral cross blocks of A, B0, B1; wall_time_s; ``clipped``: differenced on the map saturated at
+    Table 2 (:data:`SATURATED_DERIVATIVES`)."""
 
     orbit: Orbit
     A: np.ndarray
@@ -153,6 +159,7 @@ class BeatMapModel:
     coupling: float
     delta: float
     wall_time_s: float
+    clipped: bool = False
 
     @property
     def Bt(self) -> np.ndarray:
@@ -175,7 +182,7 @@ class BeatMapModel:
     def to_json(self) -> dict:
         return {"speed": self.orbit.speed, "aero": self.orbit.aero, "states": list(XI_NAMES), "inputs": list(INPUTS),
                 "A": self.A.tolist(), "B0": self.B0.tolist(), "B1": self.B1.tolist(), "scale": self.scale.tolist(),
-                "coupling": self.coupling, "delta": self.delta}
+                "coupling": self.coupling, "delta": self.delta, "clipped": self.clipped}
 
     @staticmethod
     def from_json(d: dict, orbit: Orbit) -> BeatMapModel:
@@ -185,7 +192,7 @@ class BeatMapModel:
         return BeatMapModel(orbit=orbit, A=np.asarray(d["A"], float), B0=np.asarray(d["B0"], float),
                             B1=np.asarray(d["B1"], float), scale=np.asarray(d["scale"], float),
                             coupling=float(d["coupling"]), delta=float(d["delta"]),
-                            wall_time_s=float(d.get("wall_time_s", 0.0)))
+                            wall_time_s=float(d.get("wall_time_s", 0.0)), clipped=bool(d.get("clipped", False)))
 
 
 def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
@@ -212,15 +219,32 @@ def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
     return A, Bt - B1, B1
 
 
-def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None) -> BeatMapModel:
-    """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady: each
-    derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with warm-up
-    beats): one flight is launched and flown over the warm-up beats, and every derivative beat branches from a
-    copy of it at the periodic beat's start, with the body state overwritten there (:func:`set_phase0`) and the
-    wake kept: the derivatives hold the wake at the orbit's (its memory of the perturbation is left out)."""
+SATURATED_DERIVATIVES = ("surrogate",)
+"""Backends whose control derivatives are taken on the map as flown, each wing saturated at Table 2
+(:func:`one_beat` with ``clip``). The per-step surrogate's network never saw parameters outside Table 2 (its
+training kinematics are clipped there), and its orbits sit on phi_a = 60 deg (the bound): a central difference
+that steps one wing past it differences the network's extrapolation (the unclipped dphi_a column's one-beat
+response is off by 11 % at 1 deg and 45 % at 3 deg at 1 m/s). With the clip, a small antisymmetric dphi_a lowers
+one wing's amplitude whichever its sign, so the central difference gives the lateral response of the flown plant
+(odd in dphi_a by mirror symmetry, half the unclipped slope) and no longitudinal one (even). The quasi-steady and
+UVLM models are smooth across the bound and keep the unclipped derivatives of their shipped tables."""
+
+
+def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None,
+              clip: bool | None = None) -> BeatMapModel:
+    """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady and surrogate:
+    each derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with
+    warm-up beats): one flight is launched and flown over the warm-up beats, and every derivative beat branches from
+    a copy of it at the periodic beat's start, with the body state overwritten there (:func:`set_phase0`) and the
+    wake kept: the derivatives hold the wake at the orbit's (its memory of the perturbation is left out). ``clip``:
+    difference the map with each wing saturated at Table 2 (default: for :data:`SATURATED_DERIVATIVES`)."""
     t0 = time.perf_counter()
+    if clip is None:
+        clip = orbit.aero in SATURATED_DERIVATIVES
+    if clip and orbit.warm_beats:
+        raise ValueError("saturated derivatives are implemented for orbits with a settable state (no warm-up beats)")
     if delta is None:
-        delta = UVLM_FD_DELTA if orbit.warm_beats else FD_DELTA
+        delta = UVLM_FD_DELTA if orbit.warm_beats else SURROGATE_FD_DELTA if orbit.aero == "surrogate" else FD_DELTA
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     sc = xi_scale(kin)
@@ -234,7 +258,7 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
         x0 = orbit.launch_state.as_array()
 
         def beat(x, du_prev, du):
-            return one_beat(orbit, x, du_prev, du, model=model)
+            return one_beat(orbit, x, du_prev, du, model=model, clip=clip)
 
     def xi(out):
         x, disp = out
@@ -246,4 +270,4 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
                  (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
     return BeatMapModel(orbit=orbit, A=A, B0=B0, B1=B1, scale=sc, coupling=float(cross), delta=delta,
-                        wall_time_s=time.perf_counter() - t0)
+                        wall_time_s=time.perf_counter() - t0, clipped=bool(clip))

@@ -75,10 +75,17 @@ def _sorted(w):
 
 
 def lqr_gain(lin: BeatMapModel, which: str, delay: int = 0, x_max: dict | None = None,
-             u_max: dict | None = None) -> Gain:
-    """LQR of the 'long' or 'lat' subsystem of ``lin`` with a sensing delay of ``delay`` wingbeats."""
+             u_max: dict | None = None, inputs: tuple[int, ...] | None = None) -> Gain:
+    """LQR of the 'long' or 'lat' subsystem of ``lin`` with a sensing delay of ``delay`` wingbeats; ``inputs``: the
+    channels (indices in :data:`INPUTS`) of the subsystem it may use (default all; the others stay at the
+    reference)."""
     A, B0, B1 = lin.block(which)
     xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
+    if inputs is not None:
+        if not set(inputs) <= set(us) or not inputs:
+            raise ValueError(f"inputs {inputs} are not a non-empty subset of the {which} channels {us}")
+        cols = [us.index(i) for i in inputs]
+        B0, B1, us = B0[:, cols], B1[:, cols], tuple(inputs)
     xm, um = {**X_MAX, **(x_max or {})}, {**U_MAX, **(u_max or {})}
     Az, Bz = augment(A, B0, B1, delay)
     n, m = B1.shape

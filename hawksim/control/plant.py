@@ -19,7 +19,12 @@ With no change (``begin_beat`` never called, or called with the same kinematics)
 Eq. 1 of the base kinematics, the same floats as :meth:`Simulator.desired` (tested bit-identical).
 
 Wind: ``air_v`` (3,) world [m/s], a uniform air velocity handed to the backend in every ``state()`` (the
-quasi-steady and UVLM backends take it); zero by default (then the state is the base class's, unchanged).
+quasi-steady, UVLM and per-step surrogate backends take it); zero by default (then the state is the base class's,
+unchanged).
+
+The per-step surrogate reads the kinematic parameters and the phase as network inputs, not the wing motion; under
+control it gets each wing's blended parameters and the blended phase of the current beat (:meth:`ControlledSimulator.
+network_kinematics`, :mod:`hawksim.control.surrogate`). :func:`controlled_plant` builds the plant of any backend.
 """
 
 from __future__ import annotations
@@ -179,9 +184,58 @@ class ControlledSimulator(Simulator):
                 out_qdd.append(qddo[j] + s * (qddn[j] - qddo[j]) + 2 * s1 * dqd + s2 * dq)
         return np.array(out_q), np.array(out_qd), np.array(out_qdd)
 
+    def network_kinematics(self, t: float) -> tuple[np.ndarray, float]:
+        """The kinematic inputs of a network backend at time t [s]: (params (2, 7) SI, PARAM_NAMES order, left and
+        right wing; the wing phase [rad]). Within a blend (module docstring) each wing's parameters are the blend
+        (1 - s) p_old + s p_new of the smoothstep s and the phase (1 - s) w_old + s w_new of the two kinematics'
+        phases: the motion q = (1 - s) q_old + s q_new is Eq. 1 of the blended parameters exactly for phi0, phi_a,
+        theta0, alpha0, alpha_a at one f (Eq. 1 is linear in them) and to first order in a change of f. Before
+        any :meth:`begin_beat` or :meth:`set_wings`: the base kinematics and 2 pi f t."""
+        if self._new is None:
+            p = self.kin.as_array()
+            return np.stack([p, p]), 2 * math.pi * self.kin.f * t
+        tau = t - self._t0
+        ph = self._phase
+        kl, kr = self._new
+        pn = np.stack([kl.as_array(), kr.as_array()])
+        wn = ph + 2 * math.pi * kl.f * tau
+        if self._same:
+            return pn, wn
+        Tb = self._T if self._span == 1.0 else self._span * self._T
+        s = _smoothstep(tau / Tb)[0]
+        if s >= 1.0:
+            return pn, wn
+        ol, orr = self._old
+        po = np.stack([ol.as_array(), orr.as_array()])
+        wo = ph + 2 * math.pi * ol.f * tau
+        return (1 - s) * po + s * pn, (1 - s) * wo + s * wn
+
     # ---- wind -----------------------------------------------------------------------------------
     def state(self) -> FlightState:
         st = super().state()
         if np.any(self.air_v):
             st = replace(st, air_v=np.array(self.air_v, float))
         return st
+
+
+def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int | None = None) -> ControlledSimulator:
+    """The controlled plant of `hawksim fly --aero NAME` (``aero``: quasi-steady, uvlm or surrogate) at base
+    kinematics ``kin``: the backend of :func:`hawksim.flight.orbit.make_orbit_backend` (both wings solved: the
+    commands break the symmetry), updated at its flight rate; the per-step surrogate as
+    :class:`hawksim.control.surrogate.ControlledStepSurrogate`, bound to the plant so that it reads the commanded
+    kinematics (:meth:`ControlledSimulator.network_kinematics`)."""
+    from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend
+    from hawksim.flight.simulator import aero_every_for
+
+    n = STEPS_PER_CYCLE if steps_per_cycle is None else steps_per_cycle
+    if aero == "surrogate":
+        from hawksim.control.surrogate import ControlledStepSurrogate
+
+        backend = ControlledStepSurrogate(kin)
+    else:
+        backend, _ = make_orbit_backend(aero, symmetric=False)
+    sim = ControlledSimulator(model, kin, backend, steps_per_cycle=n, gravity=True,
+                              aero_every=aero_every_for(backend, n))
+    if aero == "surrogate":
+        backend.bind(sim)
+    return sim

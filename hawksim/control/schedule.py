@@ -7,7 +7,10 @@ linearize_half_stroke`, ~3 s) at :data:`SCHEDULE_SPEEDS`, cached per process. UV
 orbits (hawksim/data/orbit_table_uvlm.json, converged at :data:`UVLM_SCHEDULE_SPEEDS`) and their one-beat control
 derivatives shipped in hawksim/data/control_models_uvlm.json (``hawksim reproduce --only control_uvlm``,
 :func:`control_model_table`; linearizing one speed takes minutes), so the schedule covers 1-2 m/s only, and a
-speed outside the grid's range is refused (ValueError naming it).
+speed outside the grid's range is refused (ValueError naming it). Per-step surrogate (per beat only): the same
+from its shipped orbits (hawksim/data/orbit_table_surrogate.json, for the shipped network only) at
+:func:`surrogate_schedule_speeds` (0, 0.5, 1, 1.5, 2 m/s) and hawksim/data/control_models_surrogate.json
+(``hawksim reproduce --only control_surrogate``; without it the derivatives are recomputed, ~5 s per speed).
 
 Per beat the gains are :func:`hawksim.control.lqr.lqr_gain` of the one-beat map; per half-stroke
 :func:`hawksim.control.lqr.periodic_lqr_gains` of the two half-stroke maps (a gain for phase 0 and one for
@@ -36,6 +39,31 @@ UVLM_SCHEDULE_SPEEDS = (1.0, 1.5, 2.0)
 """Speeds [m/s] of the UVLM schedule: the shipped UVLM orbits that converged (hover and 0.5 m/s did not,
 docs/free_flight.md)."""
 
+SURROGATE_GRID = TABLE3_SPEEDS
+"""Speeds [m/s] at which the surrogate's schedule looks for shipped orbits (:func:`surrogate_schedule_speeds`)."""
+
+
+def surrogate_schedule_speeds() -> tuple[float, ...]:
+    """Speeds [m/s] of :data:`SURROGATE_GRID` with a converged shipped surrogate orbit for the shipped network
+    (:func:`hawksim.flight.orbit.shipped_orbit`; empty for another network)."""
+    out = []
+    for v in SURROGATE_GRID:
+        o = shipped_orbit(v, "surrogate")
+        if o is not None and o.converged:
+            out.append(float(v))
+    return tuple(out)
+
+
+def schedule_speeds(aero: str) -> tuple[float, ...]:
+    """The grid speeds [m/s] of ``aero``'s gain schedule: quasi-steady :data:`SCHEDULE_SPEEDS`, UVLM
+    :data:`UVLM_SCHEDULE_SPEEDS`, surrogate :func:`surrogate_schedule_speeds`."""
+    if aero == "uvlm":
+        return UVLM_SCHEDULE_SPEEDS
+    if aero == "surrogate":
+        return surrogate_schedule_speeds()
+    return SCHEDULE_SPEEDS
+
+
 RATES = ("beat", "half-stroke")
 """Control update rates: once per wingbeat (at phase 0) or once per half-stroke (phases 0 and 0.5)."""
 
@@ -47,9 +75,13 @@ the 0 -> 1 m/s reference ramp (0.2 m/s per beat), drives theta0 to Table 2's -25
 perturbation peaks stay below the per-beat controller's (``scripts/studies/control_rate_study.py``,
 docs/control.md "Per beat or per half-stroke")."""
 
-CONTROL_MODEL_FILES = {"uvlm": "control_models_uvlm.json"}
+HALF_STROKE_WHY = {"uvlm": "the UVLM's wake cannot be set at phase 0.5 to linearize the half-stroke maps",
+                   "surrogate": "the half-stroke maps are built for the quasi-steady backend only"}
+"""Why a backend has no half-stroke controller (the one-line refusal's reason)."""
+
+CONTROL_MODEL_FILES = {"uvlm": "control_models_uvlm.json", "surrogate": "control_models_surrogate.json"}
 """Shipped one-beat control derivatives in ``hawksim/data`` (produced by ``hawksim reproduce --only
-control_uvlm``, copied from ``results/control/``)."""
+control_uvlm`` / ``control_surrogate``, copied from ``results/control/``)."""
 
 
 @dataclass(frozen=True)
@@ -90,7 +122,8 @@ class SchedulePoint:
                "closed_loop_spectral_radius_long": self.long.spectral_radius,
                "closed_loop_spectral_radius_lat": self.lat.spectral_radius,
                "closed_loop_multipliers_long": mu(self.long), "closed_loop_multipliers_lat": mu(self.lat),
-               "K_long": self.long.K.tolist(), "K_lat": self.lat.K.tolist()}
+               "K_long": self.long.K.tolist(), "K_lat": self.lat.K.tolist(),
+               "inputs_long": [INPUTS[i] for i in self.long.inputs], "inputs_lat": [INPUTS[i] for i in self.lat.inputs]}
         if self.rate == "half-stroke":
             out["K_long_half"], out["K_lat_half"] = self.long_half.K.tolist(), self.lat_half.K.tolist()
         return out
@@ -98,11 +131,17 @@ class SchedulePoint:
 
 def control_model_table(models: list[BeatMapModel], command: str) -> dict:
     """The layout of a shipped control-derivative table: one row per speed (:meth:`BeatMapModel.to_json` plus
-    the orbit it linearizes, named by its f and residual), with the command that made it. The UVLM is
-    deterministic (no random process), so there is no seed."""
+    the orbit it linearizes, named by its f and residual), with the command that made it. The UVLM and the
+    surrogate are deterministic (no random process), so there is no seed; a surrogate table records the SHA-256
+    of the network (``network_sha256``)."""
     from hawksim import __version__
 
-    return {"source": "central differences of the controlled one-beat map about the shipped periodic orbits "
+    extra = {}
+    if models and models[0].orbit.aero == "surrogate":
+        from hawksim.backends.step_network import network_sha256
+
+        extra["network_sha256"] = network_sha256()
+    return {**extra, "source": "central differences of the controlled one-beat map about the shipped periodic orbits "
                       "(hawksim.control.derivatives.linearize)", "command": command, "seed": None,
             "seed_note": "deterministic: no random process", "hawksim_version": __version__,
             "aero": models[0].orbit.aero if models else None,
@@ -120,7 +159,13 @@ def shipped_control_model(speed: float, aero: str) -> BeatMapModel | None:
     orbit = shipped_orbit(speed, aero)
     if path is None or not path.is_file() or orbit is None:
         return None
-    for row in json.loads(path.read_text())["rows"]:
+    table = json.loads(path.read_text())
+    if aero == "surrogate":
+        from hawksim.backends.step_network import network_sha256
+
+        if table.get("network_sha256") != network_sha256():
+            return None
+    for row in table["rows"]:
         if abs(row["speed"] - speed) < 1e-9 and row["orbit_f_hz"] == orbit.kinematics.f \
                 and row["orbit_residual"] == orbit.residual:
             return BeatMapModel.from_json(row, orbit)
@@ -134,15 +179,16 @@ _HALF: dict = {}
 def _orbit_and_model(speed: float, aero: str, model, log) -> tuple[Orbit, BeatMapModel]:
     key = (float(speed), aero)
     if key not in _POINTS:
-        if aero == "uvlm":
-            orb = shipped_orbit(speed, "uvlm")
+        if aero in ("uvlm", "surrogate"):
+            orb = shipped_orbit(speed, aero)
             if orb is None or not orb.converged:
-                raise ValueError(f"no converged shipped UVLM orbit at {speed:g} m/s (the UVLM schedule covers "
-                                 f"{', '.join(f'{v:g}' for v in UVLM_SCHEDULE_SPEEDS)} m/s)")
-            lin = shipped_control_model(speed, "uvlm")
+                raise ValueError(f"no converged shipped {aero} orbit at {speed:g} m/s (the {aero} schedule covers "
+                                 f"{', '.join(f'{v:g}' for v in schedule_speeds(aero)) or 'no speed'} m/s)")
+            lin = shipped_control_model(speed, aero)
             if lin is None:
                 if log is not None:
-                    log(f"linearizing the UVLM orbit at {speed:g} m/s (no shipped control model; minutes) ...")
+                    log(f"linearizing the {aero} orbit at {speed:g} m/s (no shipped control model; "
+                        f"{'minutes' if aero == 'uvlm' else 'seconds'}) ...")
                 lin = linearize(orb, model=model)
         else:
             orb = periodic_orbit(speed, aero, model=model, log=log)
@@ -162,10 +208,10 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     if rate not in RATES:
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
     if rate == "half-stroke" and aero != "quasi-steady":
-        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady (the {aero} state cannot be set at "
-                         "phase 0.5 to linearize the half-stroke maps)")
+        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady ({HALF_STROKE_WHY.get(aero, '')})")
     orb, lin = _orbit_and_model(speed, aero, model, log)
-    long, lat = lqr_gain(lin, "long", delay, x_max, u_max), lqr_gain(lin, "lat", delay, x_max, u_max)
+    sym = symmetric_inputs(orb) if aero in ONE_SIDED_DROPPED else None
+    long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
     if rate == "beat":
         return SchedulePoint(float(speed), orb, lin, long, lat)
     key = (float(speed), aero)
@@ -181,17 +227,49 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
                          lat_half=gt[1])
 
 
+ONE_SIDED_DROPPED = ("surrogate",)
+"""Backends whose LQR leaves out a symmetric channel whose parameter sits on a Table 2 bound at the orbit
+(:func:`symmetric_inputs`): there the saturation passes only commands of one sign, a kink no linear design sees.
+The surrogate's (and the UVLM's) orbits sit on theta0 = 25 deg, the upper bound: with theta0 in the design the
+surrogate's perturbed starts at 0 and 2 m/s departed (theta0 clipped in every beat), without it they hold
+(docs/control.md, "The per-step surrogate in the loop"). The antisymmetric dphi_a at phi_a = 60 deg stays: one
+wing can always lower its amplitude (:data:`hawksim.control.derivatives.SATURATED_DERIVATIVES`). The quasi-steady
+orbits have theta0 at 14-16 deg and keep all four channels; the UVLM's shipped design is left as it was measured."""
+
+BOUND_TOL = 1e-3
+"""A parameter within this [rad; f: Hz] of a Table 2 bound counts as on it (the surrogate's orbits have theta0 at
+24.997-25.000 deg)."""
+
+
+def symmetric_inputs(orbit: Orbit) -> tuple[int, ...]:
+    """The symmetric channels of :data:`hawksim.control.plant.SYM_INPUTS` whose parameter (f, phi0, alpha0, theta0)
+    is not on a Table 2 bound at ``orbit`` (:data:`BOUND_TOL`)."""
+    from hawksim.insect.kinematics import PARAM_NAMES, bounds_si
+
+    lo, hi = bounds_si()
+    p = orbit.kinematics.as_array()
+    keep = []
+    for i in SYM_INPUTS:
+        j = PARAM_NAMES.index(INPUTS[i])
+        if min(p[j] - lo[j], hi[j] - p[j]) > BOUND_TOL:
+            keep.append(i)
+    return tuple(keep)
+
+
 class Schedule:
     """Gain schedule over the ascent speed: :class:`SchedulePoint` at the grid speeds needed for [v_lo, v_hi]
-    (``speeds``: default :data:`SCHEDULE_SPEEDS`, the UVLM's :data:`UVLM_SCHEDULE_SPEEDS`); a range outside the
-    grid's is refused (ValueError). ``rate``: :data:`RATES`; ``delay`` [wingbeats]; the rest as
+    (``speeds``: default :func:`schedule_speeds` of ``aero``); a range outside the grid's is refused (ValueError).
+    ``rate``: :data:`RATES`; ``delay`` [wingbeats]; the rest as
     :func:`schedule_point`."""
 
     def __init__(self, v_lo: float, v_hi: float, *, delay: int = 0, aero: str = "quasi-steady", model=None,
                  log=None, speeds=None, x_max=None, u_max=None, rate: str = "beat",
                  command_weight: float | None = None):
         if speeds is None:
-            speeds = UVLM_SCHEDULE_SPEEDS if aero == "uvlm" else SCHEDULE_SPEEDS
+            speeds = schedule_speeds(aero)
+        if not len(speeds):
+            raise ValueError(f"no {aero} control schedule: no shipped {aero} orbit for this network "
+                             f"(`hawksim reproduce --only control_{aero}` after solving them)")
         sp = np.asarray(speeds, float)
         if v_lo < sp[0] - 1e-9 or v_hi > sp[-1] + 1e-9:
             raise ValueError(f"speeds {v_lo:g} to {v_hi:g} m/s are outside the {aero} control schedule's "

@@ -73,22 +73,29 @@ def orbits_all(out_dir: Path, log=print, aeros=("quasi-steady", "uvlm"), speeds=
 
 def control_models_all(out_dir: Path, log=print, aero: str = "uvlm", speeds=None) -> dict:
     """One-beat control derivatives (:func:`hawksim.control.derivatives.linearize`) about the shipped orbits of
-    ``aero`` at the UVLM schedule's speeds, into ``out_dir/control_models_<aero>.json``
-    (:func:`hawksim.control.schedule.control_model_table`; copy it to ``hawksim/data`` to ship it: the UVLM gains
-    of `hawksim fly --control lqr --aero uvlm` come from it). Resumable: a speed already in the file about the same
-    orbit is kept, each new one is written as soon as it is done."""
+    ``aero`` (uvlm or surrogate) at its schedule's speeds (:func:`hawksim.control.schedule.schedule_speeds`), into
+    ``out_dir/control_models_<aero>.json`` (:func:`hawksim.control.schedule.control_model_table`; copy it to
+    ``hawksim/data`` to ship it: the gains of `hawksim fly --control lqr --aero uvlm|surrogate` come from it).
+    Resumable: a speed already in the file about the same orbit (and, for the surrogate, network) is kept, each new
+    one is written as soon as it is done. Deterministic (no random process): no seed."""
     from hawksim.control.derivatives import BeatMapModel, linearize
-    from hawksim.control.schedule import CONTROL_MODEL_FILES, UVLM_SCHEDULE_SPEEDS, control_model_table
+    from hawksim.control.schedule import CONTROL_MODEL_FILES, control_model_table, schedule_speeds
     from hawksim.flight.orbit import shipped_orbit
 
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / CONTROL_MODEL_FILES[aero]
     rows = {}
-    for r in (json.loads(path.read_text())["rows"] if path.is_file() else []):
+    old = json.loads(path.read_text()) if path.is_file() else {"rows": []}
+    if aero == "surrogate":
+        from hawksim.backends.step_network import network_sha256
+
+        if old.get("network_sha256") != network_sha256():
+            old = {"rows": []}
+    for r in old["rows"]:
         orb = shipped_orbit(r["speed"], aero)
         if orb is not None and r["orbit_f_hz"] == orb.kinematics.f and r["orbit_residual"] == orb.residual:
             rows[r["speed"]] = BeatMapModel.from_json(r, orb)
-    for v in (speeds if speeds is not None else UVLM_SCHEDULE_SPEEDS):
+    for v in (speeds if speeds is not None else schedule_speeds(aero)):
         if v in rows:
             continue
         orb = shipped_orbit(v, aero)
@@ -97,13 +104,13 @@ def control_models_all(out_dir: Path, log=print, aero: str = "uvlm", speeds=None
         log(f"control derivatives {aero} V={v:g} (44 one-beat flights) ...")
         rows[v] = linearize(orb)
         log(f"  {aero} V={v:g}: {rows[v].wall_time_s:.0f} s, cross-coupling {rows[v].coupling:.1e}")
-        table = control_model_table([rows[k] for k in sorted(rows)], "hawksim reproduce --only control_uvlm")
+        table = control_model_table([rows[k] for k in sorted(rows)], f"hawksim reproduce --only control_{aero}")
         write_text(path, json.dumps(table, indent=1), "control model table")
     return {"path": str(path), "speeds": sorted(rows), "wall_time_s": {f"{k:g}": rows[k].wall_time_s for k in rows}}
 
 
 STEPS = ("uvlm_table4", "stability", "stability_table3", "orbits", "validation", "validation_uvlm", "control_uvlm",
-         "trim")
+         "control_surrogate", "backends", "trim")
 """Parts of `hawksim reproduce`, in the order they run."""
 
 
@@ -138,6 +145,15 @@ def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
     if "control_uvlm" in only:
         log("control_uvlm (UVLM one-beat control derivatives at 1, 1.5, 2 m/s; minutes per speed) ...")
         done["control_uvlm"] = control_models_all(out_dir / "control", log=log)
+    if "control_surrogate" in only:
+        log("control_surrogate (per-step surrogate one-beat control derivatives at its shipped orbits; seconds per "
+            "speed) ...")
+        done["control_surrogate"] = control_models_all(out_dir / "control", log=log, aero="surrogate")
+    if "backends" in only:
+        log("backends (quasi-steady, surrogate, UVLM compared on the same flights at 0, 1, 2 m/s) ...")
+        from hawksim.paper.backends import write_backends
+
+        done["backends"] = write_backends(out_dir, log=log)
     if "trim" not in only:
         return done
     from hawksim.backends.network import SHIPPED_SPEEDS, shipped_path

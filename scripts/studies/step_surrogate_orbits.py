@@ -9,6 +9,13 @@ multipliers (results/free_flight/validation.json, `hawksim reproduce --only vali
     python scripts/studies/step_surrogate_orbits.py --speeds 1 2 --out results/surrogate/step_orbits.json \
         [--table hawksim/data/orbit_table_surrogate.json]
 
+At a speed with no shipped UVLM orbit (0.5 m/s) Newton starts from the linear interpolation (kinematics and launch
+state) of the neighbouring shipped surrogate orbits; ``--merge`` keeps the table's other rows (a row at the same
+speed is replaced) and appends this command to the table's ``command``:
+
+    python scripts/studies/step_surrogate_orbits.py --speeds 0.5 --out results/surrogate/step_orbits_0.5.json \
+        --table hawksim/data/orbit_table_surrogate.json --merge
+
 Prints (and writes) one JSON object.
 """
 
@@ -38,6 +45,25 @@ def uvlm_multipliers(speed):
     return out
 
 
+def interpolated_start(speed):
+    """(kinematics, launch state (9,)) interpolated linearly between the shipped surrogate orbits around ``speed``,
+    or (None, None) if ``speed`` has a shipped UVLM orbit (periodic_orbit starts there) or no neighbours."""
+    from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
+
+    if shipped_orbit(speed, "uvlm") is not None:
+        return None, None
+    rows = [(v, shipped_orbit(v, "surrogate")) for v in TABLE3_SPEEDS]
+    rows = [(v, o) for v, o in rows if o is not None and o.converged and abs(v - speed) > 1e-9]
+    lo = [r for r in rows if r[0] < speed]
+    hi = [r for r in rows if r[0] > speed]
+    if not lo or not hi:
+        return None, None
+    (v0, o0), (v1, o1) = lo[-1], hi[0]
+    a = (speed - v0) / (v1 - v0)
+    kin = Kinematics.from_array((1 - a) * o0.kinematics.as_array() + a * o1.kinematics.as_array())
+    return kin, (1 - a) * o0.launch_state.as_array() + a * o1.launch_state.as_array()
+
+
 def c2(z):
     return [float(np.real(z)), float(np.imag(z))]
 
@@ -47,6 +73,7 @@ def main():
     ap.add_argument("--speeds", type=float, nargs="+", default=[1.0, 2.0])
     ap.add_argument("--out")
     ap.add_argument("--table", help="also write the orbits as a shipped orbit table")
+    ap.add_argument("--merge", action="store_true", help="keep the --table file's rows at other speeds")
     ap.add_argument("--no-floquet", action="store_true")
     ap.add_argument("--validate", action="store_true",
                     help="also perturbed surrogate flights along each Floquet mode (hawksim.stability.validation, "
@@ -57,7 +84,9 @@ def main():
     orbits = []
     for v in a.speeds:
         t0 = time.perf_counter()
-        o = periodic_orbit(v, "surrogate", log=lambda s, v=v: print(f"V={v:g}: {s}", file=sys.stderr, flush=True))
+        kin0, x0 = interpolated_start(v)
+        o = periodic_orbit(v, "surrogate", kinematics=kin0, x0=x0,
+                           log=lambda s, v=v: print(f"V={v:g}: {s}", file=sys.stderr, flush=True))
         orbits.append(o)
         row = {"speed": v, "orbit": o.to_json(), "orbit_wall_s": time.perf_counter() - t0}
         u = shipped_orbit(v, "uvlm")
@@ -92,7 +121,18 @@ def main():
     if a.table:
         from hawksim.backends.step_network import network_sha256
 
-        table = {**orbit_table(orbits, res["command"]), "network_sha256": network_sha256()}
+        command = res["command"]
+        if a.merge and Path(a.table).is_file():
+            from hawksim.flight.orbit import Orbit
+
+            old = json.loads(Path(a.table).read_text())
+            if old.get("network_sha256") != network_sha256():
+                raise SystemExit(f"--merge: {a.table} was made with another network")
+            new = {o.speed for o in orbits}
+            orbits = sorted([Orbit.from_json(r) for r in old["rows"] if r["speed"] not in new] + orbits,
+                            key=lambda o: o.speed)
+            command = f"{old['command']}; then {command}"
+        table = {**orbit_table(orbits, command), "network_sha256": network_sha256()}
         Path(a.table).write_text(json.dumps(table, indent=1) + "\n")
     print(text)
 

@@ -178,7 +178,7 @@ def test_ascent_profile_without_overshoot():
     (["--ascent-profile", "1:x"], "--ascent-profile"),
     (["--sensing-delay", "-1"], "--sensing-delay"),
     (["--control", "pid"], "--control"),
-    (["--control", "lqr", "--aero", "surrogate"], "--control"),
+    (["--control", "lqr", "--aero", "surrogate-mean"], "--control"),
     (["--control", "none", "--ascent-profile", "0:2"], "--ascent-profile"),
     (["--control", "none", "--control-rate", "half-stroke"], "--control-rate"),
     (["--control-rate", "quarter"], "--control-rate"),

@@ -1,0 +1,46 @@
+"""The per-step neural surrogate (:mod:`hawksim.backends.step_surrogate`) as the backend of the controlled plant.
+
+The surrogate's network takes the seven kinematic parameters and the wing phase as inputs; its flight backend holds
+the kinematics it was built with and the phase 2 pi f t of their f. Under control both change from beat to beat and
+differ between the wings (antisymmetric commands), so :class:`ControlledStepSurrogate` feeds the network, at every
+call, each wing's parameters and the phase of the controlled plant
+(:meth:`hawksim.control.plant.ControlledSimulator.network_kinematics`: the blend of the previous beat's kinematics
+into the new one, as the prescribed wing motion blends them); everything else (body velocity relative to the air and
+angular velocity in body axes, the mirror image for the right wing, the world-frame loads, the power) is the base
+backend's. Until :meth:`ControlledStepSurrogate.bind` it is the base backend.
+
+Only a memoryless network (no history lags, the shipped one) is accepted: the plant's state at phase 0 must be the
+body state alone for the one-beat map and its derivatives (:mod:`hawksim.control.derivatives`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from hawksim.backends.base import FlightState, WingLoads
+from hawksim.backends.step_surrogate import StepSurrogateBackend
+from hawksim.insect.kinematics import Kinematics
+
+
+class ControlledStepSurrogate(StepSurrogateBackend):
+    """The per-step surrogate with per-wing kinematics and phase from the controlled plant (module docstring)."""
+
+    def __init__(self, kin: Kinematics, network=None):
+        super().__init__(kin, network)
+        if self.lags:
+            raise ValueError(f"the controlled surrogate needs a memoryless step network (this one has history lags "
+                             f"{self.lags} wingbeats: its state at phase 0 is more than the body state)")
+        self._plant = None
+
+    def bind(self, plant) -> None:
+        """Read the kinematic inputs from ``plant`` (a :class:`hawksim.control.plant.ControlledSimulator`)."""
+        self._plant = plant
+
+    def loads(self, state: FlightState) -> WingLoads:
+        if self._plant is None:
+            return super().loads(state)
+        params, phase = self._plant.network_kinematics(state.t)
+        self._x[:, :7] = params
+        # the base backend's phase input is omega_f t with its constructor's f: hand it the time at which that f
+        # reaches the plant's phase (the network is memoryless, so the time enters nowhere else)
+        return super().loads(replace(state, t=phase / self._omega_f))

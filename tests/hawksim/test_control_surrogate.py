@@ -1,0 +1,235 @@
+"""The LQR with the per-step surrogate in the loop (issue 20 with issue 21's backend; docs/control.md "The per-step
+surrogate in the loop"): the controlled surrogate backend reads the commanded kinematics, the shipped control models
+are those of the shipped orbits, the closed loop is stable and the linear model predicts the nonlinear flight, the
+flights hold (CI: 1 m/s, short; `slow`: 100 beats at every speed, the ascent profile), the CLI."""
+
+import json
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from hawksim.backends.step_surrogate import StepSurrogateBackend
+from hawksim.control.closed_loop import body_length, fly_closed_loop
+from hawksim.control.derivatives import XI_NAMES, linearize
+from hawksim.control.lqr import augment
+from hawksim.control.plant import controlled_plant, wing_kinematics
+from hawksim.control.schedule import Schedule, schedule_point, shipped_control_model, surrogate_schedule_speeds
+from hawksim.control.surrogate import ControlledStepSurrogate
+from hawksim.flight.orbit import set_body_state, shipped_orbit
+from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.model import load_model
+
+L = body_length()
+SPEEDS = (0.0, 0.5, 1.0, 1.5, 2.0)
+
+
+def _within(b, speed=0.02, angle=2.0):
+    return (abs(b["speed_error"]) <= speed and abs(b["pitch_error_deg"]) <= angle and abs(b["roll_deg"]) <= angle
+            and b["horizontal_drift_m"] < L)
+
+
+@pytest.fixture(scope="module")
+def schedule():
+    return Schedule(0.0, 2.0, aero="surrogate")
+
+
+def test_schedule_covers_the_shipped_orbits():
+    """Orbits shipped for this network at all five speeds (0.5 m/s added for issue 20's targets)."""
+    assert surrogate_schedule_speeds() == SPEEDS
+    assert all(shipped_orbit(v, "surrogate").converged for v in SPEEDS)
+
+
+def test_controlled_backend_reads_the_plant_kinematics():
+    """Unbound, or bound to a plant on its base kinematics, the controlled backend gives the base backend's loads
+    (to the round-off of the phase's time round trip); within a blend it sees each wing's blended parameters and the
+    blended phase, so an antisymmetric command gives unequal wing loads."""
+    orb = shipped_orbit(1.0, "surrogate")
+    kin = orb.kinematics
+    sim = controlled_plant(load_model(), kin, "surrogate")
+    assert isinstance(sim.backend, ControlledStepSurrogate)
+    set_body_state(sim, orb.launch_state.as_array(), orb.chi_ref)
+    for _ in range(37):
+        sim.step()
+    st = sim.state()
+    base = StepSurrogateBackend(kin).loads(st)
+    mine = sim.backend.loads(st)
+    assert np.allclose(mine.force, base.force, rtol=1e-6, atol=1e-9)
+    assert mine.power == pytest.approx(base.power, rel=1e-6)
+    du = np.zeros(7)
+    du[5] = np.deg2rad(4.0)  # dphi0: left minus right
+    lp, rp = (Kinematics.from_array(p) for p in wing_kinematics(kin, du))
+    sim.begin_beat(lp, rp)
+    t_mid = sim.d.time + 0.5 * lp.period
+    params, phase = sim.network_kinematics(t_mid)
+    s = 0.5  # the quintic smoothstep at mid-blend
+    assert np.allclose(params[0], (1 - s) * kin.as_array() + s * lp.as_array())
+    assert np.allclose(params[1], (1 - s) * kin.as_array() + s * rp.as_array())
+    assert phase == pytest.approx(np.pi)
+    p_end, _ = sim.network_kinematics(sim.d.time + lp.period)
+    assert np.allclose(p_end, np.stack([lp.as_array(), rp.as_array()]))
+
+
+def test_shipped_control_models_are_about_the_shipped_orbits():
+    """hawksim/data/control_models_surrogate.json: made by its reproduce step for this network, one row per schedule
+    speed about exactly the shipped orbit, differenced through the Table 2 saturation; a fresh linearization at 1 m/s
+    gives the same matrices (deterministic; 5e-6 allows another BLAS's float32 sums)."""
+    from hawksim.backends.step_network import network_sha256
+
+    table = json.loads((resources.files("hawksim") / "data" / "control_models_surrogate.json").read_text())
+    assert table["command"] == "hawksim reproduce --only control_surrogate" and "seed" in table
+    assert table["network_sha256"] == network_sha256()
+    for v in SPEEDS:
+        m = shipped_control_model(v, "surrogate")
+        assert m is not None and m.clipped and m.coupling < 1e-9 and m.delta == 1e-3
+    m1 = shipped_control_model(1.0, "surrogate")
+    fresh = linearize(m1.orbit)
+    for a, b in ((fresh.A, m1.A), (fresh.B0, m1.B0), (fresh.B1, m1.B1)):
+        assert np.abs(a - b).max() < 5e-6
+
+
+def test_monodromy_agrees_with_the_orbit_table_floquet():
+    """The control model's A (step 1e-3) against the Floquet monodromy of the orbit study (step 1e-4,
+    results/surrogate/step_orbits.json): multipliers within 1e-3 at 1 m/s (|mu| 1.43 pair long, 1.27 pair lat)."""
+    from hawksim.stability.floquet import LAT, LONG, monodromy
+
+    m = shipped_control_model(1.0, "surrogate")
+    fq = monodromy(m.orbit)
+    for ix in (LONG, LAT):
+        a = np.sort(np.abs(np.linalg.eigvals(m.monodromy[np.ix_(ix, ix)])))
+        b = np.sort(np.abs(np.linalg.eigvals(fq.monodromy[np.ix_(ix, ix)])))
+        assert np.abs(a - b).max() < 1e-3
+    assert np.abs(np.linalg.eigvals(m.monodromy)).max() == pytest.approx(1.43, abs=0.01)
+
+
+@pytest.mark.parametrize("delay", [0, 1])
+def test_closed_loop_multipliers_inside_the_unit_circle(schedule, delay):
+    """Every schedule speed: open loop unstable (|mu| 1.29-2.38), closed loop inside the unit circle (0.966-0.969
+    measured), theta0 left out of the design (on its Table 2 bound at every orbit)."""
+    s = schedule if delay == 0 else Schedule(0.0, 2.0, aero="surrogate", delay=1)
+    assert list(s.speeds) == list(SPEEDS)
+    for p in s.points:
+        assert np.abs(p.long.open_loop).max() > 1.25
+        assert p.long.spectral_radius < 0.975 and p.lat.spectral_radius < 0.975
+        assert p.long.inputs == (0, 1, 2)  # f, phi0, alpha0
+
+
+def test_linear_model_predicts_the_controlled_flight():
+    """A 0.01 deg bank at 2 m/s under the LQR: the nonlinear flight's lateral states follow the linear closed loop
+    (z_{k+1} = (Az - Bz K) z_k) to 5 % of the initial bank over 12 beats. Guards the saturation handling: with the
+    flown (clipped) dphi_a fed back instead of the one sent, this flight's bank grew 46-fold in 22 beats."""
+    p = schedule_point(2.0, aero="surrogate")
+    A, B0, B1 = p.model.block("lat")
+    Az, Bz = augment(A, B0, B1, 0)
+    amp = np.deg2rad(0.01)
+    pert = np.zeros(9)
+    pert[6] = amp
+    cl = fly_closed_loop(2.0, 12, schedule=Schedule(2.0, 2.0, aero="surrogate"), aero="surrogate", perturbation=pert)
+    z = np.zeros(Az.shape[0])
+    z[3] = amp
+    x0, sc = p.orbit.initial_state.as_array(), p.model.scale
+    lat = [XI_NAMES.index(k) for k in ("v", "p", "r", "phi")]
+    for b in cl.beats:
+        z = (Az - Bz @ p.lat.K) @ z
+        nl = (np.array(b["state"]) - x0)[lat] / sc[lat]
+        assert np.abs(nl - z[:4]).max() < 0.05 * amp * 10  # states up to ~10x the bank (rates x T)
+
+
+def test_holds_and_recovers_at_1_m_s(schedule):
+    """20 beats from the orbit within 1e-5 m/s; from the perturbed start (v, w +0.05 m/s, bank and pitch +1 deg)
+    within issue 20's bounds from beat 3 (measured 3)."""
+    cl = fly_closed_loop(1.0, 20, schedule=schedule, aero="surrogate")
+    assert max(abs(b["speed_error"]) for b in cl.beats) < 1e-5 and all(_within(b) for b in cl.beats)
+    pert = np.zeros(9)
+    pert[[1, 2, 6, 7]] = 0.05, 0.05, np.deg2rad(1.0), np.deg2rad(1.0)
+    cp = fly_closed_loop(1.0, 20, schedule=schedule, aero="surrogate", perturbation=pert)
+    assert all(_within(b) for b in cp.beats[2:])
+
+
+def test_cli_surrogate_under_control(capsys):
+    import json as js
+
+    from hawksim.cli import main
+
+    assert main(["fly", "--speed", "0.5", "--cycles", "3", "--aero", "surrogate", "--control", "lqr", "--json",
+                 "--no-progress"]) == 0
+    cap = capsys.readouterr()
+    out = js.loads(cap.out)
+    ctl = out["control"]
+    assert out["aero"] == "surrogate" and ctl["mode"] == "lqr"
+    assert [p["speed"] for p in ctl["schedule"]] == [0.5] and ctl["schedule"][0]["aero"] == "surrogate"
+    assert ctl["schedule"][0]["inputs_long"] == ["f", "phi0", "alpha0"]  # theta0 on its bound: left out
+    assert all(_within(b) for b in ctl["beats"]) and "held under LQR control" in cap.err
+
+
+def test_cli_surrogate_refusals(capsys, monkeypatch):
+    """Half-stroke control and speeds outside the schedule are refused in one line, exit 2."""
+    from hawksim.cli import main
+    from hawksim.control import command
+
+    assert main(["fly", "--speed", "1", "--cycles", "2", "--aero", "surrogate", "--control", "lqr",
+                 "--control-rate", "half-stroke", "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "half-stroke" in err[0]
+    monkeypatch.setattr("hawksim.control.schedule.surrogate_schedule_speeds", lambda: (1.0, 1.5, 2.0))
+    with pytest.raises(ValueError, match="covers 1 to 2 m/s"):
+        command.check_surrogate_control(0.5, None)
+    with pytest.raises(ValueError, match="--ascent-profile speed 0"):
+        command.check_surrogate_control(1.0, [(0.0, 3)])
+    monkeypatch.setattr("hawksim.control.schedule.surrogate_schedule_speeds", lambda: ())
+    with pytest.raises(ValueError, match="no shipped surrogate orbit"):
+        command.check_surrogate_control(1.0, None)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_100_beats_from_each_orbit(schedule, speed):
+    """Issue 20's hold target at every speed: 100 controlled beats within the bounds (measured: speed error
+    <= 2e-6 m/s, pitch <= 3e-4 deg, drift <= 2e-6 m; ~5 s per speed)."""
+    cl = fly_closed_loop(speed, 100, schedule=schedule, aero="surrogate")
+    assert all(_within(b) for b in cl.beats)
+    assert max(abs(b["speed_error"]) for b in cl.beats) < 1e-4
+
+
+def _pert(scale=1.0):
+    p = np.zeros(9)
+    p[[1, 2, 6, 7]] = 0.05 * scale, 0.05 * scale, np.deg2rad(scale), np.deg2rad(scale)
+    return p
+
+
+def test_small_gust_recovered_at_1_m_s(schedule):
+    """A 0.2 m/s lateral gust over beats 5-6 at 1 m/s: within the bounds again 6 beats after it (measured 6; the
+    0.5 m/s gust of issue 20 takes 11, docs/control.md)."""
+    from hawksim.control.closed_loop import Gust
+
+    cl = fly_closed_loop(1.0, 30, schedule=schedule, aero="surrogate", gusts=[Gust(np.array([0, 0.2, 0]), 5, 2)])
+    assert all(_within(b) for b in cl.beats[12:])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_perturbed_start_recovers(schedule, speed):
+    """From the perturbed start every speed is within the bounds from beat 10 on and stays there (measured: from
+    beat 9, 3, 3, 3, 6 at 0, 0.5, 1, 1.5, 2 m/s)."""
+    cl = fly_closed_loop(speed, 100, schedule=schedule, aero="surrogate", perturbation=_pert())
+    assert all(_within(b) for b in cl.beats[9:])
+
+
+@pytest.mark.slow
+def test_ascent_profile_without_overshoot(schedule):
+    """0:2, 1:25, 2:25 then 2 m/s (60 beats; the surrogate's reference moves 0.05 m/s per beat): no beat above its
+    command by 0.1 m/s (measured: none above it at all), within 0.02 m/s of 2 m/s from beat 55 on (measured 52)."""
+    cl = fly_closed_loop(0.0, 60, schedule=schedule, aero="surrogate", profile=[(0.0, 2), (1.0, 25), (2.0, 25)])
+    assert max(b["mean_vertical_speed"] - b["speed_command"] for b in cl.beats) < 0.1
+    assert all(abs(b["mean_vertical_speed"] - 2.0) <= 0.02 for b in cl.beats[54:])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_one_beat_delay_half_perturbation(speed):
+    """Delay-aware gains with a one-beat sensing delay: the half-size perturbed start is within the bounds from
+    beat 4 on at every speed (measured from beat 1-2; the full-size start departs at 0, 1.5 and 2 m/s,
+    docs/control.md)."""
+    s = Schedule(0.0, 2.0, aero="surrogate", delay=1)
+    cl = fly_closed_loop(speed, 60, schedule=s, aero="surrogate", delay=1, perturbation=_pert(0.5))
+    assert all(_within(b) for b in cl.beats[3:])
