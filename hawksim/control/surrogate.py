@@ -36,6 +36,15 @@ class ControlledStepSurrogate(StepSurrogateBackend):
         """Read the kinematic inputs from ``plant`` (a :class:`hawksim.control.plant.ControlledSimulator`)."""
         self._plant = plant
 
+    def native(self, every: int):
+        """The network for the flight loop's native callback: bound to a plant, its kinematic inputs and phase are
+        the plant's blend, which the callback evaluates itself (``plant_kinematics``; the plant keeps the blend in
+        the callback's parameters, :meth:`hawksim.control.plant.ControlledSimulator._sync_native`)."""
+        net = super().native(every)
+        if net is None or self._plant is None:
+            return net
+        return replace(net, plant_kinematics=True)
+
     def loads(self, state: FlightState) -> WingLoads:
         if self._plant is None:
             return super().loads(state)

@@ -33,6 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
+from hawksim.atomic import write_text
+
 SPEEDS = (0.0, 1.0, 2.0)
 """Ascent speeds [m/s] of the comparison."""
 
@@ -305,6 +307,6 @@ def write_backends(out_dir: Path, log=print) -> dict:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     res = compare(out_dir, log=log)
-    (out_dir / "backends.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
-    (out_dir / "backends.md").write_text(markdown(res))
+    write_text(out_dir / "backends.json", json.dumps(res, indent=1, default=float) + "\n", "backend comparison")
+    write_text(out_dir / "backends.md", markdown(res), "backend comparison table")
     return {"path": str(out_dir / "backends.json"), "table": str(out_dir / "backends.md")}
