@@ -51,9 +51,11 @@ def parse_gust(text: str) -> Gust:
 
 
 def default_control(aero: str, kinematics, steps_per_cycle: int, start: str | None, spc_default: int) -> str:
-    """lqr where the controller applies (quasi-steady, the orbit start: no given kinematics, the orbit's steps
-    per beat, no --start trim), none otherwise."""
-    ok = aero == "quasi-steady" and kinematics is None and steps_per_cycle == spc_default and start in (None, "orbit")
+    """lqr where the controller applies at every speed of 0-2 m/s (quasi-steady and the per-step surrogate, from
+    the orbit: no given kinematics, the orbit's steps per beat, no --start trim), none otherwise (the UVLM's
+    control models cover 1-2 m/s only, and its flights are slow: asked for, not by default)."""
+    ok = (aero in ("quasi-steady", "surrogate") and kinematics is None and steps_per_cycle == spc_default
+          and start in (None, "orbit"))
     return "lqr" if ok else "none"
 
 
