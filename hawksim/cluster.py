@@ -4,7 +4,8 @@
 LocalCluster of single-threaded worker processes. Each worker runs numba, OpenMP, MKL and OpenBLAS on one thread:
 the UVLM's small problems scale poorly over threads, so one process per core is faster than one process with a
 thread per core (measured for the data set: 0.65 s per sample against 1.9 s when the workers kept 2 numba
-threads).
+threads; measured with numba's GNU-OpenMP parallel kernels, before the kernels moved to aero.scheduling's thread
+pool on 2026-12-02, which removed the spinning threads behind most of that gap: not re-measured since).
 """
 
 from __future__ import annotations
