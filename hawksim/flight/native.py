@@ -8,14 +8,14 @@
 Python call at all and ``mj_step(m, d, nstep)`` can run many steps in one call.
 
 What the callback reads and writes. The callback receives (mjModel*, mjData*). The mjData fields it needs (time,
-qpos, qvel, qacc_smooth, qfrc_applied) are found once per process: their byte offsets within the struct are taken
-from the ``mjdata.h`` shipped in the mujoco wheel (every field after ``buffer`` is a pointer) and checked against
-the addresses numpy exposes for a probe MjData (:func:`layout`). Everything else (the prescribed motion's
-parameters, the PD gains, scratch space, the held loads, the recorder) lives in a per-simulator float64 ``ctx``
-array (:class:`NativeControl`). The callback's body takes a third argument, an int64 array of what differs between
-processes (the ctx address, the offsets, the function addresses), so numba caches it; the ``mjcb_control`` MuJoCo
-calls is a two-instruction trampoline that passes this process's array, compiled by llvmlite in milliseconds. One
-callback per process, as ``mjcb_control`` is one global per process.
+qpos, qvel, qacc_smooth, qfrc_applied, xfrc_applied, xpos, xipos, xmat, cvel) are found once per process
+(:func:`hawksim.flight.mujoco_abi.layout`: offsets from the wheel's ``mjdata.h``, checked on a probe MjData).
+Everything else (the prescribed motion's parameters, the PD gains, scratch space, the held loads, the recorder)
+lives in a per-simulator float64 ``ctx`` array (:class:`NativeControl`). The callback's body takes a third
+argument, an int64 array of what differs between processes (the ctx address, the offsets, the function addresses),
+so numba caches it; the ``mjcb_control`` MuJoCo calls is a two-instruction trampoline that passes this process's
+array (:class:`hawksim.flight.mujoco_abi.Trampoline`), compiled by llvmlite in milliseconds. One callback per
+process, as ``mjcb_control`` is one global per process.
 
 Prescribed motion. Mode 0: Eq. 1 of one kinematics for both wings (:meth:`Simulator.desired`); mode 1: the
 per-wing blend of :class:`hawksim.control.plant.ControlledSimulator` (quintic smoothstep from the previous beat's
@@ -30,19 +30,14 @@ The numba body is compiled once per install (cached like the other kernels).
 
 from __future__ import annotations
 
-import ctypes
-import glob
 import math
-import os
-import re
-from dataclasses import dataclass
 from functools import lru_cache
 
-import mujoco
 import numpy as np
-from llvmlite import ir
 from numba import carray, cfunc, njit, types
-from numba.core.extending import intrinsic
+
+from hawksim.backends.step_surrogate import mlp
+from hawksim.flight.mujoco_abi import Trampoline, address, call_md, call_solve, voidptr, layout
 
 # ---- ctx layout (float64 slots) ------------------------------------------------------------------------------
 C_MODE, C_KP, C_KD, C_CAPTURE = 0, 1, 2, 3
@@ -75,138 +70,6 @@ the wings' xmat (2 x 9) and xpos (2 x 3), the step's first-stage wing torques (6
 loads applied over the step: force (2 x 3), moment about the hinges (2 x 3), aerodynamic power."""
 
 MODE_EQ1, MODE_BLEND = 0.0, 1.0
-
-
-@dataclass(frozen=True)
-class Layout:
-    """Byte offsets of the mjData fields the callback uses, and the addresses of the libmujoco functions."""
-
-    time: int
-    qpos: int
-    qvel: int
-    qacc_smooth: int
-    qfrc_applied: int
-    xfrc_applied: int
-    xpos: int
-    xipos: int
-    xmat: int
-    cvel: int
-    fwd_actuation: int
-    fwd_acceleration: int
-    solve_m: int
-
-
-def _library() -> ctypes.CDLL | None:
-    here = os.path.dirname(mujoco.__file__)
-    found = sorted(glob.glob(os.path.join(here, "libmujoco.so*")) + glob.glob(os.path.join(here, "libmujoco*.dylib")))
-    return ctypes.CDLL(found[0]) if found else None
-
-
-def _pointer_fields() -> list[str] | None:
-    """Names of mjData's pointer fields after ``buffer`` in declaration order, up to the first field that is not a
-    pointer, from the wheel's header."""
-    path = os.path.join(os.path.dirname(mujoco.__file__), "include", "mujoco", "mjdata.h")
-    try:
-        text = open(path).read()
-    except OSError:
-        return None
-    body = re.search(r"struct mjData_ \{(.*?)\n\}", text, re.S)
-    if body is None or "void*   buffer;" not in body.group(1):
-        return None
-    tail = body.group(1).split("void*   buffer;", 1)[1]
-    names = []
-    for line in tail.splitlines():
-        line = line.split("//")[0].strip()
-        if not line:
-            continue
-        m = re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*\s*\*\s*([A-Za-z_][A-Za-z0-9_]*)\s*;", line)
-        if m is None:
-            break  # the first non-pointer field (``signature``): the offsets of those before it are known
-        names.append(m.group(1))
-    return names
-
-
-@lru_cache(maxsize=1)
-def layout() -> Layout | None:
-    """The mjData offsets (checked on a probe MjData) and function addresses, or None where they cannot be had."""
-    lib, names = _library(), _pointer_fields()
-    if lib is None or names is None:
-        return None
-    m = mujoco.MjModel.from_xml_string(
-        "<mujoco><worldbody><body><freejoint/><geom size='.1' mass='1'/></body></worldbody></mujoco>")
-    d = mujoco.MjData(m)
-    base = d._address
-    d.time = 1234.5625  # a sentinel to find 'time', which sits 3 words before 'buffer' (time, energy[2], buffer)
-    n_head = 200_000 // 8
-    words = np.frombuffer((ctypes.c_char * (8 * n_head)).from_address(base), dtype=np.int64)
-    hit = np.nonzero(words.view(np.float64) == 1234.5625)[0]
-    if len(hit) != 1:
-        return None
-    t_off = int(hit[0]) * 8
-    buf_off = t_off + 24
-
-    def ptr_at(off: int) -> int:
-        return int(np.frombuffer((ctypes.c_char * 8).from_address(base + off), dtype=np.int64)[0])
-
-    offs = {k: buf_off + 8 * (1 + i) for i, k in enumerate(names)}  # names[0] is 'arena', right after 'buffer'
-    checks = {"qpos": d.qpos, "qvel": d.qvel, "qacc_smooth": d.qacc_smooth, "qfrc_applied": d.qfrc_applied,
-              "xfrc_applied": d.xfrc_applied, "xpos": d.xpos, "xipos": d.xipos, "cvel": d.cvel}
-    for k, arr in checks.items():
-        if k not in offs or ptr_at(offs[k]) != arr.ctypes.data:
-            return None
-    if ptr_at(buf_off) != d.qpos.ctypes.data:
-        return None
-    fns = []
-    for name in ("mj_fwdActuation", "mj_fwdAcceleration", "mj_solveM"):
-        try:
-            fns.append(ctypes.cast(getattr(lib, name), ctypes.c_void_p).value)
-        except AttributeError:
-            return None
-    if "xmat" not in offs or ptr_at(offs["xmat"]) != d.xmat.ctypes.data:
-        return None
-    return Layout(time=t_off, qpos=offs["qpos"], qvel=offs["qvel"], qacc_smooth=offs["qacc_smooth"],
-                  qfrc_applied=offs["qfrc_applied"], xfrc_applied=offs["xfrc_applied"], xpos=offs["xpos"],
-                  xipos=offs["xipos"], xmat=offs["xmat"], cvel=offs["cvel"], fwd_actuation=fns[0],
-                  fwd_acceleration=fns[1], solve_m=fns[2])
-
-
-# ---- LLVM helpers: an integer address as a pointer, calls through a function address ---------------------------
-@intrinsic
-def _voidptr(typingctx, addr):
-    def codegen(context, builder, signature, args):
-        return builder.inttoptr(args[0], ir.IntType(8).as_pointer())
-    return types.voidptr(types.intp), codegen
-
-
-@intrinsic
-def _address(typingctx, ptr):
-    def codegen(context, builder, signature, args):
-        return builder.ptrtoint(args[0], ir.IntType(64))
-    return types.intp(types.voidptr), codegen
-
-
-@intrinsic
-def _call_md(typingctx, fn, m, d):
-    """Call void f(const mjModel*, mjData*) at address fn."""
-    def codegen(context, builder, signature, args):
-        p8 = ir.IntType(8).as_pointer()
-        fnty = ir.FunctionType(ir.VoidType(), [p8, p8])
-        f = builder.inttoptr(args[0], fnty.as_pointer())
-        builder.call(f, [args[1], args[2]])
-        return context.get_dummy_value()
-    return types.void(types.intp, types.voidptr, types.voidptr), codegen
-
-
-@intrinsic
-def _call_solve(typingctx, fn, m, d, x, y, n):
-    """Call void mj_solveM(const mjModel*, mjData*, mjtNum* x, const mjtNum* y, int n) at address fn."""
-    def codegen(context, builder, signature, args):
-        p8 = ir.IntType(8).as_pointer()
-        fnty = ir.FunctionType(ir.VoidType(), [p8, p8, p8, p8, ir.IntType(32)])
-        f = builder.inttoptr(args[0], fnty.as_pointer())
-        builder.call(f, [args[1], args[2], args[3], args[4], builder.trunc(args[5], ir.IntType(32))])
-        return context.get_dummy_value()
-    return types.void(types.intp, types.voidptr, types.voidptr, types.voidptr, types.voidptr, types.intp), codegen
 
 
 # ---- the prescribed motion, the arithmetic of Kinematics.eq1 and ControlledSimulator.desired --------------------
@@ -325,49 +188,6 @@ def _record(ctx, rec, t, qvel, tau, xpos, xipos, xmat):
 
 
 @njit(cache=True)
-def mlp(x, buf, K, n_in, h, L):
-    """The folded ensemble network of :mod:`hawksim.backends.step_surrogate` at inputs x (n, n_in) float32:
-    K members of L layers (tanh between), summed, plus the output bias. ``buf`` (float32, flat) holds, per layer
-    l, the weights (K, a_l, b_l) (input-major, as the numpy evaluation's W^T) then the biases (K, b_l) (a_0 = n_in,
-    hidden b = h, last b = 6; the last layer's biases are the members' zeros), then the output bias (6). The
-    arithmetic of the numpy evaluation up to the order of the float32 sums (~1e-7 relative); each weight row is
-    read once for all n rows of x (the weights, ~0.9 MB for the shipped 3 x 192^3 network, are what costs)."""
-    n = x.shape[0]
-    out = np.zeros((n, 6), np.float32)
-    for k in range(K):
-        hcur = x.copy()
-        off = 0
-        for lay in range(L):
-            a = n_in if lay == 0 else h
-            b = 6 if lay == L - 1 else h
-            wbase = off + k * a * b
-            off += K * a * b
-            bias = buf[off + k * b:off + (k + 1) * b]
-            off += K * b
-            nxt = np.zeros((n, b), np.float32)
-            for i in range(a):
-                w = buf[wbase + i * b:wbase + (i + 1) * b]
-                for r in range(n):
-                    xi = hcur[r, i]
-                    acc = nxt[r]
-                    for j in range(b):
-                        acc[j] += xi * w[j]
-            for r in range(n):
-                for j in range(b):
-                    v = nxt[r, j] + bias[j]
-                    nxt[r, j] = np.tanh(v) if lay < L - 1 else v
-            hcur = nxt
-        for r in range(n):
-            for j in range(6):
-                out[r, j] += hcur[r, j]
-    fb = buf.shape[0] - 6
-    for r in range(n):
-        for j in range(6):
-            out[r, j] += buf[fb + j]
-    return out
-
-
-@njit(cache=True)
 def _plant_inputs(ctx, t, x):
     """The controlled plant's network inputs at time t: each wing's seven parameters (PARAM_NAMES order) into
     x[:, :7] and the returned phase [rad], the blend of :meth:`hawksim.control.plant.ControlledSimulator.
@@ -421,7 +241,7 @@ def _surrogate_loads(ctx, t, qvel, xmat, cvel, buf):
     for j in range(3):
         x[0, 9 + j], x[0, 12 + j] = v[j], w[j]
         x[1, 9 + j], x[1, 12 + j] = v[j] * ctx[C_MIRROR + j], w[j] * ctx[C_MIRROR + 3 + j]
-    y = mlp(x, buf, int(ctx[C_NET_K]), n_in, int(ctx[C_NET_H]), int(ctx[C_NET_L]))
+    y = mlp(x, buf, int(ctx[C_NET_K]), n_in, int(ctx[C_NET_H]), int(ctx[C_NET_L]))  # NativeNetwork's layout
     power = 0.0
     for wg in range(2):
         WR = xmat[int(ctx[C_WING0 + wg])].reshape((3, 3))
@@ -452,48 +272,48 @@ def _control_impl(m, d, params):
     """The callback's body; everything that differs between processes (the ctx array's address, the mjData
     offsets, the libmujoco functions' addresses) comes in ``params`` (int64, ``P_*``), so numba caches it."""
     prm = carray(params, N_PARAMS, np.int64)
-    da = _address(d)
+    da = address(d)
     ca = prm[P_CTX]
-    nv = int(carray(_voidptr(ca + 8 * C_NV), 1, np.float64)[0])
-    ctx = carray(_voidptr(ca), N_FIXED + 12 * nv, np.float64)
+    nv = int(carray(voidptr(ca + 8 * C_NV), 1, np.float64)[0])
+    ctx = carray(voidptr(ca), N_FIXED + 12 * nv, np.float64)
     nq = nv + 1  # a free body (7 qpos, 6 dofs) and hinges
-    qpos = carray(_voidptr(carray(_voidptr(da + prm[P_QPOS]), 1, np.int64)[0]), nq, np.float64)
-    qvel = carray(_voidptr(carray(_voidptr(da + prm[P_QVEL]), 1, np.int64)[0]), nv, np.float64)
-    qacc = carray(_voidptr(carray(_voidptr(da + prm[P_QACC]), 1, np.int64)[0]), nv, np.float64)
-    qfrc = carray(_voidptr(carray(_voidptr(da + prm[P_QFRC]), 1, np.int64)[0]), nv, np.float64)
-    t = carray(_voidptr(da + prm[P_TIME]), 1, np.float64)[0]
+    qpos = carray(voidptr(carray(voidptr(da + prm[P_QPOS]), 1, np.int64)[0]), nq, np.float64)
+    qvel = carray(voidptr(carray(voidptr(da + prm[P_QVEL]), 1, np.int64)[0]), nv, np.float64)
+    qacc = carray(voidptr(carray(voidptr(da + prm[P_QACC]), 1, np.int64)[0]), nv, np.float64)
+    qfrc = carray(voidptr(carray(voidptr(da + prm[P_QFRC]), 1, np.int64)[0]), nv, np.float64)
+    t = carray(voidptr(da + prm[P_TIME]), 1, np.float64)[0]
     v0 = int(ctx[C_V0])
     nb = int(ctx[C_WING1]) + 1
     stage = int(ctx[C_STAGE])
     ctx[C_STAGE] = (stage + 1) % 4
     if stage == 0 and ctx[C_NET_ON] != 0.0 and (int(ctx[C_I0]) + int(ctx[C_ROW])) % int(ctx[C_EVERY]) == 0:
-        xmat = carray(_voidptr(carray(_voidptr(da + prm[P_XMAT]), 1, np.int64)[0]), (nb, 9), np.float64)
-        cvel = carray(_voidptr(carray(_voidptr(da + prm[P_CVEL]), 1, np.int64)[0]), (nb, 6), np.float64)
-        n_buf = int(carray(_voidptr(int(ctx[C_NET_ADDR])), 1, np.float64)[0])
-        buf = carray(_voidptr(int(ctx[C_NET_ADDR]) + 8), n_buf, np.float32)
+        xmat = carray(voidptr(carray(voidptr(da + prm[P_XMAT]), 1, np.int64)[0]), (nb, 9), np.float64)
+        cvel = carray(voidptr(carray(voidptr(da + prm[P_CVEL]), 1, np.int64)[0]), (nb, 6), np.float64)
+        n_buf = int(carray(voidptr(int(ctx[C_NET_ADDR])), 1, np.float64)[0])
+        buf = carray(voidptr(int(ctx[C_NET_ADDR]) + 8), n_buf, np.float32)
         _surrogate_loads(ctx, t, qvel, xmat, cvel, buf)
     if stage == 0 and ctx[C_APPLY] != 0.0:
-        xfrc = carray(_voidptr(carray(_voidptr(da + prm[P_XFRC]), 1, np.int64)[0]), (nb, 6), np.float64)
-        xpos = carray(_voidptr(carray(_voidptr(da + prm[P_XPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
-        xipos = carray(_voidptr(carray(_voidptr(da + prm[P_XIPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
+        xfrc = carray(voidptr(carray(voidptr(da + prm[P_XFRC]), 1, np.int64)[0]), (nb, 6), np.float64)
+        xpos = carray(voidptr(carray(voidptr(da + prm[P_XPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
+        xipos = carray(voidptr(carray(voidptr(da + prm[P_XIPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
         _apply_loads(ctx, xfrc, xpos, xipos)
     for k in range(6):
         qfrc[v0 + k] = 0.0
-    _call_md(prm[P_ACT], m, d)
-    _call_md(prm[P_ACC], m, d)
+    call_md(prm[P_ACT], m, d)
+    call_md(prm[P_ACC], m, d)
     unit = ca + 8 * C_SCRATCH
     minv_a = unit + 8 * 6 * nv
-    _call_solve(prm[P_SOLVE], m, d, _voidptr(minv_a), _voidptr(unit), 6)
-    minv = carray(_voidptr(minv_a), (6, nv), np.float64)
+    call_solve(prm[P_SOLVE], m, d, voidptr(minv_a), voidptr(unit), 6)
+    minv = carray(voidptr(minv_a), (6, nv), np.float64)
     tau = _torque(t, ctx, qpos, qvel, qacc, minv)
     for k in range(6):
         qfrc[v0 + k] = tau[k]
     if stage == 0 and ctx[C_REC_ADDR] != 0.0 and ctx[C_ROW] < ctx[C_REC_ROWS]:
-        xpos = carray(_voidptr(carray(_voidptr(da + prm[P_XPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
-        xipos = carray(_voidptr(carray(_voidptr(da + prm[P_XIPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
-        xmat = carray(_voidptr(carray(_voidptr(da + prm[P_XMAT]), 1, np.int64)[0]), (nb, 9), np.float64)
+        xpos = carray(voidptr(carray(voidptr(da + prm[P_XPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
+        xipos = carray(voidptr(carray(voidptr(da + prm[P_XIPOS]), 1, np.int64)[0]), (nb, 3), np.float64)
+        xmat = carray(voidptr(carray(voidptr(da + prm[P_XMAT]), 1, np.int64)[0]), (nb, 9), np.float64)
         row = int(ctx[C_ROW])
-        rec = carray(_voidptr(int(ctx[C_REC_ADDR]) + 8 * REC_WIDTH * row), REC_WIDTH, np.float64)
+        rec = carray(voidptr(int(ctx[C_REC_ADDR]) + 8 * REC_WIDTH * row), REC_WIDTH, np.float64)
         _record(ctx, rec, t, qvel, tau, xpos, xipos, xmat)
         ctx[C_ROW] = row + 1
     if ctx[C_CAPTURE] != 0.0:
@@ -502,38 +322,8 @@ def _control_impl(m, d, params):
         ctx[C_CAPTURE] = 0.0
 
 
-class _Trampoline:
-    """The mjcb_control of this process: ``void f(m, d)`` calling ``_control_impl(m, d, params)`` with this
-    process's params array, as a two-instruction LLVM function compiled by llvmlite (milliseconds; the numba
-    body above comes from numba's cache)."""
-
-    def __init__(self, impl_address: int, params: np.ndarray):
-        import llvmlite.binding as llvm
-
-        llvm.initialize_native_target()
-        llvm.initialize_native_asmprinter()
-        p8 = ir.IntType(8).as_pointer()
-        mod = ir.Module(name="hawksim_native_trampoline")
-        mod.triple = llvm.get_process_triple()
-        fn = ir.Function(mod, ir.FunctionType(ir.VoidType(), [p8, p8]), name="hawksim_mjcb_control")
-        b = ir.IRBuilder(fn.append_basic_block())
-        implty = ir.FunctionType(ir.VoidType(), [p8, p8, p8])
-        impl = b.inttoptr(ir.Constant(ir.IntType(64), impl_address), implty.as_pointer())
-        prm = b.inttoptr(ir.Constant(ir.IntType(64), params.ctypes.data), p8)
-        b.call(impl, [fn.args[0], fn.args[1], prm])
-        b.ret_void()
-        target = llvm.Target.from_default_triple().create_target_machine()
-        module = llvm.parse_assembly(str(mod))
-        module.verify()
-        self._engine = llvm.create_mcjit_compiler(module, target)
-        self._engine.finalize_object()
-        self.params = params  # kept alive with the engine
-        addr = self._engine.get_function_address("hawksim_mjcb_control")
-        self.callback = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)(addr)
-
-
 @lru_cache(maxsize=1)
-def _callback() -> _Trampoline | None:
+def _callback() -> Trampoline | None:
     """This process's callback (None where :func:`layout` is None)."""
     lay = layout()
     if lay is None:
@@ -542,7 +332,7 @@ def _callback() -> _Trampoline | None:
     params[[P_TIME, P_QPOS, P_QVEL, P_QACC, P_QFRC, P_XFRC, P_XPOS, P_XIPOS, P_XMAT, P_CVEL, P_ACT, P_ACC,
             P_SOLVE]] = (lay.time, lay.qpos, lay.qvel, lay.qacc_smooth, lay.qfrc_applied, lay.xfrc_applied, lay.xpos,
                          lay.xipos, lay.xmat, lay.cvel, lay.fwd_actuation, lay.fwd_acceleration, lay.solve_m)
-    return _Trampoline(_control_impl.address, params)
+    return Trampoline(_control_impl.address, params)
 
 
 class NativeControl:
@@ -610,8 +400,9 @@ class NativeControl:
         c[C_APPLY] = 1.0
 
     def set_network(self, net) -> None:
-        """Evaluate the per-step surrogate ``net`` (a :class:`hawksim.backends.step_surrogate.NativeNetwork`: the
-        layout of :func:`mlp`) in the callback (None: the loads come from :meth:`hold`)."""
+        """Evaluate the per-step surrogate ``net`` (a :class:`hawksim.backends.step_surrogate.NativeNetwork`, by
+        its :func:`hawksim.backends.step_surrogate.mlp`) in the callback (None: the loads come from :meth:`hold`);
+        the simulator keeps ``net`` (its buffer, whose address the callback reads) alive with this object."""
         c = self.ctx
         self._net = net
         if net is None:

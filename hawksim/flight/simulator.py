@@ -261,6 +261,7 @@ class Simulator:
         self._warn_ids = [int(getattr(mujoco.mjtWarning, w)) for w in UNSTABLE_WARNINGS]
         route_mujoco_warnings()
         self._native = None
+        self._net_of, self._net = None, None  # the backend whose network the native callback holds, and it
         if native and (self._eq1_compiled or type(self).native_motion):
             from hawksim.flight.native import NativeControl
 
@@ -351,7 +352,7 @@ class Simulator:
 
     def step(self) -> StepRecord:
         """Advance one time step: loads from the backend (or held), then one RK4 step."""
-        m, d = self.m, self.d
+        d = self.d
         st = self.state()
         if self._i % self.aero_every == 0:
             # held in the WORLD frame until the next update: force and moment about the hinge stay fixed world
@@ -360,7 +361,6 @@ class Simulator:
             # about (aero_every - 1) dt / 2 mean(omega x F) (tests/hawksim/test_heavy_body.py)
             self._held = self.backend.loads(st)
         loads = self._held
-        self._i += 1
         com = d.xipos[self.wing_ids]
         d.xfrc_applied[self.wing_ids, :3] = loads.force
         d.xfrc_applied[self.wing_ids, 3:] = loads.moment + cross(st.wing_origin - com, loads.force)
@@ -373,24 +373,7 @@ class Simulator:
         else:
             self._capture = True
             callback = self._control
-        before = [d.warning[w].number for w in self._warn_ids]
-        _MUJOCO_LOG.held = []
-        try:
-            with _control_callback(callback):
-                mujoco.mj_step(m, d)
-        finally:
-            held, _MUJOCO_LOG.held = _MUJOCO_LOG.held, None
-        for name, w, n0 in zip(UNSTABLE_WARNINGS, self._warn_ids, before):
-            if d.warning[w].number > n0:
-                said = f" ({' '.join(held)})" if held else ""
-                raise FloatingPointError(
-                    f"MuJoCo {name[7:]} warning at step {self._i - 1} (t = {st.t:.5f} s){said}: the state blew up "
-                    f"(MuJoCo reset it; index {d.warning[w].lastinfo}), no result")
-        for message in held:
-            print(f"MuJoCo: {message}", file=sys.stderr)
-        mujoco.mj_kinematics(m, d)
-        mujoco.mj_comPos(m, d)
-        mujoco.mj_comVel(m, d)
+        self._mj_step(1, st.t, callback)
         tau = native.tau if native is not None else self._tau
         return StepRecord(st, loads, float(tau @ qd))
 
@@ -438,7 +421,7 @@ class Simulator:
         return StepBatch.from_record(rec, extras, i0)
 
     def _advance_native(self, n: int, rec: np.ndarray, extras: list, net, extras_every: int) -> None:
-        m, d, native = self.m, self.d, self._native
+        d, native = self.d, self._native
         i = 0
         while i < n:
             if net is not None:  # the whole chunk in one call: the callback evaluates the network
@@ -459,13 +442,10 @@ class Simulator:
                 native.start_chunk(rec[i:i + k])
                 t = st.t
             native.install()
-            self._mj_step(k, t)
+            self._mj_step(k, t, native.callback)
             rows = native.end_chunk()
             if rows != k:
                 raise RuntimeError(f"the native callback recorded {rows} of {k} steps (a stage count off)")
-            mujoco.mj_kinematics(m, d)
-            mujoco.mj_comPos(m, d)
-            mujoco.mj_comVel(m, d)
             i += k
 
     def _native_network(self):
@@ -473,31 +453,39 @@ class Simulator:
         without one, or a simulator on the Python callback. Cached per backend."""
         if self._native is None or not hasattr(self.backend, "native"):
             return None
-        if getattr(self, "_net_of", None) is not self.backend:
+        if self._net_of is not self.backend:
             self._net_of, self._net = self.backend, self.backend.native(self.aero_every)
             self._native.set_network(self._net)
         return self._net
 
-    def _mj_step(self, k: int, t: float) -> None:
-        """``mj_step(m, d, nstep=k)`` with the callback in place; MuJoCo's instability warnings raise (the steps
-        from ``self._i``, at time t; advances ``self._i`` by k)."""
+    def _mj_step(self, k: int, t: float, callback) -> None:
+        """``mj_step(m, d, nstep=k)`` with ``callback`` as ``mjcb_control``, from step ``self._i`` at time t, then
+        ``self._i`` advanced by k and the kinematics brought up to date (mj_kinematics, mj_comPos, mj_comVel) for
+        the next :meth:`state`. MuJoCo's instability warnings (:data:`UNSTABLE_WARNINGS`) raise; its other
+        messages go to stderr."""
         m, d = self.m, self.d
         before = [d.warning[w].number for w in self._warn_ids]
         _MUJOCO_LOG.held = []
         try:
-            with _control_callback(self._native.callback):
+            with _control_callback(callback):
                 mujoco.mj_step(m, d, nstep=k)
         finally:
             held, _MUJOCO_LOG.held = _MUJOCO_LOG.held, None
+        first = self._i
         self._i += k
         for name, w, n0 in zip(UNSTABLE_WARNINGS, self._warn_ids, before):
             if d.warning[w].number > n0:
                 said = f" ({' '.join(held)})" if held else ""
+                where = (f"at step {first} (t = {t:.5f} s)" if k == 1
+                         else f"in steps {first}-{first + k - 1} (from t = {t:.5f} s)")
                 raise FloatingPointError(
-                    f"MuJoCo {name[7:]} warning in steps {self._i - k}-{self._i - 1} (from t = {t:.5f} s){said}: "
-                    f"the state blew up (MuJoCo reset it; index {d.warning[w].lastinfo}), no result")
+                    f"MuJoCo {name[7:]} warning {where}{said}: the state blew up (MuJoCo reset it; index "
+                    f"{d.warning[w].lastinfo}), no result")
         for message in held:
             print(f"MuJoCo: {message}", file=sys.stderr)
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        mujoco.mj_comVel(m, d)
 
     # ---- diagnostics -------------------------------------------------------------------------------
     def wing_angles(self) -> np.ndarray:

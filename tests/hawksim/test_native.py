@@ -13,7 +13,7 @@ import pytest
 
 from hawksim.backends.quasi_steady import QuasiSteadyBackend
 from hawksim.control.plant import ControlledSimulator
-from hawksim.flight.native import layout
+from hawksim.flight.mujoco_abi import layout
 from hawksim.flight.simulator import Simulator
 from hawksim.insect.kinematics import table3_kinematics
 from hawksim.insect.model import load_model
