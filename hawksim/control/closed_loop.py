@@ -30,7 +30,7 @@ import mujoco
 import numpy as np
 
 from hawksim.control.derivatives import stability_position
-from hawksim.control.plant import command_of, controlled_plant, saturate, wing_kinematics
+from hawksim.control.plant import command_of, controlled_plant, saturate
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import STEPS_PER_CYCLE, read_body_state, set_body_state
 from hawksim.flight.result import FlightResult
@@ -158,7 +158,8 @@ class ClosedLoop:
                 "body_length_m": body_length(), "schedule": [p.to_json() for p in self.schedule.points],
                 "gusts": [{"velocity": list(map(float, g.velocity)), "start": g.start, "beats": g.beats}
                           for g in self.gusts],
-                "beats": self.beats}
+                "beats": self.beats} | ({"constrained": self.schedule.to_json_constrained()}
+                                        if hasattr(self.schedule, "to_json_constrained") else {})
 
 
 def _edge_command(kin: Kinematics, du: np.ndarray) -> dict:
@@ -191,12 +192,17 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     ``partial_on_interrupt`` (with ``record``): a KeyboardInterrupt during the beats returns the steps and beats
     completed so far (``result`` with fewer than beats x 200 rows, ``beats`` the complete ones) instead of
     propagating; with no step completed it propagates."""
-    if control not in ("lqr", "none"):
-        raise ValueError(f"--control {control!r}: choose lqr, none")
+    if control not in ("lqr", "clqr", "none"):
+        raise ValueError(f"--control {control!r}: choose lqr, clqr, none")
     t_start = time.perf_counter()
     gusts = list(gusts or [])
     cmd = profile_speeds(profile, speed, beats)
     dd = delay if design_delay is None else design_delay
+    if schedule is None and control == "clqr":
+        from hawksim.control.constrained import ConstrainedSchedule
+
+        schedule = ConstrainedSchedule(min(speed, cmd.min()), max(speed, cmd.max()), delay=dd, model=model, log=log,
+                                       aero=aero, rate=rate)
     if schedule is None:
         schedule = Schedule(min(speed, cmd.min()), max(speed, cmd.max()), delay=dd, model=model, log=log, aero=aero,
                             rate=rate)
@@ -260,10 +266,9 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                 v_ref += float(np.clip(cmd[k - 1] - v_ref, -rate_limit, rate_limit))
                 kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
                 pitch_refs.append(pitch_ref)
-                if control == "lqr":
+                if control != "none":
                     x_s, pos_s = sensed[-1 - lag]
-                    du = schedule.command(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg)
-                    lp, rp = wing_kinematics(kin_ref, du)
+                    lp, rp = schedule.wings(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg)
                 else:
                     lp = rp = p_orbit
                 ls, rs = saturate(lp), saturate(rp)

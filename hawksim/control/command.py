@@ -11,7 +11,9 @@ import numpy as np
 from hawksim.control.closed_loop import Gust, body_length, fly_closed_loop
 from hawksim.insect.kinematics import SPEED_RANGE
 
-CONTROL_CHOICES = ("lqr", "none")
+CONTROL_CHOICES = ("lqr", "clqr", "none")
+"""lqr: the per-beat LQR; clqr: the constrained LQR (hawksim.control.constrained: plans within Table 2, per
+beat, quasi-steady or surrogate); none: open loop."""
 
 
 def parse_profile(text: str) -> list[tuple[float, int]]:
@@ -141,9 +143,10 @@ def command_summary(cl, cycles: int, control: str, aero: str = "quasi-steady", r
         print(f"fly: departed at beat {out['departed_at_beat']} of {cycles} (mean vertical speed "
               f"{e['mean_vertical_speed']:.3f} m/s; pitch {e['pitch_deg']:.1f} deg) under --control {control}",
               file=sys.stderr)
-    elif control == "lqr":
+    elif control in ("lqr", "clqr"):
         m = ctl["last_beats_max_abs"]
-        print(f"fly: held under LQR control for {cycles} wingbeats ({aero}, updated per {rate}); last {len(last)} "
+        name = "LQR" if control == "lqr" else "constrained-LQR"
+        print(f"fly: held under {name} control for {cycles} wingbeats ({aero}, updated per {rate}); last {len(last)} "
               "beats: speed error <= "
               f"{m['speed_error']:.4f} m/s, pitch error <= {m['pitch_error_deg']:.2f} deg, roll <= "
               f"{m['roll_deg']:.2f} deg, drift <= {m['horizontal_drift_m'] * 1e3:.1f} mm "

@@ -122,20 +122,23 @@ class _UVLMSnapshot:
 
 
 def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, *,
-             model: mujoco.MjModel | None = None, clip: bool = False) -> tuple[np.ndarray, np.ndarray]:
+             model: mujoco.MjModel | None = None, clip: bool = False,
+             wings=wing_kinematics) -> tuple[np.ndarray, np.ndarray]:
     """One controlled beat from body state x0 (9,) at phase 0, the wings on the orbit's kinematics + du_prev
     before and blended into + du over the beat: (state (9,) at the beat's end, horizontal displacement (2,)
     [m], stability axes). ``clip``: saturate each wing at Table 2 (off for derivatives, which may step past
-    a bound the orbit sits on, e.g. phi_a = 60 deg)."""
+    a bound the orbit sits on, e.g. phi_a = 60 deg). ``wings(base, du) -> (left, right)``: the command's
+    parameterization (default :func:`hawksim.control.plant.wing_kinematics`, the seven channels of INPUTS;
+    :func:`hawksim.control.constrained.wing_params` for the per-wing channels)."""
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     sim = controlled_plant(model, kin, orbit.aero)
     sat = saturate if clip else (lambda p: p)
-    lp, rp = (Kinematics.from_array(sat(p)) for p in wing_kinematics(kin, du_prev))
+    lp, rp = (Kinematics.from_array(sat(p)) for p in wings(kin, du_prev))
     sim.set_wings(lp, rp)
     set_body_state(sim, x0, orbit.chi_ref)
     p0 = stability_position(sim.d.qpos[:3])
-    ln, rn = (Kinematics.from_array(sat(p)) for p in wing_kinematics(kin, du))
+    ln, rn = (Kinematics.from_array(sat(p)) for p in wings(kin, du))
     sim.begin_beat(ln, rn)
     for _ in range(STEPS_PER_CYCLE):
         sim.step()
@@ -196,12 +199,14 @@ class BeatMapModel:
 
 
 def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
-                      n_states: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(A (11, 11), B0 (11, 7), B1 (11, 7)) of a controlled map ``beat(x, du_prev, du)`` about ``x0`` by central
+                      n_states: int, n_inputs: int = len(INPUTS)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A (11, 11), B0 (11, m), B1 (11, m)) of a controlled map ``beat(x, du_prev, du)`` about ``x0`` by central
     differences of step ``delta`` (normalized; ``sc`` SI per unit of x, ``xi`` the normalized extended state of a
-    beat's output): A's first ``n_states`` columns (the rest identity), B1 from a blend into +-du, Bt = B0 + B1
-    from +-du held over the beat and the one before (module docstring)."""
-    zero = np.zeros(len(INPUTS))
+    beat's output): A's first ``n_states`` columns (the rest identity; none for ``n_states=0``), B1 from a blend
+    into +-du, Bt = B0 + B1 from +-du held over the beat and the one before (module docstring); m = ``n_inputs``
+    channels (default the seven of INPUTS)."""
+    m = int(n_inputs)
+    zero = np.zeros(m)
     A = np.eye(11)
     for j in range(n_states):
         r = []
@@ -210,9 +215,9 @@ def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
             x[j] += s * delta * sc[j]
             r.append(xi(beat(x, zero, zero)))
         A[:, j] = (r[0] - r[1]) / (2 * delta)
-    B1, Bt = np.zeros((11, 7)), np.zeros((11, 7))
-    for j in range(7):
-        e = np.zeros(7)
+    B1, Bt = np.zeros((11, m)), np.zeros((11, m))
+    for j in range(m):
+        e = np.zeros(m)
         e[j] = delta
         B1[:, j] = (xi(beat(x0, zero, e)) - xi(beat(x0, zero, -e))) / (2 * delta)
         Bt[:, j] = (xi(beat(x0, e, e)) - xi(beat(x0, -e, -e))) / (2 * delta)

@@ -28,7 +28,7 @@ import numpy as np
 from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, xi_scale
 from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_stroke
 from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gains
-from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, command_of
+from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, command_of, wing_kinematics
 from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
 from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
 
@@ -303,6 +303,11 @@ class Schedule:
         chi = sum(w * pt.orbit.chi_ref for w, pt in ws)
         pitch = sum(w * pt.orbit.mean_pitch for w, pt in ws)
         return Kinematics.from_array(p), x, float(chi), float(pitch)
+
+    def wings(self, v: float, x_sensed: np.ndarray, pos_sensed: np.ndarray, past: list,
+              phase: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """(left, right) parameter vectors (7,) SI, unsaturated, of :meth:`command` about the reference at v."""
+        return wing_kinematics(self.reference(v, phase)[0], self.command(v, x_sensed, pos_sensed, past, phase))
 
     def command(self, v: float, x_sensed: np.ndarray, pos_sensed: np.ndarray, past: list,
                 phase: int = 0) -> np.ndarray:
