@@ -248,9 +248,9 @@ def register(sub) -> None:
     f.add_argument("--control", choices=CONTROL_CHOICES, default=None,
                    help="lqr: the wingbeat-to-wingbeat LQR (default for quasi-steady from the orbit; with --aero uvlm "
                         "at 1, 1.5 or 2 m/s, the shipped UVLM orbits, scheduled over 1-2 m/s; with --aero surrogate "
-                        "over 0-2 m/s from its shipped orbits); clqr: the same cost minimised over 10 beats within Table 2 "
-                        "(the constrained LQR, per beat, quasi-steady or surrogate; docs/control.md); none: open "
-                        "loop (default otherwise)")
+                        "over 0-2 m/s from its shipped orbits); clqr: the same cost minimised over 10 beats within "
+                        "Table 2 (the constrained LQR, per beat, quasi-steady or surrogate; docs/control.md); none: "
+                        "open loop (default otherwise)")
     from hawksim.control.schedule import RATES
 
     f.add_argument("--control-rate", choices=RATES, default=None,

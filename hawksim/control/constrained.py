@@ -42,7 +42,7 @@ import numpy as np
 from scipy.linalg import solve_discrete_are
 from scipy.optimize import lsq_linear
 
-from hawksim.control.derivatives import (FD_DELTA, SURROGATE_FD_DELTA, XI_NAMES, BeatMapModel, central_jacobians,
+from hawksim.control.derivatives import (FD_DELTA, SURROGATE_FD_DELTA, XI_NAMES, central_jacobians,
                                          one_beat, xi_scale)
 from hawksim.control.lqr import U_MAX, X_MAX, augment
 from hawksim.control.schedule import Schedule

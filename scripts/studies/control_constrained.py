@@ -15,7 +15,7 @@ and pitch +1 deg), first beat from which every later beat is within the bounds; 
 delay (delay-aware design). With ``--uvlm``: the UVLM in the loop under its own LQR (1, 1.5, 2 m/s, 20 beats) with
 the 0.5 m/s gust, and the open-loop response of the three backends to it at 1 m/s.
 
-    NUMBA_NUM_THREADS=1 python scripts/studies/control_constrained.py [--uvlm] [--out results/control/control_constrained.json]
+    NUMBA_NUM_THREADS=1 python scripts/studies/control_constrained.py [--uvlm] [--out FILE.json]
 
 Deterministic (no seed).
 """
