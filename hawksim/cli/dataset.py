@@ -17,8 +17,8 @@ def cmd_flights(args) -> dict:
 
     progress = progress_for(args, "dataset flights", "flight", mininterval=1.0, smoothing=0.05)
     r = generate_flights(args.out, args.samples, seed=args.seed, scheduler=args.scheduler, workers=args.workers,
-                         progress=progress, log=lambda s: print(s, file=sys.stderr, flush=True))
-    return {"path": str(Path(r.path)), "kind": "flights", "samples": r.flights, "new": r.new,
+                         progress=progress, log=lambda s: print(s, file=sys.stderr, flush=True), family=args.family)
+    return {"path": str(Path(r.path)), "kind": "flights", "family": args.family, "samples": r.flights, "new": r.new,
             "diverged_new": r.diverged, "rows_new": r.rows_new, "seed": args.seed, "wall_time_s": r.wall_time_s}
 
 
@@ -52,6 +52,9 @@ def register(sub) -> None:
                    help="samples: held-body cycle averages at --speed (the cycle-mean surrogate's data); flights: "
                         "UVLM-in-the-loop free flights around the orbits at 0-2 m/s recorded every UVLM update "
                         "(the per-step surrogate's data; hawksim.surrogate.flights)")
+    p.add_argument("--family", choices=("orbit", "wide"), default="orbit",
+                   help="--kind flights: orbit (small changes about the orbits, the shipped set) or wide (the "
+                        "states of controlled flights in gusts; hawksim.surrogate.flights.FAMILIES); one per file")
     p.add_argument("--speed", type=speed_arg, help="ascent speed V [m/s], 0 to 2 (--kind samples)")
     p.add_argument("--samples", type=positive_int_arg("samples"), required=True,
                    help="samples (or flights) 0..N-1 of (seed, speed) present in the file when done")

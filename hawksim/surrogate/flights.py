@@ -76,6 +76,34 @@ FLIGHT_BEATS = 8
 WARM_BEATS = 2
 """Rows before this many wingbeats carry the wake's start-up and are not used for training (t < WARM_BEATS T)."""
 
+@dataclass(frozen=True)
+class FlightFamily:
+    """How a family of training flights is drawn (:func:`sample_flight`): the kinematic spread ``kin_spread``
+    (fraction of Table 2's width about the interpolated orbit), the kick's half-widths ``launch_spread`` (m/s,
+    rad/s, rad; v, p, r, phi only in lateral flights), one flight in ``lateral_every`` lateral, and the random
+    stream (second component of the seed sequence)."""
+
+    name: str
+    kin_spread: float
+    launch_spread: dict
+    lateral_every: int
+    stream: int
+
+
+FAMILIES = {
+    "orbit": FlightFamily("orbit", KIN_SPREAD, LAUNCH_SPREAD, LATERAL_EVERY, FLIGHT_STREAM),
+    "wide": FlightFamily("wide", 0.15, {"u": 0.5, "v": 0.6, "w": 0.5, "p": 6.0, "q": 4.0, "r": 6.0, "phi": 0.15,
+                                        "theta": 0.1}, 1, FLIGHT_STREAM + 1),
+}
+"""Flight families. ``orbit`` (the shipped data set, data/uvlm_flights_0.2.0.sqlite): small kinematic changes and
+kicks about the orbits, the states free flights and small-signal control visit. ``wide``: the states a controlled
+flight visits in a 0.5 m/s lateral gust (the UVLM under its LQR at 1-2 m/s, scripts/studies/control_constrained.py:
+antisymmetric phi0 commands up to 38 deg, dphi_a 10 deg, theta0 5 deg below its bound, roll rates ~10 rad/s,
+sideslip 0.5 m/s), where the orbit family's network extrapolates (docs/control.md, "Gusts"): kinematics within
++-15 % of Table 2's width (f +-3.75 Hz, angles +-7.5 deg, phi_a +-4.5 deg; clipped to Table 2), every flight lateral
+(both wings solved), kicks up to 0.6 m/s sideslip and 6 rad/s roll and yaw rate. Its flights go in their own
+file (a file holds one family; :func:`generate_flights`)."""
+
 CUT_SPEED = 1.0
 """A flight is cut when its body velocity differs from (0, 0, V) by more than this [m/s] ..."""
 
@@ -161,28 +189,31 @@ def orbit_at(speed: float) -> tuple[Kinematics, np.ndarray, float]:
     return Kinematics.from_array(k), x, float(np.interp(speed, v, chi))
 
 
-def sample_flight(seed: int, i: int) -> FlightSpec:
-    """The spec of flight i of ``seed`` (module docstring): a pure function of (seed, i)."""
+def sample_flight(seed: int, i: int, family: str = "orbit") -> FlightSpec:
+    """The spec of flight i of ``seed`` in ``family`` (:data:`FAMILIES`; module docstring): a pure function of
+    (seed, i, family)."""
     from hawksim.flight.orbit import STATE_NAMES
 
     if seed < 0 or i < 0:
         raise ValueError(f"seed and flight index must be >= 0, got seed={seed}, i={i}")
-    rng = np.random.default_rng([int(seed), FLIGHT_STREAM, int(i)])
+    fam = FAMILIES[family]
+    rng = np.random.default_rng([int(seed), fam.stream, int(i)])
     speed = float(rng.uniform(0.0, 2.0))
     kin0, x0, chi = orbit_at(speed)
     lo, hi = bounds_si()
-    k = np.clip(kin0.as_array() + KIN_SPREAD * (hi - lo) * rng.uniform(-1, 1, len(PARAM_NAMES)), lo, hi)
-    symmetric = i % LATERAL_EVERY != LATERAL_EVERY - 1
+    k = np.clip(kin0.as_array() + fam.kin_spread * (hi - lo) * rng.uniform(-1, 1, len(PARAM_NAMES)), lo, hi)
+    symmetric = i % fam.lateral_every != fam.lateral_every - 1
     u = rng.uniform(-1, 1, len(STATE_NAMES))
-    pert = np.array([LAUNCH_SPREAD.get(n, 0.0) * u[j] for j, n in enumerate(STATE_NAMES)])
+    pert = np.array([fam.launch_spread.get(n, 0.0) * u[j] for j, n in enumerate(STATE_NAMES)])
     if symmetric:
         pert[[1, 3, 5, 6, 8]] = 0.0
     return FlightSpec(speed, Kinematics.from_array(k), tuple(map(float, x0)), chi,
                       tuple(map(float, pert)), symmetric)
 
 
-def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS) -> FlightSample:
-    """Fly flight i (UVLM in the loop, `hawksim fly --aero uvlm`'s settings) and record every UVLM update."""
+def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = "orbit") -> FlightSample:
+    """Fly flight i of ``family`` (UVLM in the loop, `hawksim fly --aero uvlm`'s settings) and record every UVLM
+    update."""
     from hawksim.backends import flight_backend
     from hawksim.flight.orbit import read_body_state, set_body_state
     from hawksim.flight.simulator import Simulator, aero_every_for
@@ -190,7 +221,7 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS) -> FlightSampl
     from hawksim.insect.model import load_model
     from hawksim.insect.morphology import HAWKMOTH, RHO_AIR
 
-    spec = sample_flight(seed, i)
+    spec = sample_flight(seed, i, family)
     t0 = time.perf_counter()
     kin = spec.kinematics
     backend = flight_backend("uvlm", symmetric=spec.symmetric)
@@ -253,10 +284,31 @@ def _kick(sim, x: np.ndarray, chi_ref: float) -> None:
 # --------------------------------------------------------------------------------------------- the file
 
 
-def ensure_flight_table(conn) -> None:
-    """Add the ``flights`` table to a data-set file (a no-op when it has one)."""
+def ensure_flight_table(conn, family: str = "orbit") -> None:
+    """Add the ``flights`` table to a data-set file (a no-op when it has one) for flights of ``family``
+    (:data:`FAMILIES`): a file holds one family, recorded in its ``flight_family`` table (absent: ``orbit``, the
+    shipped file's); DatasetError when the file holds another."""
+    if family not in FAMILIES:
+        raise DatasetError(f"flight family {family!r}: choose {', '.join(FAMILIES)}")
     with conn:
         conn.executescript(_SCHEMA)
+    have = stored_family(conn)
+    n = conn.execute("SELECT count(*) FROM flights").fetchone()[0]
+    if have != family and (n or have != "orbit"):
+        raise DatasetError(f"the data set holds {have!r} flights, not {family!r}: start a new file")
+    if family != "orbit":
+        with conn:
+            conn.execute("CREATE TABLE IF NOT EXISTS flight_family (family TEXT NOT NULL)")
+            if conn.execute("SELECT count(*) FROM flight_family").fetchone()[0] == 0:
+                conn.execute("INSERT INTO flight_family (family) VALUES (?)", (family,))
+
+
+def stored_family(conn) -> str:
+    """The flight family of a data-set file (``orbit`` when it records none)."""
+    if not conn.execute("SELECT count(*) FROM sqlite_master WHERE name='flight_family'").fetchone()[0]:
+        return "orbit"
+    r = conn.execute("SELECT family FROM flight_family").fetchone()
+    return "orbit" if r is None else str(r[0])
 
 
 def stored_flights(conn, seed: int) -> set[int]:
@@ -355,18 +407,19 @@ class FlightGenerationResult:
 
 
 def generate_flights(path: str | Path, n: int, *, seed: int = 0, scheduler: str | None = None,
-                     workers: int | None = None, progress=None, log=None, beats: int = FLIGHT_BEATS
-                     ) -> FlightGenerationResult:
-    """Make flights 0..n-1 of ``seed`` present in the file, computing only the missing ones (the machinery of
-    :func:`hawksim.surrogate.dataset.generate`: one locked writer, Dask workers, a commit per flight).
-    ``log(text)`` gets one line per stored flight; ``beats`` (tests only) shortens the flights."""
+                     workers: int | None = None, progress=None, log=None, beats: int = FLIGHT_BEATS,
+                     family: str = "orbit") -> FlightGenerationResult:
+    """Make flights 0..n-1 of ``seed`` in ``family`` (:data:`FAMILIES`; a file holds one) present in the file,
+    computing only the missing ones (the machinery of :func:`hawksim.surrogate.dataset.generate`: one locked
+    writer, Dask workers, a commit per flight). ``log(text)`` gets one line per stored flight; ``beats`` (tests
+    only) shortens the flights."""
     created = not (Path(path).exists() and Path(path).stat().st_size > 0)
     conn = open_dataset(path, create=True)
     lock = _writer_lock(path, conn)
     t0 = time.perf_counter()
     new = diverged = rows_new = 0
     try:
-        ensure_flight_table(conn)
+        ensure_flight_table(conn, family)
         other = {r[0] for r in conn.execute("SELECT DISTINCT version FROM flights WHERE seed=?", (int(seed),))}
         other -= {__version__}
         if other:
@@ -377,7 +430,8 @@ def generate_flights(path: str | Path, n: int, *, seed: int = 0, scheduler: str 
         if progress:
             progress(n - len(todo), n)
         if todo:
-            for s in _compute(todo, functools.partial(evaluate_flight, seed, beats=beats), scheduler, workers):
+            for s in _compute(todo, functools.partial(evaluate_flight, seed, beats=beats, family=family), scheduler,
+                              workers):
                 insert_flight(conn, s)
                 new += 1
                 diverged += s.status == "diverged"
