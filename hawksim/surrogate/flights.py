@@ -76,24 +76,34 @@ FLIGHT_BEATS = 8
 WARM_BEATS = 2
 """Rows before this many wingbeats carry the wake's start-up and are not used for training (t < WARM_BEATS T)."""
 
+CUT_SPEED = 1.0
+"""A flight is cut when its body velocity differs from (0, 0, V) by more than this [m/s] ..."""
+
+CUT_ANGLE = math.radians(45.0)
+"""... or its bank or pitch differ from the launch attitude's by more than this [rad]."""
+
 @dataclass(frozen=True)
 class FlightFamily:
     """How a family of training flights is drawn (:func:`sample_flight`): the kinematic spread ``kin_spread``
     (fraction of Table 2's width about the interpolated orbit), the kick's half-widths ``launch_spread`` (m/s,
-    rad/s, rad; v, p, r, phi only in lateral flights), one flight in ``lateral_every`` lateral, and the random
-    stream (second component of the seed sequence)."""
+    rad/s, rad; v, p, r, phi only in lateral flights), one flight in ``lateral_every`` lateral, the random
+    stream (second component of the seed sequence), and where a flight is cut (``cut_speed`` [m/s] from
+    (0, 0, V), ``cut_angle`` [rad] of bank or pitch from the attitude after the kick)."""
 
     name: str
     kin_spread: float
     launch_spread: dict
     lateral_every: int
     stream: int
+    cut_speed: float
+    cut_angle: float
 
 
 FAMILIES = {
-    "orbit": FlightFamily("orbit", KIN_SPREAD, LAUNCH_SPREAD, LATERAL_EVERY, FLIGHT_STREAM),
+    "orbit": FlightFamily("orbit", KIN_SPREAD, LAUNCH_SPREAD, LATERAL_EVERY, FLIGHT_STREAM, CUT_SPEED, CUT_ANGLE),
     "wide": FlightFamily("wide", 0.15, {"u": 0.5, "v": 0.6, "w": 0.5, "p": 6.0, "q": 4.0, "r": 6.0, "phi": 0.15,
-                                        "theta": 0.1}, 1, FLIGHT_STREAM + 1),
+                                        "theta": 0.1}, 1, FLIGHT_STREAM + 1, cut_speed=2.0,
+                         cut_angle=math.radians(90.0)),
 }
 """Flight families. ``orbit`` (the shipped data set, data/uvlm_flights_0.2.0.sqlite): small kinematic changes and
 kicks about the orbits, the states free flights and small-signal control visit. ``wide``: the states a controlled
@@ -101,14 +111,9 @@ flight visits in a 0.5 m/s lateral gust (the UVLM under its LQR at 1-2 m/s, scri
 antisymmetric phi0 commands up to 38 deg, dphi_a 10 deg, theta0 5 deg below its bound, roll rates ~10 rad/s,
 sideslip 0.5 m/s), where the orbit family's network extrapolates (docs/control.md, "Gusts"): kinematics within
 +-15 % of Table 2's width (f +-3.75 Hz, angles +-7.5 deg, phi_a +-4.5 deg; clipped to Table 2), every flight lateral
-(both wings solved), kicks up to 0.6 m/s sideslip and 6 rad/s roll and yaw rate. Its flights go in their own
-file (a file holds one family; :func:`generate_flights`)."""
-
-CUT_SPEED = 1.0
-"""A flight is cut when its body velocity differs from (0, 0, V) by more than this [m/s] ..."""
-
-CUT_ANGLE = math.radians(45.0)
-"""... or its bank or pitch differ from the launch attitude's by more than this [rad]."""
+(both wings solved), kicks up to 0.6 m/s sideslip and 6 rad/s roll and yaw rate, cut at 2 m/s or 90 deg (at
+the orbit family's 1 m/s and 45 deg most wide flights ended within a fifth of a beat of the kick, all at the same
+phase). Its flights go in their own file (a file holds one family; :func:`generate_flights`)."""
 
 COLUMNS = ("t", "vx", "vy", "vz", "wx", "wy", "wz", *(f"R{i}{j}" for i in range(3) for j in range(3)),
            "FLx", "FLy", "FLz", "FRx", "FRy", "FRz", "MLx", "MLy", "MLz", "MRx", "MRy", "MRz",
@@ -222,6 +227,7 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
     from hawksim.insect.morphology import HAWKMOTH, RHO_AIR
 
     spec = sample_flight(seed, i, family)
+    fam = FAMILIES[family]
     t0 = time.perf_counter()
     kin = spec.kinematics
     backend = flight_backend("uvlm", symmetric=spec.symmetric)
@@ -251,10 +257,10 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
             if np.linalg.norm(ld.force, axis=1).max() > f_ceiling:
                 status, cut = "diverged", f"peak force coefficient above {PEAK_FORCE_CEILING:g} at t={st.t:.5f} s"
                 break
-            if np.linalg.norm(st.body_v - v_ref) > CUT_SPEED:
+            if np.linalg.norm(st.body_v - v_ref) > fam.cut_speed:
                 cut = f"speed left the range at t={st.t:.5f} s"
                 break
-            if att0 is not None and (abs(pitch - att0[0]) > CUT_ANGLE or abs(roll - att0[1]) > CUT_ANGLE):
+            if att0 is not None and (abs(pitch - att0[0]) > fam.cut_angle or abs(roll - att0[1]) > fam.cut_angle):
                 cut = f"attitude left the range at t={st.t:.5f} s"
                 break
             rows.append([st.t, *(R.T @ st.body_v), *(R.T @ st.body_omega), *R.ravel(), *Fw.ravel(),
