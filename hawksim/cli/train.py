@@ -48,7 +48,9 @@ def cmd_train_step(args) -> dict:
                                                                                            args.lags),
                "--max-iter", str(args.max_iter), "--time-limit", f"{args.time_limit:g}",
                "--weight-decay", f"{args.weight_decay:g}", "--ensemble", str(args.ensemble)]
-    net, sc = fit(args.data, cfg, command=shlex.join(command),
+    for p in args.extra_data or ():
+        command += ["--extra-data", str(p)]
+    net, sc = fit(args.data, cfg, command=shlex.join(command), extra=tuple(args.extra_data or ()),
                   log=None if args.no_progress else lambda s: print(s, file=sys.stderr, flush=True))
     interrupts.begin_work()  # until the network is written, a Ctrl-C leaves at once (nothing to clean up)
     net.save(args.out)
@@ -76,6 +78,10 @@ def cmd_train(args) -> dict:
 
     if args.kind == "step":
         return cmd_train_step(args)
+    if args.extra_data:
+        from hawksim.cli.args import UsageError
+
+        raise UsageError("--extra-data needs --kind step (the per-step surrogate's flights)")
 
     from hawksim.backends.network import InputDefinition
     from hawksim.surrogate.dataset import file_sha256, read_samples, speeds_in
@@ -139,6 +145,9 @@ def register(sub) -> None:
     p.add_argument("--ensemble", type=positive_int_arg("ensemble"), default=1,
                    help="--kind step: networks trained from different seeds, folded into one (1)")
     p.add_argument("--data", required=True, help="SQLite data set from `hawksim dataset`")
+    p.add_argument("--extra-data", action="append", metavar="PATH",
+                   help="--kind step: another flights data set (e.g. --family wide) whose training and validation "
+                        "flights join --data's (each file split on its own; repeatable)")
     p.add_argument("--out", type=writable_file, required=True, help="model file to write (.safetensors)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the split and the initial weights (0)")
     which = p.add_mutually_exclusive_group()

@@ -354,10 +354,13 @@ def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
 
 
 def fit(path, cfg: TrainConfig, *, command: str = "", max_flights: int | None = None, log=None,
-        flights: list[StoredFlight] | None = None) -> tuple[StepNetwork, dict]:
+        flights: list[StoredFlight] | None = None, extra: tuple = ()) -> tuple[StepNetwork, dict]:
     """Train on the 'ok' flights of a data-set file (optionally those with idx < ``max_flights``; ``flights``: the
     flights already read from it) split by flight with ``cfg.seed``; returns the network (its ``meta``: provenance,
-    split, held-out scores) and the scores."""
+    split, held-out scores) and the scores (of the held-out flights of ``path``). ``extra``: more data-set files
+    (other flight families, :data:`hawksim.surrogate.flights.FAMILIES`), each split by flight with the same seed on
+    its own, so the split of ``path`` is the one it has alone; their train and validation flights join the
+    training, their held-out flights are scored apart (``meta['extra']``)."""
     from hawksim.surrogate.flights import read_flights
 
     flights = read_flights(path) if flights is None else flights
@@ -366,16 +369,31 @@ def fit(path, cfg: TrainConfig, *, command: str = "", max_flights: int | None = 
     if len(flights) < 3:
         raise ValueError(f"{path}: {len(flights)} usable flights; need at least 3 (train, validation, test)")
     tr, va, te = split_flights(len(flights), cfg.seed)
-    rows_tr, rows_va = rows_of([flights[i] for i in tr], cfg.lags), rows_of([flights[i] for i in va], cfg.lags)
+    fl_tr, fl_va = [flights[i] for i in tr], [flights[i] for i in va]
+    more = []
+    for p in extra:
+        fx = read_flights(p)
+        if len(fx) < 3:
+            raise ValueError(f"{p}: {len(fx)} usable flights; need at least 3 (train, validation, test)")
+        a, b, c = split_flights(len(fx), cfg.seed)
+        fl_tr += [fx[i] for i in a]
+        fl_va += [fx[i] for i in b]
+        more.append((p, fx, c))
+    rows_tr, rows_va = rows_of(fl_tr, cfg.lags), rows_of(fl_va, cfg.lags)
     net, hist = train(rows_tr, rows_va, cfg, log=log)
     test = [flights[i] for i in te]
     sc = score(net, test)
+    extra_meta = [{"data": str(p), "data_sha256": _flights_sha256(p), "n_flights": len(fx),
+                   "test_flights": [int(fx[i].idx) for i in c], "test": score(net, [fx[i] for i in c])}
+                  for p, fx, c in more]
     meta = {"command": command, "data": str(path), "data_sha256": _flights_sha256(path, max_flights),
             "max_flights": max_flights, "config": {
                 "hidden": list(cfg.hidden), "lags": list(cfg.lags), "epochs": cfg.epochs, "batch": cfg.batch,
                 "lr": cfg.lr, "seed": cfg.seed}, "n_flights": len(flights), "n_train_rows": int(len(rows_tr.y)),
             "n_val_rows": int(len(rows_va.y)), "test_flights": [int(flights[i].idx) for i in te],
             "val_flights": [int(flights[i].idx) for i in va], "history": hist, "test": sc}
+    if extra_meta:
+        meta["extra"] = extra_meta
     return StepNetwork(net.weights, net.x_mean, net.x_std, net.y_mean, net.y_std, lags=net.lags, meta=meta), sc
 
 
