@@ -79,8 +79,6 @@ def cmd_train(args) -> dict:
     if args.kind == "step":
         return cmd_train_step(args)
     if args.extra_data:
-        from hawksim.cli.args import UsageError
-
         raise UsageError("--extra-data needs --kind step (the per-step surrogate's flights)")
 
     from hawksim.backends.network import InputDefinition

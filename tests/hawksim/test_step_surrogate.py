@@ -243,6 +243,47 @@ def test_flight_data_set_resumes_without_duplicates_and_is_seeded(tmp_path):
     assert fl[0].rows.shape == (40, len(__import__("hawksim.surrogate.flights", fromlist=["x"]).COLUMNS))
 
 
+
+def test_flight_families_draw_apart_and_a_file_holds_one(tmp_path):
+    """The wide family (hawksim.surrogate.flights.FAMILIES) draws from its own stream, every flight lateral, with
+    kinematics spread 6x the orbit family's; a file of one family refuses flights of another (one line naming
+    both)."""
+    from hawksim.insect.kinematics import bounds_si
+    from hawksim.surrogate.dataset import DatasetError
+    from hawksim.surrogate.flights import FAMILIES, generate_flights, orbit_at, sample_flight
+
+    assert sample_flight(0, 5, "wide") == sample_flight(0, 5, "wide") != sample_flight(0, 5)
+    lo, hi = bounds_si()
+    dev = {f: max(np.abs((sample_flight(0, i, f).kinematics.as_array() - orbit_at(sample_flight(0, i, f).speed)[0]
+                          .as_array()) / (hi - lo)).max() for i in range(40)) for f in ("orbit", "wide")}
+    assert dev["orbit"] <= FAMILIES["orbit"].kin_spread + 1e-12 < 0.1 < dev["wide"] <= FAMILIES["wide"].kin_spread
+    assert not any(sample_flight(0, i, "wide").symmetric for i in range(8))
+    p = tmp_path / "w.sqlite"
+    assert generate_flights(p, 1, seed=0, workers=1, beats=1, family="wide").flights == 1
+    with pytest.raises(DatasetError, match="'wide' flights, not 'orbit'"):
+        generate_flights(p, 2, seed=0, workers=1, beats=1)
+
+
+def test_extra_flights_leave_the_main_split_as_it_is(tmp_path):
+    """`hawksim train --kind step --extra-data`: each file is split on its own with the seed, so the main file's
+    held-out flights are those it has alone (comparable scores) and the extra file's are scored apart."""
+    from hawksim.surrogate.flights import copy_flights
+    from hawksim.surrogate.step_train import TrainConfig, fit
+
+    if not FLIGHTS.is_file():
+        pytest.skip("the flights data set is not in this checkout")
+    a, b = tmp_path / "a.sqlite", tmp_path / "b.sqlite"
+    copy_flights(FLIGHTS, a, [(0, i) for i in range(8)])
+    copy_flights(FLIGHTS, b, [(0, i) for i in range(8, 14)])
+    cfg = TrainConfig(hidden=(8,), epochs=1, max_seconds=30.0)
+    alone, _ = fit(a, cfg)
+    both, _ = fit(a, cfg, extra=(b,))
+    assert both.meta["test_flights"] == alone.meta["test_flights"]
+    assert both.meta["val_flights"] == alone.meta["val_flights"]
+    assert both.meta["n_train_rows"] > alone.meta["n_train_rows"]
+    (ex,) = both.meta["extra"]
+    assert set(ex["test_flights"]) <= set(range(8, 14)) and ex["test"]["n_flights"] == len(ex["test_flights"])
+
 def test_an_ensemble_folds_exactly_into_one_network():
     from hawksim.surrogate.step_train import fold_ensemble
 
