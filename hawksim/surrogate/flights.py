@@ -88,7 +88,9 @@ class FlightFamily:
     (fraction of Table 2's width about the interpolated orbit), the kick's half-widths ``launch_spread`` (m/s,
     rad/s, rad; v, p, r, phi only in lateral flights), one flight in ``lateral_every`` lateral, the random
     stream (second component of the seed sequence), and where a flight is cut (``cut_speed`` [m/s] from
-    (0, 0, V), ``cut_angle`` [rad] of bank or pitch from the attitude after the kick)."""
+    (0, 0, V), ``cut_angle`` [rad] of bank or pitch from the attitude after the kick; with ``cut_by_rotation``, of
+    the rotation from that attitude: the bank atan2(R12, R22) is ill-conditioned with the body axis near the
+    vertical, where it jumped 50-100 deg between updates in wide flights pitched 82-86 deg)."""
 
     name: str
     kin_spread: float
@@ -97,13 +99,14 @@ class FlightFamily:
     stream: int
     cut_speed: float
     cut_angle: float
+    cut_by_rotation: bool = False
 
 
 FAMILIES = {
     "orbit": FlightFamily("orbit", KIN_SPREAD, LAUNCH_SPREAD, LATERAL_EVERY, FLIGHT_STREAM, CUT_SPEED, CUT_ANGLE),
     "wide": FlightFamily("wide", 0.15, {"u": 0.5, "v": 0.6, "w": 0.5, "p": 6.0, "q": 4.0, "r": 6.0, "phi": 0.15,
                                         "theta": 0.1}, 1, FLIGHT_STREAM + 1, cut_speed=2.0,
-                         cut_angle=math.radians(90.0)),
+                         cut_angle=math.radians(90.0), cut_by_rotation=True),
 }
 """Flight families. ``orbit`` (the shipped data set, data/uvlm_flights_0.2.0.sqlite): small kinematic changes and
 kicks about the orbits, the states free flights and small-signal control visit. ``wide``: the states a controlled
@@ -249,7 +252,7 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
             R = st.body_R
             pitch, roll = pitch_of(R), math.atan2(R[1, 2], R[2, 2])
             if att0 is None and step >= WARM_BEATS * FLY_STEPS_PER_CYCLE:
-                att0 = (pitch, roll)
+                att0, R0 = (pitch, roll), R.copy()
             Fw = np.einsum("kji,kj->ki", st.wing_R, ld.force)
             Mw = np.einsum("kji,kj->ki", st.wing_R, ld.moment)
             if not (np.all(np.isfinite(Fw)) and np.all(np.isfinite(Mw))):
@@ -260,7 +263,10 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
             if np.linalg.norm(st.body_v - v_ref) > fam.cut_speed:
                 cut = f"speed left the range at t={st.t:.5f} s"
                 break
-            if att0 is not None and (abs(pitch - att0[0]) > fam.cut_angle or abs(roll - att0[1]) > fam.cut_angle):
+            if att0 is not None and (
+                    math.acos(min(1.0, max(-1.0, (np.trace(R0.T @ R) - 1) / 2))) > fam.cut_angle
+                    if fam.cut_by_rotation else
+                    abs(pitch - att0[0]) > fam.cut_angle or abs(roll - att0[1]) > fam.cut_angle):
                 cut = f"attitude left the range at t={st.t:.5f} s"
                 break
             rows.append([st.t, *(R.T @ st.body_v), *(R.T @ st.body_omega), *R.ravel(), *Fw.ravel(),
