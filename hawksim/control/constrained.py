@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import mujoco
 import numpy as np
-from scipy.linalg import solve_discrete_are
+from scipy.linalg import solve_discrete_are, solve_triangular
 from scipy.optimize import lsq_linear
 
 from hawksim.control.derivatives import (FD_DELTA, SURROGATE_FD_DELTA, XI_NAMES, central_jacobians,
@@ -207,8 +207,8 @@ def _sqrt_psd(M: np.ndarray) -> np.ndarray:
 class ConstrainedGain:
     """The constrained LQR about one orbit (module docstring) for a sensing delay of ``delay`` beats: the
     augmented plant (Az, Bz), the infinite-horizon gain K and cost-to-go P, and the condensed horizon
-    (``Phi`` (N nz, nz), ``Gamma`` (N nz, N m), the least-squares matrix ``M`` and the map ``Mz`` from z_0 to its
-    right-hand side). ``multipliers``: eig(Az - Bz K) (the loop with no bound active)."""
+    as a least-squares problem |M V + Mz z_0|^2 in the horizon's channels V (N m,), M (N m, N m) upper triangular
+    (the Cholesky factor of the condensed cost's Hessian) and Mz (N m, nz)). ``multipliers``: eig(Az - Bz K) (the loop with no bound active)."""
 
     Az: np.ndarray
     Bz: np.ndarray
@@ -230,7 +230,7 @@ class ConstrainedGain:
         bounds (8,) held over the horizon."""
         m = self.Bz.shape[1]
         rhs = -self.Mz @ z0
-        V, *_ = np.linalg.lstsq(self.M, rhs, rcond=None)
+        V = solve_triangular(self.M, rhs)
         L, U = np.tile(lb, self.horizon), np.tile(ub, self.horizon)
         if np.all(V >= L) and np.all(V <= U):
             return -self.K @ z0, False
@@ -269,8 +269,13 @@ def constrained_gain(lin: WingMapModel, delay: int = 0, *, x_max: dict | None = 
     rows_x = np.vstack([Sq @ Gam[k * nz:(k + 1) * nz] for k in range(N - 1)] + [Sp @ Gam[(N - 1) * nz:]])
     rows_z = np.vstack([Sq @ Phi[k * nz:(k + 1) * nz] for k in range(N - 1)] + [Sp @ Phi[(N - 1) * nz:]])
     Sr = _sqrt_psd(R)
-    M = np.vstack([rows_x, np.kron(np.eye(N), Sr)])
-    Mz = np.vstack([rows_z, np.zeros((N * m, nz))])
+    M_full = np.vstack([rows_x, np.kron(np.eye(N), Sr)])
+    Mz_full = np.vstack([rows_z, np.zeros((N * m, nz))])
+    # the same minimiser from a square system: M' M = C' C (Cholesky; R > 0 makes it positive definite), so
+    # |M V + Mz z|^2 = |C V + C^-T M' Mz z|^2 + const (4x fewer rows for every solve)
+    C = np.linalg.cholesky(M_full.T @ M_full).T
+    M = C
+    Mz = np.linalg.solve(C.T, M_full.T @ Mz_full)
     mu = np.linalg.eigvals(Az - Bz @ K)
     ol = np.linalg.eigvals(lin.A)
     return ConstrainedGain(Az=Az, Bz=Bz, K=K, P=P, M=M, Mz=Mz, horizon=N, delay=int(delay),

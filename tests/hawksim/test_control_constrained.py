@@ -74,7 +74,7 @@ def test_the_plan_is_the_lqr_where_no_bound_is_active(sched2):
     assert not active
     assert np.allclose(v, -g.K @ z, rtol=0, atol=1e-14)
     # the condensed problem's unconstrained optimum starts with the LQR's move (terminal cost P from the DARE)
-    V, *_ = np.linalg.lstsq(g.M, -g.Mz @ z, rcond=None)
+    V = np.linalg.solve(g.M, -g.Mz @ z)
     assert np.allclose(V[:8], -g.K @ z, rtol=1e-6, atol=1e-9 * np.abs(g.K @ z).max())
 
 
@@ -89,7 +89,7 @@ def test_the_plan_respects_the_bounds_and_costs_no_more_than_the_clipped_lqr(sch
     v, active = g.command(z, lb, ub)
     assert active and np.all(v >= lb - 1e-12) and np.all(v <= ub + 1e-12)
 
-    def cost(V):
+    def cost(V):  # the horizon cost less a constant of z (hawksim.control.constrained.ConstrainedGain)
         return float(np.sum((g.M @ V + g.Mz @ z) ** 2))
 
     Vc, zk = [], z.copy()
@@ -105,7 +105,8 @@ def test_the_plan_respects_the_bounds_and_costs_no_more_than_the_clipped_lqr(sch
     plan = np.zeros_like(Lb)
     plan[f] = lsq_linear(g.M[:, f], -g.Mz @ z, bounds=(Lb[f], Ub[f]), method="bvls").x
     assert np.allclose(plan[:8], v, atol=1e-12)
-    assert cost(plan) < 0.9 * cost(np.concatenate(Vc))
+    clipped = np.concatenate(Vc)
+    assert cost(plan) < cost(clipped) and np.abs(plan - clipped).max() > 1e-3  # the same cost up to a constant
 
 
 def _recovered_after(beats, end):
