@@ -206,9 +206,10 @@ def _sqrt_psd(M: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True)
 class ConstrainedGain:
     """The constrained LQR about one orbit (module docstring) for a sensing delay of ``delay`` beats: the
-    augmented plant (Az, Bz), the infinite-horizon gain K and cost-to-go P, and the condensed horizon
-    as a least-squares problem |M V + Mz z_0|^2 in the horizon's channels V (N m,), M (N m, N m) upper triangular
-    (the Cholesky factor of the condensed cost's Hessian) and Mz (N m, nz)). ``multipliers``: eig(Az - Bz K) (the loop with no bound active)."""
+    augmented plant (Az, Bz), the infinite-horizon gain K and cost-to-go P, and the condensed horizon as the
+    least-squares problem |M V + Mz z_0|^2 (the horizon cost less a constant of z_0) in the horizon's channels V
+    (N m,): M (N m, N m) upper triangular (the Cholesky factor of the condensed cost's Hessian), Mz (N m, nz).
+    ``multipliers``: eig(Az - Bz K) (the loop with no bound active)."""
 
     Az: np.ndarray
     Bz: np.ndarray

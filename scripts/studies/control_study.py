@@ -96,56 +96,13 @@ def main():
 
 
 def figure(sch):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from hawksim.control.figure import controlled_flight_figure
 
     cl = fly_closed_loop(0, 40, profile=[(0, 2), (1, 10), (2, 28)], gusts=[Gust(np.array([0.0, 0.5, 0.0]), 28, 2)],
                          schedule=sch, record=True)
-    r = cl.result
-    b = cl.beats
-    tb = np.cumsum([0.0] + [1 / x["commands"]["f_hz"] for x in b])  # beat boundaries [s]
-    tm = (tb[:-1] + tb[1:]) / 2
-    fig, ax = plt.subplots(4, 1, figsize=(7.5, 9), sharex=True)
-    ax[0].plot(r.t, r.body_v[:, 2], color="0.75", lw=0.6, label="within-beat vz")
-    ax[0].step(tb, np.r_[[x["speed_command"] for x in b], b[-1]["speed_command"]], where="post", color="k",
-               lw=1, label="command")
-    ax[0].step(tb, np.r_[[x["speed_reference"] for x in b], b[-1]["speed_reference"]], where="post", color="C1",
-               lw=1, ls="--", label="reference (rate-limited)")
-    ax[0].plot(tm, [x["mean_vertical_speed"] for x in b], "o", ms=3, color="C0", label="beat-mean vz")
-    ax[0].set_ylabel("vertical speed [m/s]")
-    ax[0].legend(fontsize=7, loc="upper left")
-    ax[1].plot(tm, [x["pitch_error_deg"] for x in b], "o-", ms=3, label="pitch - orbit mean pitch")
-    ax[1].plot(tm, [x["roll_deg"] for x in b], "s-", ms=3, label="roll (right wing down +)")
-    ax[1].plot(tm, [x["yaw_deg"] for x in b], "^-", ms=3, label="yaw (nose right +)")
-    ax[1].axhspan(-2, 2, color="0.92", zorder=0)
-    ax[1].set_ylabel("beat mean [deg]")
-    ax[1].legend(fontsize=7)
-    c = {key: [x["commands"][key] for x in b] for key in b[0]["commands"]}
-    ax2 = ax[2].twinx()
-    ax[2].plot(tm, c["f_hz"], "o-", ms=3, color="C0", label="f [Hz] (left axis)")
-    for key, col in (("phi0_deg", "C1"), ("alpha0_deg", "C2"), ("theta0_deg", "C3")):
-        ax2.plot(tm, c[key], ".-", color=col, label=key.replace("_deg", " [deg]"))
-    ax[2].set_ylabel("f [Hz]")
-    ax2.set_ylabel("symmetric angles [deg]")
-    ax2.legend(fontsize=7, loc="upper right")
-    for key, col in (("dphi_a_deg", "C4"), ("dphi0_deg", "C5"), ("dalpha0_deg", "C6")):
-        ax[3].plot(tm, c[key], ".-", color=col, label=key.replace("_deg", "") + " left - right [deg]")
-    ax3 = ax[3].twinx()
-    ax3.plot(tm, [1e3 * x["horizontal_offset_m"][1] for x in b], "k--", lw=1, label="lateral offset Y [mm]")
-    ax3.set_ylabel("Y (right) [mm]")
-    ax3.legend(fontsize=7, loc="lower right")
-    ax[3].set_ylabel("antisymmetric [deg]")
-    ax[3].legend(fontsize=7, loc="upper right")
-    ax[3].set_xlabel("time [s]")
-    g = cl.gusts[0]
-    for a in ax:
-        a.axvspan(tb[g.start - 1], tb[g.start - 1 + g.beats], color="C3", alpha=0.12, zorder=0)
-    ax[0].set_title("LQR, quasi-steady: profile 0:2,1:10,2:28 m/s:beats, gust 0,0.5,0 m/s @ beats 28-29 (shaded)",
-                    fontsize=9)
-    fig.tight_layout()
-    fig.savefig(OUT / "controlled_flight.png", dpi=300)
+    controlled_flight_figure(cl, OUT / "controlled_flight.png",
+                             title="LQR, quasi-steady: profile 0:2,1:10,2:28 m/s:beats, gust 0,0.5,0 m/s @ beats "
+                                   "28-29 (shaded)")
 
 
 if __name__ == "__main__":
