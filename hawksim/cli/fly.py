@@ -191,10 +191,11 @@ def _control_of(args) -> str | None:
     if control == "clqr" and (args.aero == "uvlm" or rate == "half-stroke"):
         raise ValueError("--control clqr needs --aero quasi-steady or surrogate and --control-rate beat (its plans "
                          "use per-wing derivatives differenced from a settable orbit state, once per wingbeat)")
-    if args.aero != "quasi-steady" and rate == "half-stroke":
-        from hawksim.control.schedule import HALF_STROKE_WHY
+    from hawksim.control.schedule import HALF_STROKE_BACKENDS, HALF_STROKE_WHY
 
-        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady ({HALF_STROKE_WHY[args.aero]})")
+    if args.aero not in HALF_STROKE_BACKENDS and rate == "half-stroke":
+        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady or surrogate "
+                         f"({HALF_STROKE_WHY[args.aero]})")
     if control == "none" and profile:
         raise ValueError("--ascent-profile needs --control lqr (an open-loop flight cannot follow it)")
     return control
@@ -255,7 +256,7 @@ def register(sub) -> None:
 
     f.add_argument("--control-rate", choices=RATES, default=None,
                    help="update the kinematics once per wingbeat (beat, the default) or per half-stroke (at phases "
-                        "0 and 0.5; quasi-steady only; docs/control.md compares them)")
+                        "0 and 0.5; quasi-steady and surrogate; docs/control.md compares them)")
     f.add_argument("--ascent-profile", type=_control_type(parse_profile), metavar="V:BEATS,...",
                    help="piecewise-constant speed commands [m/s] for that many wingbeats each, e.g. 0:2,1:10,2:10 "
                         "(the last speed holds after it)")

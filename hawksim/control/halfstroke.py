@@ -33,8 +33,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hawksim.control.derivatives import FD_DELTA, LAT_X, LONG_X, central_jacobians, stability_position, xi_scale
-from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, wing_kinematics
+from hawksim.control.derivatives import (FD_DELTA, LAT_X, LONG_X, SATURATED_DERIVATIVES, SURROGATE_FD_DELTA,
+                                         central_jacobians, stability_position, xi_scale)
+from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
+                                   wing_kinematics)
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
@@ -53,14 +55,19 @@ def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray,
     if half not in (0, 1):
         raise ValueError(f"half must be 0 (phase 0 -> 0.5) or 1 (phase 0.5 -> 1), got {half}")
     model = model if model is not None else load_model()
-    backend, every = make_orbit_backend(orbit.aero, symmetric=False)
     kin = orbit.kinematics
-    sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
-    lp, rp = (Kinematics.from_array(p) for p in wing_kinematics(kin, du_prev))
+    if orbit.aero in SATURATED_DERIVATIVES:  # the surrogate: its controlled plant, each wing clipped at Table 2
+        sim, sat = controlled_plant(model, kin, orbit.aero), saturate
+    else:
+        backend, every = make_orbit_backend(orbit.aero, symmetric=False)
+        sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True,
+                                  aero_every=every)
+        sat = None
+    lp, rp = (Kinematics.from_array(p if sat is None else sat(p)) for p in wing_kinematics(kin, du_prev))
     sim.set_wings(lp, rp)
     set_body_state(sim, x0, orbit.chi_ref, t=0.5 * lp.period if half else 0.0)
     p0 = stability_position(sim.d.qpos[:3])
-    ln, rn = (Kinematics.from_array(p) for p in wing_kinematics(kin, du))
+    ln, rn = (Kinematics.from_array(p if sat is None else sat(p)) for p in wing_kinematics(kin, du))
     sim.begin_beat(ln, rn, phase=math.pi * half, span=0.5)
     for _ in range(STEPS_PER_CYCLE // HALVES):
         sim.step()
@@ -107,11 +114,14 @@ class HalfStrokeModel:
                 "scale": self.scale.tolist(), "coupling": self.coupling, "delta": self.delta}
 
 
-def linearize_half_stroke(orbit: Orbit, *, delta: float = FD_DELTA,
+def linearize_half_stroke(orbit: Orbit, *, delta: float | None = None,
                           model: mujoco.MjModel | None = None) -> HalfStrokeModel:
-    """:class:`HalfStrokeModel` about the quasi-steady ``orbit`` by central differences (module docstring):
+    """:class:`HalfStrokeModel` about the quasi-steady or surrogate ``orbit`` by central differences (module
+    docstring; the surrogate's through the Table 2 clip with step SURROGATE_FD_DELTA, as its one-beat model):
     1 reference half-beat + 2 x 46 half-beat flights (~2-3 s)."""
     t0 = time.perf_counter()
+    if delta is None:
+        delta = SURROGATE_FD_DELTA if orbit.aero == "surrogate" else FD_DELTA
     model = model if model is not None else load_model()
     sc = xi_scale(orbit.kinematics)
     zero = np.zeros(len(INPUTS))

@@ -75,8 +75,10 @@ the 0 -> 1 m/s reference ramp (0.2 m/s per beat), drives theta0 to Table 2's -25
 perturbation peaks stay below the per-beat controller's (``scripts/studies/control_rate_study.py``,
 docs/control.md "Per beat or per half-stroke")."""
 
-HALF_STROKE_WHY = {"uvlm": "the UVLM's wake cannot be set at phase 0.5 to linearize the half-stroke maps",
-                   "surrogate": "the half-stroke maps are built for the quasi-steady backend only"}
+HALF_STROKE_BACKENDS = ("quasi-steady", "surrogate")
+"""Backends with half-stroke maps: a state settable at phase 0.5 (the per-step surrogate is memoryless)."""
+
+HALF_STROKE_WHY = {"uvlm": "the UVLM's wake cannot be set at phase 0.5 to linearize the half-stroke maps"}
 """Why a backend has no half-stroke controller (the one-line refusal's reason)."""
 
 CONTROL_MODEL_FILES = {"uvlm": "control_models_uvlm.json", "surrogate": "control_models_surrogate.json"}
@@ -207,7 +209,7 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     (default :data:`HALF_STROKE_COMMAND_WEIGHT`)."""
     if rate not in RATES:
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
-    if rate == "half-stroke" and aero != "quasi-steady":
+    if rate == "half-stroke" and aero not in HALF_STROKE_BACKENDS:
         raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady ({HALF_STROKE_WHY.get(aero, '')})")
     orb, lin = _orbit_and_model(speed, aero, model, log)
     sym = symmetric_inputs(orb) if aero in ONE_SIDED_DROPPED else None
@@ -221,7 +223,12 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     d = HALVES * int(delay)
     cw = HALF_STROKE_COMMAND_WEIGHT if command_weight is None else float(command_weight)
     um = {k: v / np.sqrt(cw) for k, v in {**U_MAX, **(u_max or {})}.items()}
-    gl = periodic_lqr_gains([h.block("long", j) for j in range(HALVES)], LONG_X, SYM_INPUTS, d, x_max, um)
+    if sym is None:
+        gl = periodic_lqr_gains([h.block("long", j) for j in range(HALVES)], LONG_X, SYM_INPUTS, d, x_max, um)
+    else:  # the channels of the per-beat design (theta0 out where it sits on its bound)
+        cols = [SYM_INPUTS.index(i) for i in sym]
+        blocks = [(A, B0[:, cols], B1[:, cols]) for A, B0, B1 in (h.block("long", j) for j in range(HALVES))]
+        gl = periodic_lqr_gains(blocks, LONG_X, sym, d, x_max, um)
     gt = periodic_lqr_gains([h.block("lat", j) for j in range(HALVES)], LAT_X, ANTI_INPUTS, d, x_max, um)
     return SchedulePoint(float(speed), orb, lin, gl[0], gt[0], rate="half-stroke", half=h, long_half=gl[1],
                          lat_half=gt[1])

@@ -18,7 +18,9 @@ derivatives (hawksim/data/orbit_table_surrogate.json, control_models_surrogate.j
 * the cost of control: mean P+ of each flight against the orbit's, and the commands' largest excursions.
 
 Writes results/control/control_surrogate.json. ``NUMBA_NUM_THREADS=1 python scripts/studies/control_surrogate.py``
-(a few minutes on one core; the flights are deterministic, no seed).
+(a few minutes on one core; the flights are deterministic, no seed). ``--rate half-stroke``: the same targets with
+the kinematics updated per half-stroke (hawksim.control.halfstroke; the two experiments left out), written to
+results/control/control_surrogate_half_stroke.json.
 """
 
 from __future__ import annotations
@@ -150,11 +152,17 @@ def theta0_experiment(speeds):
 
 
 def main():
+    import argparse
+
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--rate", choices=("beat", "half-stroke"), default="beat")
+    rate = ap.parse_args().rate
     t0 = time.time()
     speeds = surrogate_schedule_speeds()
-    res = {"host": host_info(), "command": "python scripts/studies/control_surrogate.py", "aero": AERO,
+    res = {"host": host_info(), "command": "python scripts/studies/control_surrogate.py"
+           + ("" if rate == "beat" else " --rate half-stroke"), "aero": AERO, "rate": rate,
            "body_length_m": L, "bounds": BOUNDS, "speeds": list(speeds)}
-    sch = {d: Schedule(speeds[0], speeds[-1], delay=d, aero=AERO, log=log) for d in (0, 1)}
+    sch = {d: Schedule(speeds[0], speeds[-1], delay=d, aero=AERO, log=log, rate=rate) for d in (0, 1)}
     res["schedule"] = {d: [{"speed": p.speed, "orbit_f_hz": p.orbit.kinematics.f, "orbit_P_plus": p.orbit.P_plus,
                             "open_loop_long": [abs(complex(z)) for z in p.long.open_loop],
                             "open_loop_lat": [abs(complex(z)) for z in p.lat.open_loop],
@@ -242,8 +250,9 @@ def main():
                 "recovered_beats_after_gust": recovered_after(cl, GUST.start + GUST.beats - 1)}
         log(f"delay {name}: {json.dumps(row, default=float)[:600]}")
     res["delay_1_beat_1ms_gust"] = dl
-    res["margin_orbit_experiment"] = margin_experiment()
-    res["theta0_in_the_design_experiment"] = theta0_experiment(speeds)
+    if rate == "beat":
+        res["margin_orbit_experiment"] = margin_experiment()
+        res["theta0_in_the_design_experiment"] = theta0_experiment(speeds)
     ol = fly(1.0, 40, control="none", schedule=sch[0])
     res["open_loop_1ms"] = {"diverged": ol} if isinstance(ol, str) else {
         "departed_at_beat": next((b["beat"] for b in ol.beats if abs(b["speed_error"]) > 0.1
@@ -252,8 +261,9 @@ def main():
         "pitch_error_deg": [b["pitch_error_deg"] for b in ol.beats]}
     res["wall_s"] = time.time() - t0
     OUT.mkdir(parents=True, exist_ok=True)
-    (OUT / "control_surrogate.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
-    log(f"wrote {OUT / 'control_surrogate.json'} ({res['wall_s']:.0f} s)")
+    name = "control_surrogate.json" if rate == "beat" else "control_surrogate_half_stroke.json"
+    (OUT / name).write_text(json.dumps(res, indent=1, default=float) + "\n")
+    log(f"wrote {OUT / name} ({res['wall_s']:.0f} s)")
 
 
 if __name__ == "__main__":
