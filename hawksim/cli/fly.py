@@ -125,7 +125,9 @@ def _fly_controlled(args, control: str, progress, guard) -> dict:
     interrupt writes the beats flown (exit 130), as the open-loop flight does."""
     from hawksim.control.command import command_summary, fly_command
 
-    rate = getattr(args, "control_rate", None) or "beat"
+    from hawksim.control.schedule import default_rate
+
+    rate = getattr(args, "control_rate", None) or ("beat" if control == "clqr" else default_rate(args.aero))
     cl = fly_command(args.speed, args.cycles, control=control, profile=getattr(args, "ascent_profile", None),
                      gusts=getattr(args, "gust", None) or [], delay=args.sensing_delay,
                      perturb=dict(args.perturb or []), model_path=args.model, progress=progress,
@@ -255,8 +257,9 @@ def register(sub) -> None:
     from hawksim.control.schedule import RATES
 
     f.add_argument("--control-rate", choices=RATES, default=None,
-                   help="update the kinematics once per wingbeat (beat, the default) or per half-stroke (at phases "
-                        "0 and 0.5; quasi-steady and surrogate; docs/control.md compares them)")
+                   help="update the kinematics once per wingbeat (beat) or per half-stroke (at phases 0 and 0.5; "
+                        "quasi-steady and surrogate; docs/control.md compares them); default: half-stroke for "
+                        "--aero surrogate, beat otherwise")
     f.add_argument("--ascent-profile", type=_control_type(parse_profile), metavar="V:BEATS,...",
                    help="piecewise-constant speed commands [m/s] for that many wingbeats each, e.g. 0:2,1:10,2:10 "
                         "(the last speed holds after it)")

@@ -15,8 +15,9 @@ At 0, 1 and 2 m/s, for the quasi-steady model, the per-step surrogate of the UVL
   their ``resolved`` flag, and its hover row marked not resolved, since its orbit did not converge and its map is
   not smooth there, docs/free_flight.md), the surrogate's from its shipped control model's monodromy
   (hawksim/data/control_models_surrogate.json);
-* controlled flights under the per-beat LQR (:func:`hawksim.control.closed_loop.fly_closed_loop`): quasi-steady and
-  surrogate flown here (100 beats from the orbit, 100 from a perturbed start, 30 with a 0.5 m/s lateral gust over
+* controlled flights under the LQR at each backend's default rate (per beat; the surrogate per half-stroke,
+  :data:`hawksim.control.schedule.DEFAULT_RATES`; :func:`hawksim.control.closed_loop.fly_closed_loop`): quasi-steady
+  and surrogate flown here (100 beats from the orbit, 100 from a perturbed start, 30 with a 0.5 m/s lateral gust over
   beats 5-6), the UVLM's 20 beats read from results/control/control_uvlm.json
   (``python scripts/studies/control_uvlm.py``; no UVLM schedule at hover).
 
@@ -169,9 +170,11 @@ def controlled(aero: str, speed: float, out_dir: Path) -> dict:
         return {"source": "results/control/control_uvlm.json (python scripts/studies/control_uvlm.py)",
                 "beats": len(d["beats"]), "worst": d["max_abs"], "within_bounds": all(within(b) for b in d["beats"]),
                 "mean_P_plus_from_beat_5": d["mean_P_plus_from_beat_5"]}
+    from hawksim.control.schedule import default_rate
+
     sp = schedule_speeds(aero)
-    sch = Schedule(sp[0], sp[-1], aero=aero)
-    out = {"source": "flown here (hawksim.control.closed_loop.fly_closed_loop)"}
+    sch = Schedule(sp[0], sp[-1], aero=aero, rate=default_rate(aero))
+    out = {"source": "flown here (hawksim.control.closed_loop.fly_closed_loop)", "rate": sch.rate}
     pert = np.zeros(9)
     pert[[1, 2, 6, 7]] = 0.05, 0.05, np.deg2rad(1.0), np.deg2rad(1.0)
     gust = Gust(np.array([0.0, 0.5, 0.0]), 5, 2)
@@ -287,7 +290,8 @@ def markdown(res: dict) -> str:
                  "largest distinct |mu| per beat of each system (c: a complex pair; *: flagged not resolved by the "
                  "UVLM's reach test). Trim holds: open-loop beats from the orbit beat within "
                  f"{HOLD_SPEED} m/s and {HOLD_PITCH_DEG} deg of it (+: every beat flown). Controlled: issue 20's "
-                 "per-beat LQR; the UVLM's 20 beats from results/control/control_uvlm.json. Wall time: the open-loop "
+                 "LQR at each backend's default rate (per beat; the surrogate per half-stroke); the UVLM's 20 beats "
+                 "from results/control/control_uvlm.json. Wall time: the open-loop "
                  "flight's loop (recording included) per beat, and its ratio to the quasi-steady flight's at that "
                  "speed in the same sitting.")
     lines += ["", "The orbits' kinematics (Hz, deg; f and phi0 solved by Newton, the other five the start's: the "
