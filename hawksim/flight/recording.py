@@ -210,14 +210,24 @@ def control_views(beats: list[dict]) -> list[tuple[str, str, str, str]]:
 
 
 def _log_control(rec: rr.RecordingStream, res: FlightResult, beats: list[dict], views) -> None:
-    T = res.steps_per_cycle * (res.t[1] - res.t[0])
-    t_end = (np.arange(len(beats)) + 1) * T
-    idx = [rr.TimeColumn("time", duration=t_end),
-           rr.TimeColumn("step", sequence=(np.arange(len(beats)) + 1) * res.steps_per_cycle)]
+    """Each beat's tracking errors at its end; its commands there too, or, for a controller updated per half-stroke
+    (``commands_half_stroke`` in the beats), the phase-0 commands at mid-beat and the phase-0.5 ones at its end."""
+    n = res.steps_per_cycle
+    T = n * (res.t[1] - res.t[0])
+    k = np.arange(len(beats)) + 1
+    idx = [rr.TimeColumn("time", duration=k * T), rr.TimeColumn("step", sequence=k * n)]
+    half = "commands_half_stroke" in beats[0]
+    if half:  # two updates per beat
+        kk = np.ravel(np.column_stack([k - 0.5, k]))
+        idx_c = [rr.TimeColumn("time", duration=kk * T), rr.TimeColumn("step", sequence=np.rint(kk * n).astype(int))]
     for path, key, kind, name in views:
-        vals = [b["commands"][key] if kind == "commands" else b[key] for b in beats]
+        if kind == "commands" and half:
+            vals = np.ravel([[b["commands"][key], b["commands_half_stroke"][key]] for b in beats])
+        else:
+            vals = [b["commands"][key] if kind == "commands" else b[key] for b in beats]
         rec.log(path, rr.SeriesPoints(names=name, markers=["circle"], marker_sizes=[3.0]), static=True)
-        rec.send_columns(path, idx, rr.Scalars.columns(scalars=np.asarray(vals, dtype=float)))
+        rec.send_columns(path, idx_c if kind == "commands" and half else idx,
+                         rr.Scalars.columns(scalars=np.asarray(vals, dtype=float)))
 
 
 def default_blueprint(*, uvlm: bool = False, prediction: bool = False, control=()) -> rrb.Blueprint:
@@ -227,7 +237,7 @@ def default_blueprint(*, uvlm: bool = False, prediction: bool = False, control=(
     tabs = [rrb.Grid(*[rrb.TimeSeriesView(origin=o, name=n) for o, n in VIEWS], name="Per step")]
     if control:
         tabs.append(rrb.Grid(*[rrb.TimeSeriesView(origin=path, name=name) for path, _, _, name in control],
-                             name="Control per beat: commands and tracking"))
+                             name="Control: commands (per update) and tracking (per beat)"))
     if prediction:
         tabs.append(rrb.Grid(*[rrb.TimeSeriesView(origin=f"plots/beats/{k}", name=f"Δ{k} per beat [{u}]")
                                for k, u, _ in BEAT_STATES], name="Per beat: nonlinear vs linear"))

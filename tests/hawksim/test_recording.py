@@ -463,3 +463,20 @@ def test_controlled_flight_records_commands_and_tracking(tmp_path):
     assert len(steps) == 3 and all(15 <= v[0] <= 40 for v in values)  # Table 2's f bounds [Hz]
     assert "/plots/control/tracking/speed_error" in chunks
     verify(path)
+
+
+def test_half_stroke_commands_are_recorded_at_both_updates(tmp_path):
+    """A controller updated per half-stroke (the surrogate's default) records two commands per wingbeat (phases 0
+    and 0.5), the tracking errors once per beat."""
+    from hawksim.cli import main
+
+    path = tmp_path / "half.rrd"
+    assert main(["fly", "--speed", "1", "--cycles", "3", "--aero", "surrogate", "--gust", "0,0.3,0@1:1", "--rrd",
+                 str(path), "--json", "--no-progress"]) == 0
+    chunks = read_chunks(path)
+    check_units_and_views(path, chunks)
+    steps, values = temporal_column(chunks, "/plots/control/commands/dphi0_deg", "Scalars:scalars")
+    assert len(steps) == 6 and len(set(np.round([v[0] for v in values], 9))) > 2  # six distinct updates
+    steps, _ = temporal_column(chunks, "/plots/control/tracking/speed_error", "Scalars:scalars")
+    assert len(steps) == 3
+    verify(path)
