@@ -167,9 +167,15 @@ def controlled(aero: str, speed: float, out_dir: Path) -> dict:
         if d is None:
             return {"note": "no UVLM control schedule at this speed (its orbit did not converge)"
                     if speed not in schedule_speeds("uvlm") else "results/control/control_uvlm.json missing"}
-        return {"source": "results/control/control_uvlm.json (python scripts/studies/control_uvlm.py)",
-                "beats": len(d["beats"]), "worst": d["max_abs"], "within_bounds": all(within(b) for b in d["beats"]),
-                "mean_P_plus_from_beat_5": d["mean_P_plus_from_beat_5"]}
+        out = {"source": "results/control/control_uvlm.json (python scripts/studies/control_uvlm.py)",
+               "beats": len(d["beats"]), "worst": d["max_abs"], "within_bounds": all(within(b) for b in d["beats"]),
+               "mean_P_plus_from_beat_5": d["mean_P_plus_from_beat_5"]}
+        g = _find(out_dir, "control/control_constrained.json")
+        g = json.loads(g.read_text()).get("uvlm", {}).get("closed_loop_gust_0.5", {}).get(f"{speed:g}") if g else None
+        if g is not None:  # the UVLM's own LQR in the 0.5 m/s lateral gust over beats 5-6, 20 beats
+            out["gust_0.5_lateral_20"] = {**g, "source": "results/control/control_constrained.json (python "
+                                                        "scripts/studies/control_constrained.py --uvlm)"}
+        return out
     from hawksim.control.schedule import default_rate
 
     sp = schedule_speeds(aero)
@@ -266,7 +272,9 @@ def markdown(res: dict) -> str:
         if "worst" in c:
             ctl = (f"{c['worst']['speed_error']:.1e} / {c['worst']['pitch_error_deg']:.1e} / "
                    f"{c['worst']['roll_deg']:.1e} ({c['beats']} beats)")
-            gust = "not flown"
+            g = c.get("gust_0.5_lateral_20")
+            gust = ("not flown" if g is None else "not within 20 beats" if g["recovered_beats_after_gust"] is None
+                    else f"{g['recovered_beats_after_gust']} beats (20 flown)")
         elif "from_orbit_100" in c:
             f = c["from_orbit_100"]
             pp = c["perturbed_start_100"]
