@@ -4,7 +4,8 @@ Four panels over time [s], one point per wingbeat (beat boundaries from each bea
 the rate-limited reference, the beat-mean and the within-beat vertical speed [m/s]; (b) pitch error against the
 orbit's mean pitch, roll and yaw, beat means [deg], the +-2 deg band of issue 20's bounds shaded; (c) the
 symmetric commands, f [Hz] and phi0, alpha0, theta0 [deg]; (d) the antisymmetric commands (left minus right
-phi_a, phi0, alpha0 [deg]) and the lateral offset Y [mm]. Gusts are shaded over their beats.
+phi_a, phi0, alpha0 [deg]) and the lateral offset Y [mm] (commands once per beat, or per half-stroke at both
+updates). Gusts are shaded over their beats.
 """
 
 from __future__ import annotations
@@ -39,16 +40,21 @@ def controlled_flight_figure(cl, path: str | Path, *, title: str, caption: str |
         ax[1].axhspan(-2, 2, color="0.92", zorder=0)
         ax[1].set_ylabel("beat mean [deg]")
         ax[1].legend()
-        c = {key: [x["commands"][key] for x in b] for key in b[0]["commands"]}
+        if "commands_half_stroke" in b[0]:  # per half-stroke: the phase-0 command at mid-beat, phase-0.5 at its end
+            tc = np.ravel(np.column_stack([tb[:-1] + (tb[1:] - tb[:-1]) / 2, tb[1:]]))
+            c = {key: np.ravel([[x["commands"][key], x["commands_half_stroke"][key]] for x in b])
+                 for key in b[0]["commands"]}
+        else:
+            tc, c = tm, {key: [x["commands"][key] for x in b] for key in b[0]["commands"]}
         ax2 = ax[2].twinx()
-        ax[2].plot(tm, c["f_hz"], "o-", ms=3, color="C0", label="f [Hz] (left axis)")
+        ax[2].plot(tc, c["f_hz"], "o-", ms=3, color="C0", label="f [Hz] (left axis)")
         for key, col in (("phi0_deg", "C1"), ("alpha0_deg", "C2"), ("theta0_deg", "C3")):
-            ax2.plot(tm, c[key], ".-", color=col, label=key.replace("_deg", " [deg]"))
+            ax2.plot(tc, c[key], ".-", color=col, label=key.replace("_deg", " [deg]"))
         ax[2].set_ylabel("f [Hz]")
         ax2.set_ylabel("symmetric angles [deg]")
         ax2.legend(loc="upper right")
         for key, col in (("dphi_a_deg", "C4"), ("dphi0_deg", "C5"), ("dalpha0_deg", "C6")):
-            ax[3].plot(tm, c[key], ".-", color=col, label=key.replace("_deg", "") + " left - right [deg]")
+            ax[3].plot(tc, c[key], ".-", color=col, label=key.replace("_deg", "") + " left - right [deg]")
         ax3 = ax[3].twinx()
         ax3.plot(tm, [1e3 * x["horizontal_offset_m"][1] for x in b], "k--", lw=1, label="lateral offset Y [mm]")
         ax3.set_ylabel("Y (right) [mm]")

@@ -136,49 +136,16 @@ def uvlm_part():
     return out
 
 
-FIGURE_PROFILE = [(0.0, 2), (1.0, 25), (2.0, 48)]
-FIGURE_GUST = Gust(np.array([0.0, 0.3, 0.0]), 58, 2)
-"""The figure's flight (results/control/controlled_flight_surrogate.png): the surrogate's ascent profile, then a
-0.3 m/s lateral gust at 2 m/s over beats 58-59, 75 beats under the constrained LQR."""
-
-
-def figure():
-    from hawksim.control.figure import controlled_flight_figure
-
-    cl = fly_closed_loop(0.0, 75, profile=FIGURE_PROFILE, gusts=[FIGURE_GUST], control="clqr", aero="surrogate",
-                         record=True)
-    b = cl.beats
-    out = {"overshoot_m_s": float(max(x["mean_vertical_speed"] - x["speed_command"] for x in b)),
-           "max_pitch_error_deg": float(max(abs(x["pitch_error_deg"]) for x in b)),
-           "max_roll_deg": float(max(abs(x["roll_deg"]) for x in b)),
-           "recovered_beats_after_gust": (lambda k: None if k is None else max(0, k - 59))(settled_at(b[50:]))}
-    controlled_flight_figure(cl, OUT.parent / "controlled_flight_surrogate.png",
-                             title="Constrained LQR, per-step surrogate: profile 0:2,1:25,2:48 m/s:beats, gust "
-                                   "0,0.3,0 m/s @ beats 58-59 (shaded)",
-                             caption="hawksim fly --aero surrogate --control clqr --ascent-profile 0:2,1:25,2:48 "
-                                     "--gust 0,0.3,0@58:2 --cycles 75 (scripts/studies/control_constrained.py). "
-                                     "The speed reference moves 0.05 m/s per beat (SPEED_RATES).")
-    return out
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", type=Path, default=OUT)
     ap.add_argument("--uvlm", action="store_true", help="also the UVLM's controlled and open-loop gust responses")
-    ap.add_argument("--figure-only", action="store_true", help="only the figure (and its figures in the JSON)")
     a = ap.parse_args()
     t0 = time.perf_counter()
-    if a.figure_only:
-        out = json.loads(a.out.read_text()) if a.out.is_file() else {"host": host_info()}
-        out["figure"] = figure()
-        a.out.write_text(json.dumps(out, indent=1) + "\n")
-        log(f"figure: {out['figure']}")
-        return
     out = {"host": host_info(), "bounds": BOUNDS, "gust_beats": [GUST_START, GUST_START + GUST_BEATS - 1],
            "envelope_fraction_of_table2": ENVELOPE, "surrogate": surrogate_part()}
     if a.uvlm:
         out["uvlm"] = uvlm_part()
-    out["figure"] = figure()
     out["wall_time_s"] = time.perf_counter() - t0
     a.out.parent.mkdir(parents=True, exist_ok=True)
     a.out.write_text(json.dumps(out, indent=1) + "\n")

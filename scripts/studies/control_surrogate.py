@@ -151,12 +151,42 @@ def theta0_experiment(speeds):
     return out
 
 
+FIGURE_PROFILE = [(0.0, 2), (1.0, 25), (2.0, 48)]
+FIGURE_GUST = Gust(np.array([0.0, 0.5, 0.0]), 58, 2)
+"""The figure's flight (results/control/controlled_flight_surrogate.png, with ``--rate half-stroke``, the
+surrogate's default): the ascent profile, then issue 20's 0.5 m/s lateral gust at 2 m/s over beats 58-59, 75 beats."""
+
+
+def figure(rate):
+    from hawksim.control.figure import controlled_flight_figure
+
+    cl = fly_closed_loop(0.0, 75, profile=FIGURE_PROFILE, gusts=[FIGURE_GUST], aero=AERO, rate=rate, record=True)
+    b = cl.beats
+    out = {"overshoot_m_s": float(max(x["mean_vertical_speed"] - x["speed_command"] for x in b)),
+           "max_pitch_error_deg": float(max(abs(x["pitch_error_deg"]) for x in b)),
+           "max_roll_deg": float(max(abs(x["roll_deg"]) for x in b)),
+           "recovered_beats_after_gust": recovered_after(cl, FIGURE_GUST.start + FIGURE_GUST.beats - 1)}
+    controlled_flight_figure(cl, OUT / "controlled_flight_surrogate.png",
+                             title=f"LQR per {rate}, per-step surrogate: profile 0:2,1:25,2:48 m/s:beats, gust "
+                                   "0,0.5,0 m/s @ beats 58-59 (shaded)",
+                             caption=f"hawksim fly --aero surrogate --speed 0 --cycles 75 --ascent-profile "
+                                     f"0:2,1:25,2:48 --gust 0,0.5,0@58:2 --control-rate {rate} "
+                                     "(scripts/studies/control_surrogate.py --rate half-stroke). The speed reference "
+                                     "moves 0.05 m/s per beat (SPEED_RATES).")
+    return out
+
+
 def main():
     import argparse
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rate", choices=("beat", "half-stroke"), default="beat")
-    rate = ap.parse_args().rate
+    ap.add_argument("--figure-only", action="store_true", help="only the figure (--rate half-stroke's)")
+    args = ap.parse_args()
+    rate = args.rate
+    if args.figure_only:
+        log(f"figure: {figure(rate)}")
+        return
     t0 = time.time()
     speeds = surrogate_schedule_speeds()
     res = {"host": host_info(), "command": "python scripts/studies/control_surrogate.py"
@@ -261,6 +291,8 @@ def main():
         "pitch_error_deg": [b["pitch_error_deg"] for b in ol.beats]}
     res["wall_s"] = time.time() - t0
     OUT.mkdir(parents=True, exist_ok=True)
+    if rate == "half-stroke":
+        res["figure"] = figure(rate)
     name = "control_surrogate.json" if rate == "beat" else "control_surrogate_half_stroke.json"
     (OUT / name).write_text(json.dumps(res, indent=1, default=float) + "\n")
     log(f"wrote {OUT / name} ({res['wall_s']:.0f} s)")
