@@ -49,11 +49,19 @@ def cmd_stability(args) -> dict:
                   "the multipliers are of the nearest state found", file=sys.stderr)
         fl = monodromy(orbit)
         kin = orbit.kinematics
-        control = None
-        if args.aero == "quasi-steady":  # issue 20: B matrices beside the monodromy (UVLM: control_uvlm study)
-            from hawksim.control.derivatives import linearize
+        # issue 20: the control derivatives (B matrices) beside the monodromy: the surrogate's and the UVLM's
+        # shipped models (hawksim reproduce --only control_surrogate / control_uvlm) about the shipped orbit, else
+        # differenced here (quasi-steady and surrogate: seconds; the UVLM's take minutes: none)
+        from hawksim.control.derivatives import linearize
+        from hawksim.control.schedule import CONTROL_MODEL_FILES, shipped_control_model
 
-            control = linearize(orbit).to_json()
+        lin = source = None
+        if args.aero in CONTROL_MODEL_FILES and args.kinematics is None:
+            lin = shipped_control_model(args.speed, args.aero)
+            source = f"shipped: hawksim/data/{CONTROL_MODEL_FILES[args.aero]}"
+        if lin is None and args.aero != "uvlm":
+            lin, source = linearize(orbit), "differenced here (hawksim.control.derivatives.linearize)"
+        control = None if lin is None else {**lin.to_json(), "source": source}
         out_orbit = {"orbit": orbit_json(orbit), "control_derivatives": control, "floquet": {
             **floquet_json(fl), "chart": "level heading axes (u, v horizontal; the averaged A's eigenvectors are in "
                                          "body-fixed stability axes: u_b = u - w_e theta, v_b = v + w_e phi)"}}

@@ -325,3 +325,15 @@ def test_half_stroke_ascent_profile_without_overshoot(half):
     assert max(b["mean_vertical_speed"] - b["speed_command"] for b in cl.beats) < 0.1
     assert max(abs(b["pitch_error_deg"]) for b in cl.beats) < 2.0
     assert all(abs(b["mean_vertical_speed"] - 2.0) <= 0.02 for b in cl.beats[54:])
+
+
+def test_stability_floquet_prints_the_surrogate_control_derivatives(capsys):
+    """Issue 20 item 1 for the surrogate: `hawksim stability --floquet --json` prints the B matrices beside the
+    monodromy, the shipped control model's (about the shipped orbit)."""
+    from hawksim.cli import main
+
+    assert main(["stability", "--speed", "1", "--aero", "surrogate", "--floquet", "--json", "--no-progress"]) == 0
+    c = json.loads(capsys.readouterr().out)["control_derivatives"]
+    ref = shipped_control_model(1.0, "surrogate")
+    assert c["source"].startswith("shipped") and np.array_equal(np.array(c["B1"]), ref.B1)
+    assert np.array(c["B0"]).shape == (11, 7)
