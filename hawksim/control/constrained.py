@@ -43,7 +43,7 @@ from scipy.linalg import solve_discrete_are, solve_triangular
 from scipy.optimize import lsq_linear
 
 from hawksim.control.derivatives import (FD_DELTA, SURROGATE_FD_DELTA, XI_NAMES, central_jacobians,
-                                         one_beat, xi_scale)
+                                         normalized_xi, one_beat, xi_scale)
 from hawksim.control.lqr import U_MAX, X_MAX, augment
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import Orbit
@@ -178,11 +178,8 @@ def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float |
     def beat(x, v_prev, v):
         return one_beat(orbit, x, v_prev, v, model=model, wings=wing_params)
 
-    def xi(out):
-        x, disp = out
-        return np.concatenate([x, disp]) / sc
-
-    A_, B0, B1 = central_jacobians(beat, xi, x0, sc, delta, 0 if A is not None else 8, len(WING_INPUTS))
+    A_, B0, B1 = central_jacobians(beat, normalized_xi(sc), x0, sc, delta, 0 if A is not None else 8,
+                                   len(WING_INPUTS))
     return WingMapModel(orbit=orbit, A=np.array(A if A is not None else A_, float), B0=B0, B1=B1, delta=delta,
                         wall_time_s=time.perf_counter() - t0)
 

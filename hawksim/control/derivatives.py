@@ -65,6 +65,16 @@ def xi_scale(kin: Kinematics) -> np.ndarray:
     return np.array([U, U, U, 1 / T, 1 / T, 1 / T, 1.0, 1.0, 1.0, U * T, U * T])
 
 
+def normalized_xi(sc: np.ndarray):
+    """The map from a beat's output (state (9,), displacement (2,), SI) to the normalized extended state xi (11,)
+    of scale ``sc`` (:func:`xi_scale`)."""
+    def xi(out):
+        x, disp = out
+        return np.concatenate([x, disp]) / sc
+
+    return xi
+
+
 def stability_position(pos_world: np.ndarray) -> np.ndarray:
     """(X forward, Y right) [m] of a world position (stability axes at heading 0)."""
     return (STABILITY_TO_WORLD @ np.asarray(pos_world, float))[:2]
@@ -265,11 +275,7 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
         def beat(x, du_prev, du):
             return one_beat(orbit, x, du_prev, du, model=model, clip=clip)
 
-    def xi(out):
-        x, disp = out
-        return np.concatenate([x, disp]) / sc
-
-    A, B0, B1 = central_jacobians(beat, xi, x0, sc, delta, 8)
+    A, B0, B1 = central_jacobians(beat, normalized_xi(sc), x0, sc, delta, 8)
     # the neutral rows: psi and position do not feed back (identity columns set above); psi's own row from the map
     cross = max(np.abs(M[np.ix_(a, b)]).max() for M, (a, b) in
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
