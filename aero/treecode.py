@@ -41,7 +41,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from aero.biot_savart import FOUR_PI, RSQRT_MIN, TINY, claim, rsqrt
+from aero.biot_savart import FOUR_PI, RSQRT_MIN, _edge_sum, claim, rsqrt
+from aero.lattice import stacked_lattices
 from aero.scheduling import run_chunked
 
 N_MOMENTS = 30
@@ -55,18 +56,24 @@ STACK = 512
 class TreeParams:
     """Error control and granularity of the treecode.
 
-    theta: opening angle, (cluster radius + its largest core radius) / distance below which a cluster acts by its
-    moments on every target of a target leaf (0: direct sum); source_leaf, target_leaf: most segments / targets per
-    leaf (granularity only: the result's accuracy is set by theta; tuned for speed, docs/performance.md).
+    theta: opening angle: a cluster acts by its moments on a target leaf only if (its radius + core_factor x its
+    largest core radius) < theta x the distance from its centre to every target of the leaf (0: the direct sum);
+    core_factor: weight of the cores in that criterion (the far field ignores them; 1 keeps their error below the
+    expansion's on the UVLM's wakes, docs/performance.md); source_leaf: most lattice corners per source leaf (a
+    block of rows x columns of a lattice), target_leaf: most targets per target leaf (granularity: speed, and the
+    error only through the leaves' sizes in the criterion; tuned on 10-beat wakes, docs/performance.md).
     """
 
     theta: float = 0.4
-    source_leaf: int = 32
+    core_factor: float = 1.0
+    source_leaf: int = 128
     target_leaf: int = 32
 
     def __post_init__(self):
         if not (np.isfinite(self.theta) and 0.0 <= self.theta < 1.0):
             raise ValueError(f"TreeParams.theta must lie in [0, 1), got {self.theta!r}")
+        if not (np.isfinite(self.core_factor) and self.core_factor >= 0.0):
+            raise ValueError(f"TreeParams.core_factor must be finite and >= 0, got {self.core_factor!r}")
         for name in ("source_leaf", "target_leaf"):
             v = getattr(self, name)
             if int(v) != v or v < 1:
@@ -127,53 +134,122 @@ def _split(x, y, z, leaf):
 
 
 @njit(cache=True)
-def _source_nodes(start, end, ax, ay, az, dx, dy, dz, g, rc2):
-    """Per node (segments in tree order): centre (nodes, 3) [m], radius covering every segment end point [m],
-    largest core radius [m], moments (nodes, N_MOMENTS) about the centre."""
-    nn = start.shape[0]
-    centre = np.empty((nn, 3))
-    rho = np.empty(nn)
-    rc = np.empty(nn)
+def _block_tree(vx, vy, vz, stride, leaf):
+    """Binary tree of corner blocks over a stacked lattice (corners row-major, ``stride`` per row, as
+    :func:`aero.lattice._fill` writes them): node k holds corner rows [r0, r1) x columns [c0, c1) and owns the
+    edges that start at its corners. A node of more than ``leaf`` corners is halved along the side (rows or
+    columns) that is longer in space, at the middle index; columns only while more than 2 wide. Returns
+    (r0, r1, c0, c1, left, right), node 0 the root, breadth-first; left = right = -1 at leaves."""
+    nrows = vx.shape[0] // stride
+    maxn = 4 * (nrows * stride // max(leaf, 1)) + 8
+    r0 = np.empty(maxn, np.int64)
+    r1 = np.empty(maxn, np.int64)
+    c0 = np.empty(maxn, np.int64)
+    c1 = np.empty(maxn, np.int64)
+    left = np.full(maxn, -1, np.int64)
+    right = np.full(maxn, -1, np.int64)
+    r0[0], r1[0], c0[0], c1[0] = 0, nrows, 0, stride
+    nn = 1
+    i = 0
+    while i < nn:
+        nr, nc = r1[i] - r0[i], c1[i] - c0[i]
+        if nr * nc > leaf and (nr > 1 or nc > 2):
+            rm = (r0[i] + r1[i]) // 2
+            cm = (c0[i] + c1[i]) // 2
+            a = (r0[i]) * stride + cm
+            b = (r1[i] - 1) * stride + cm
+            lr = (vx[a] - vx[b]) ** 2 + (vy[a] - vy[b]) ** 2 + (vz[a] - vz[b]) ** 2
+            a = rm * stride + c0[i]
+            b = rm * stride + c1[i] - 1
+            lc = (vx[a] - vx[b]) ** 2 + (vy[a] - vy[b]) ** 2 + (vz[a] - vz[b]) ** 2
+            split_rows = nr > 1 and (nc <= 2 or lr >= lc)
+            left[i], right[i] = nn, nn + 1
+            for k in (nn, nn + 1):
+                r0[k], r1[k], c0[k], c1[k] = r0[i], r1[i], c0[i], c1[i]
+            if split_rows:
+                r1[nn] = rm
+                r0[nn + 1] = rm
+            else:
+                c1[nn] = cm
+                c0[nn + 1] = cm
+            nn += 2
+        i += 1
+    return r0[:nn], r1[:nn], c0[:nn], c1[:nn], left[:nn], right[:nn]
+
+
+@njit(cache=True)
+def _block_nodes(r0, r1, c0, c1, vx, vy, vz, stride, sg, sr, cg, cr):
+    """Per node of :func:`_block_tree`, from the edges it owns (span edge c -> c + 1 with circulation sg[c] and
+    rr = |r0|^2 r_c^2 sr[c], chord edge c -> c + stride with cg[c], cr[c]; zero-circulation edges left out):
+    centre (nodes, 3) [m] (of the bounding box of the edges' end points), radius about it covering every end
+    point [m], largest core radius [m] and moments (nodes, N_MOMENTS) about the centre."""
+    nn = r0.shape[0]
+    nrows = vx.shape[0] // stride
+    centre = np.zeros((nn, 3))
+    rho = np.zeros(nn)
+    rc = np.zeros(nn)
     mom = np.zeros((nn, N_MOMENTS))
     for k in range(nn):
-        lo = np.full(3, np.inf)
-        hi = np.full(3, -np.inf)
-        r2max = 0.0
-        for j in range(start[k], end[k]):
-            a = (ax[j], ay[j], az[j])
-            b = (ax[j] + dx[j], ay[j] + dy[j], az[j] + dz[j])
-            for q in range(3):
-                lo[q] = min(lo[q], a[q], b[q])
-                hi[q] = max(hi[q], a[q], b[q])
-            r2max = max(r2max, rc2[j])
-        c = 0.5 * (lo + hi)
-        centre[k] = c
-        rad2 = 0.0
-        for j in range(start[k], end[k]):
-            ex = ax[j] - c[0]
-            ey = ay[j] - c[1]
-            ez = az[j] - c[2]
-            rad2 = max(rad2, ex * ex + ey * ey + ez * ez)
-            ex += dx[j]
-            ey += dy[j]
-            ez += dz[j]
-            rad2 = max(rad2, ex * ex + ey * ey + ez * ez)
-            d = (dx[j], dy[j], dz[j])
-            s = (ax[j] + 0.5 * dx[j] - c[0], ay[j] + 0.5 * dy[j] - c[1], az[j] + 0.5 * dz[j] - c[2])
-            for q in range(3):
-                al = g[j] * d[q]
-                mom[k, q] += al
-                for kk in range(3):
-                    mom[k, 3 + 3 * q + kk] += al * s[kk]
-                b0 = 12 + 6 * q
-                mom[k, b0 + 0] += al * (s[0] * s[0] + d[0] * d[0] / 12.0)
-                mom[k, b0 + 1] += al * (s[1] * s[1] + d[1] * d[1] / 12.0)
-                mom[k, b0 + 2] += al * (s[2] * s[2] + d[2] * d[2] / 12.0)
-                mom[k, b0 + 3] += al * (s[0] * s[1] + d[0] * d[1] / 12.0)
-                mom[k, b0 + 4] += al * (s[0] * s[2] + d[0] * d[2] / 12.0)
-                mom[k, b0 + 5] += al * (s[1] * s[2] + d[1] * d[2] / 12.0)
-        rho[k] = np.sqrt(rad2)
-        rc[k] = np.sqrt(r2max)
+        for sweep in range(2):  # 0: bounding box and cores; 1: radius and moments about the centre
+            lo = np.full(3, np.inf)
+            hi = np.full(3, -np.inf)
+            r2max = 0.0
+            rad2 = 0.0
+            cxk, cyk, czk = centre[k, 0], centre[k, 1], centre[k, 2]
+            for i in range(r0[k], r1[k]):
+                for j in range(c0[k], c1[k]):
+                    c = i * stride + j
+                    for e in range(2):
+                        if e == 0:
+                            if j >= stride - 1:
+                                continue
+                            t, gam, rr = c + 1, sg[c], sr[c]
+                        else:
+                            if i >= nrows - 1:
+                                continue
+                            t, gam, rr = c + stride, cg[c], cr[c]
+                        if gam == 0.0:
+                            continue
+                        ax, ay, az = vx[c], vy[c], vz[c]
+                        dx, dy, dz = vx[t] - ax, vy[t] - ay, vz[t] - az
+                        d2 = dx * dx + dy * dy + dz * dz
+                        if sweep == 0:
+                            lo[0] = min(lo[0], ax, ax + dx)
+                            hi[0] = max(hi[0], ax, ax + dx)
+                            lo[1] = min(lo[1], ay, ay + dy)
+                            hi[1] = max(hi[1], ay, ay + dy)
+                            lo[2] = min(lo[2], az, az + dz)
+                            hi[2] = max(hi[2], az, az + dz)
+                            if d2 > 0.0:
+                                r2max = max(r2max, rr / d2)
+                            continue
+                        ex, ey, ez = ax - cxk, ay - cyk, az - czk
+                        rad2 = max(rad2, ex * ex + ey * ey + ez * ez)
+                        ex, ey, ez = ex + dx, ey + dy, ez + dz
+                        rad2 = max(rad2, ex * ex + ey * ey + ez * ez)
+                        d = (dx, dy, dz)
+                        sv = (ax + 0.5 * dx - cxk, ay + 0.5 * dy - cyk, az + 0.5 * dz - czk)
+                        for q in range(3):
+                            al = gam * d[q]
+                            mom[k, q] += al
+                            for kk in range(3):
+                                mom[k, 3 + 3 * q + kk] += al * sv[kk]
+                            b0 = 12 + 6 * q
+                            mom[k, b0 + 0] += al * (sv[0] * sv[0] + d[0] * d[0] / 12.0)
+                            mom[k, b0 + 1] += al * (sv[1] * sv[1] + d[1] * d[1] / 12.0)
+                            mom[k, b0 + 2] += al * (sv[2] * sv[2] + d[2] * d[2] / 12.0)
+                            mom[k, b0 + 3] += al * (sv[0] * sv[1] + d[0] * d[1] / 12.0)
+                            mom[k, b0 + 4] += al * (sv[0] * sv[2] + d[0] * d[2] / 12.0)
+                            mom[k, b0 + 5] += al * (sv[1] * sv[2] + d[1] * d[2] / 12.0)
+            if sweep == 0:
+                if lo[0] > hi[0]:  # no edge with circulation: a node that acts as nothing (rc < 0 marks it)
+                    rc[k] = -1.0
+                    break
+                for q in range(3):
+                    centre[k, q] = 0.5 * (lo[q] + hi[q])
+                rc[k] = np.sqrt(r2max)
+            else:
+                rho[k] = np.sqrt(rad2)
     return centre, rho, rc, mom
 
 
@@ -209,9 +285,9 @@ def _target_leaves(start, end, left, x, y, z):
 
 
 @njit(fastmath=True, error_model="numpy", inline="always", cache=True)
-def _far(t0, t1, x, y, z, cx, cy, cz, m, ux, uy, uz):
+def _far(nt, x, y, z, cx, cy, cz, m, ux, uy, uz):
     """Add 4 pi x the far field of one cluster (centre cx, cy, cz; moments m (N_MOMENTS,)) to ux, uy, uz at the
-    targets t0..t1 (leaf-local index j - t0)."""
+    targets j < nt (sliced to the leaf)."""
     m0x, m0y, m0z = m[0], m[1], m[2]
     a00, a01, a02, a10, a11, a12, a20, a21, a22 = m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11]
     # M2[q] as a symmetric 3 x 3 (xx, yy, zz, xy, xz, yz)
@@ -225,7 +301,7 @@ def _far(t0, t1, x, y, z, cx, cy, cz, m, ux, uy, uz):
     tx = p0xx + p0yy + p0zz
     ty = p1xx + p1yy + p1zz
     tz = p2xx + p2yy + p2zz
-    for j in range(t0, t1):
+    for j in range(nt):
         rx = x[j] - cx
         ry = y[j] - cy
         rz = z[j] - cz
@@ -260,62 +336,54 @@ def _far(t0, t1, x, y, z, cx, cy, cz, m, ux, uy, uz):
         bx = i3 * m0x + i5 * (3.0 * wx - 1.5 * tx) + 7.5 * i7 * sx
         by = i3 * m0y + i5 * (3.0 * wy - 1.5 * ty) + 7.5 * i7 * sy
         bz = i3 * m0z + i5 * (3.0 * wz - 1.5 * tz) + 7.5 * i7 * sz
-        k = j - t0
-        ux[k] += by * rz - bz * ry - i3 * axm1x - 3.0 * i5 * axux
-        uy[k] += bz * rx - bx * rz - i3 * axm1y - 3.0 * i5 * axuy
-        uz[k] += bx * ry - by * rx - i3 * axm1z - 3.0 * i5 * axuz
-
-
-@njit(fastmath=True, error_model="numpy", inline="always", cache=True)
-def _near(t0, t1, x, y, z, s0, s1, ax, ay, az, dx, dy, dz, g, rr, ux, uy, uz):
-    """Add 4 pi x the exact velocity of segments s0..s1 (regularised, :mod:`aero.biot_savart`'s formula) to
-    ux, uy, uz at the targets t0..t1."""
-    for j in range(t0, t1):
-        px, py, pz = x[j], y[j], z[j]
-        sx = 0.0
-        sy = 0.0
-        sz = 0.0
-        for k in range(s0, s1):
-            r1x = px - ax[k]
-            r1y = py - ay[k]
-            r1z = pz - az[k]
-            r2x = r1x - dx[k]
-            r2y = r1y - dy[k]
-            r2z = r1z - dz[k]
-            i1 = rsqrt(max(r1x * r1x + r1y * r1y + r1z * r1z, RSQRT_MIN))
-            i2 = rsqrt(max(r2x * r2x + r2y * r2y + r2z * r2z, RSQRT_MIN))
-            cx = r1y * r2z - r1z * r2y
-            cy = r1z * r2x - r1x * r2z
-            cz = r1x * r2y - r1y * r2x
-            K = dx[k] * (r1x * i1 - r2x * i2) + dy[k] * (r1y * i1 - r2y * i2) + dz[k] * (r1z * i1 - r2z * i2)
-            f = g[k] * K / (cx * cx + cy * cy + cz * cz + rr[k] + TINY)
-            sx += f * cx
-            sy += f * cy
-            sz += f * cz
-        ux[j - t0] += sx
-        uy[j - t0] += sy
-        uz[j - t0] += sz
+        ux[j] += by * rz - bz * ry - i3 * axm1x - 3.0 * i5 * axux
+        uy[j] += bz * rx - bx * rz - i3 * axm1y - 3.0 * i5 * axuy
+        uz[j] += bx * ry - by * rx - i3 * axm1z - 3.0 * i5 * axuz
 
 
 @njit(nogil=True, fastmath=True, error_model="numpy", cache=True)
-def _tree_chunks(x, y, z, ls, le, lc, lr, s_start, s_end, s_left, s_right, s_c, s_rho, s_rc, s_mom,
-                 ax, ay, az, dx, dy, dz, g, rr, theta, out, counter, nchunk):
-    """One task of :func:`tree_velocity`: chunks q = claim(counter) < nchunk of the target leaves; out (n, 3) in
-    target tree order, overwritten."""
+def _tree_chunks(x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_right, b_c, b_rho, b_rc, b_mom,
+                 vx, vy, vz, stride, sg, sr, cg, cr, theta, kappa, out, counter, nchunk):
+    """One task of :func:`lattice_tree_velocity`: chunks q = claim(counter) < nchunk of the target leaves
+    (targets x, y, z in target-tree order; leaf L holds targets ls[L]..le[L], centre lc[L], radius lr[L]);
+    out (n, 3) in target-tree order, overwritten. Leaves of the source tree act by the lattice kernel's
+    arithmetic (:func:`aero.biot_savart._edge_sum` on the block's corners, each corner's 1/sqrt once per
+    target; the block's corners and owned edges are first copied into contiguous local arrays, with
+    zero-circulation padding where an edge is not the block's, so that its edges are two vectorised loops)."""
     nl = ls.shape[0]
+    nrows = vx.shape[0] // stride
     stack = np.empty(STACK, np.int64)
-    width = 0
+    width = 1
     for i in range(nl):
         width = max(width, le[i] - ls[i])
+    size = 1
+    for k in range(b_r0.shape[0]):
+        if b_left[k] < 0:
+            size = max(size, (b_r1[k] - b_r0[k] + 1) * (b_c1[k] - b_c0[k] + 1))
     ux = np.empty(width)
     uy = np.empty(width)
     uz = np.empty(width)
+    rx = np.empty(size + 1)
+    ry = np.empty(size + 1)
+    rz = np.empty(size + 1)
+    ex = np.empty(size + 1)
+    ey = np.empty(size + 1)
+    ez = np.empty(size + 1)
+    bx = np.empty(size)
+    by = np.empty(size)
+    bz = np.empty(size)
+    lsg = np.empty(size)
+    lsr = np.empty(size)
+    lcg = np.empty(size)
+    lcr = np.empty(size)
     scale = 1.0 / FOUR_PI
     q = claim(counter)
     while q < nchunk:
         for L in range(q * nl // nchunk, (q + 1) * nl // nchunk):
             t0, t1 = ls[L], le[L]
-            for j in range(t1 - t0):
+            nt = t1 - t0
+            xs, ys, zs = x[t0:t1], y[t0:t1], z[t0:t1]
+            for j in range(nt):
                 ux[j] = 0.0
                 uy[j] = 0.0
                 uz[j] = 0.0
@@ -324,59 +392,130 @@ def _tree_chunks(x, y, z, ls, le, lc, lr, s_start, s_end, s_left, s_right, s_c, 
             while sp > 0:
                 sp -= 1
                 k = stack[sp]
-                ex = lc[L, 0] - s_c[k, 0]
-                ey = lc[L, 1] - s_c[k, 1]
-                ez = lc[L, 2] - s_c[k, 2]
-                dist = np.sqrt(ex * ex + ey * ey + ez * ez)
-                if s_rho[k] + s_rc[k] < theta * (dist - lr[L]):
-                    _far(t0, t1, x, y, z, s_c[k, 0], s_c[k, 1], s_c[k, 2], s_mom[k], ux, uy, uz)
-                elif s_left[k] < 0:
-                    _near(t0, t1, x, y, z, s_start[k], s_end[k], ax, ay, az, dx, dy, dz, g, rr, ux, uy, uz)
+                if b_rc[k] < 0.0:
+                    continue  # a node without circulation
+                dx = lc[L, 0] - b_c[k, 0]
+                dy = lc[L, 1] - b_c[k, 1]
+                dz = lc[L, 2] - b_c[k, 2]
+                dist = np.sqrt(dx * dx + dy * dy + dz * dz)
+                if b_rho[k] + kappa * b_rc[k] < theta * (dist - lr[L]):
+                    _far(nt, xs, ys, zs, b_c[k, 0], b_c[k, 1], b_c[k, 2], b_mom[k], ux, uy, uz)
+                elif b_left[k] < 0:  # the block's corners and owned edges into contiguous local arrays
+                    r0, r1, c0, c1 = b_r0[k], b_r1[k], b_c0[k], b_c1[k]
+                    w = min(c1, stride - 1) - c0 + 1
+                    h = min(r1, nrows - 1) - r0 + 1
+                    nspan = min(c1, stride - 1) - c0
+                    for li in range(h):
+                        own = li < r1 - r0
+                        chord = own and r0 + li < nrows - 1
+                        for kk in range(w):
+                            gi = (r0 + li) * stride + c0 + kk
+                            lo = li * w + kk
+                            bx[lo], by[lo], bz[lo] = vx[gi], vy[gi], vz[gi]
+                            if own and kk < nspan:
+                                lsg[lo], lsr[lo] = sg[gi], sr[gi]
+                            else:
+                                lsg[lo], lsr[lo] = 0.0, 1.0
+                            if chord and kk < c1 - c0:
+                                lcg[lo], lcr[lo] = cg[gi], cr[gi]
+                            else:
+                                lcg[lo], lcr[lo] = 0.0, 1.0
+                    nloc = h * w
+                    for j in range(nt):
+                        px, py, pz = xs[j], ys[j], zs[j]
+                        for kk in range(nloc):
+                            xx = px - bx[kk]
+                            yy = py - by[kk]
+                            zz = pz - bz[kk]
+                            inv = rsqrt(max(xx * xx + yy * yy + zz * zz, RSQRT_MIN))
+                            rx[kk] = xx
+                            ry[kk] = yy
+                            rz[kk] = zz
+                            ex[kk] = xx * inv
+                            ey[kk] = yy * inv
+                            ez[kk] = zz * inv
+                        sx, sy, sz = _edge_sum(nloc - 1, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:],
+                                               ey[1:], ez[1:], lsg, lsr, 0.0, 0.0, 0.0)
+                        if h > 1:
+                            sx, sy, sz = _edge_sum(nloc - w, rx, ry, rz, ex, ey, ez, rx[w:], ry[w:], rz[w:],
+                                                   ex[w:], ey[w:], ez[w:], lcg, lcr, sx, sy, sz)
+                        ux[j] += sx
+                        uy[j] += sy
+                        uz[j] += sz
                 else:
-                    stack[sp] = s_right[k]
-                    stack[sp + 1] = s_left[k]
+                    stack[sp] = b_right[k]
+                    stack[sp + 1] = b_left[k]
                     sp += 2
-            for j in range(t1 - t0):
+            for j in range(nt):
                 out[t0 + j, 0] = ux[j] * scale
                 out[t0 + j, 1] = uy[j] * scale
                 out[t0 + j, 2] = uz[j] * scale
         q = claim(counter)
 
 
-def tree_velocity(targets: np.ndarray, a: np.ndarray, b: np.ndarray, gamma: np.ndarray, rc2,
-                  params: TreeParams = TreeParams(), threads: int | None = None) -> np.ndarray:
-    """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the segments a -> b (m, 3) [m] of circulation gamma
-    (m,) [m^2/s] and squared core radius rc2 (m,) or scalar [m^2], by the treecode (module docstring): the
-    direct sum of :func:`aero.biot_savart.segment_velocity` to within the error theta allows (params.theta = 0:
-    the direct sum to rounding). Segments with zero circulation are left out. threads: default numba's thread
-    count; the result is the same, bit for bit, for any."""
+def lattice_tree_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, params: TreeParams = TreeParams(),
+                          threads: int | None = None) -> np.ndarray:
+    """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the edges of a stacked lattice (the arrays of
+    :func:`aero.biot_savart.lattice_induced_velocity`: corners vx, vy, vz (nc,) row-major with ``stride`` per
+    row, span / chord edge circulations sg, cg and rr = |r0|^2 r_c^2 sr, cr per corner, zero-circulation padding
+    where an edge does not exist), by the treecode with ``params``. threads: default numba's thread count; the
+    result is the same, bit for bit, for any."""
     targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
-    a = np.asarray(a, dtype=float).reshape(-1, 3)
-    d = np.asarray(b, dtype=float).reshape(-1, 3) - a
-    gamma = np.asarray(gamma, dtype=float).ravel()
-    rc2 = np.broadcast_to(np.asarray(rc2, dtype=float), gamma.shape)
     n = targets.shape[0]
     out = np.zeros((n, 3))
-    keep = gamma != 0.0
-    if n == 0 or not keep.any():
+    if n == 0 or vx.shape[0] < 2:
         return out
-    a, d, gamma, rc2 = a[keep], d[keep], gamma[keep], rc2[keep]
-    mid = a + 0.5 * d
-    perm, s_start, s_end, s_left, s_right = _split(*(np.ascontiguousarray(mid[:, i]) for i in range(3)),
-                                                   params.source_leaf)
-    ax, ay, az, dx, dy, dz = (np.ascontiguousarray(v[perm]) for v in (a[:, 0], a[:, 1], a[:, 2], d[:, 0], d[:, 1],
-                                                                        d[:, 2]))
-    g = np.ascontiguousarray(gamma[perm])
-    c2 = np.ascontiguousarray(rc2[perm])
-    rr = (dx * dx + dy * dy + dz * dz) * c2
-    s_c, s_rho, s_rc, s_mom = _source_nodes(s_start, s_end, ax, ay, az, dx, dy, dz, g, c2)
+    b_r0, b_r1, b_c0, b_c1, b_left, b_right = _block_tree(vx, vy, vz, stride, params.source_leaf)
+    b_c, b_rho, b_rc, b_mom = _block_nodes(b_r0, b_r1, b_c0, b_c1, vx, vy, vz, stride, sg, sr, cg, cr)
     tperm, t_start, t_end, t_left, _ = _split(*(np.ascontiguousarray(targets[:, i]) for i in range(3)),
                                               params.target_leaf)
     x, y, z = (np.ascontiguousarray(targets[tperm, i]) for i in range(3))
     ls, le, lc, lr = _target_leaves(t_start, t_end, t_left, x, y, z)
     res = np.empty((n, 3))
-    run_chunked(_tree_chunks, (x, y, z, ls, le, lc, lr, s_start, s_end, s_left, s_right, s_c, s_rho, s_rc, s_mom,
-                               ax, ay, az, dx, dy, dz, g, rr, float(params.theta), res),
-                ls.shape[0], float(n) * 64.0 * np.log2(max(gamma.size, 2)), threads)
+    run_chunked(_tree_chunks, (x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_right, b_c, b_rho, b_rc,
+                               b_mom, vx, vy, vz, stride, sg, sr, cg, cr, float(params.theta),
+                               float(params.core_factor), res),
+                ls.shape[0], float(n) * 64.0 * np.log2(max(vx.shape[0], 2)), threads)
     out[tperm] = res
     return out
+
+
+def lattice_tree(targets: np.ndarray, lattices, params: TreeParams = TreeParams(), threads: int | None = None
+                 ) -> np.ndarray:
+    """:func:`aero.lattice.lattice_velocity` by the treecode: velocity (n, 3) [m/s] at targets (n, 3) [m]
+    induced by the edges of the ring lattices (:class:`aero.lattice.Lattice`, wing or wake, Scully cores);
+    lattices with the same number of corners per row share one tree."""
+    targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
+    out = np.zeros((targets.shape[0], 3))
+    for stride, arrays in stacked_lattices(lattices).items():
+        out += lattice_tree_velocity(targets, *arrays[:3], stride, *arrays[3:], params=params, threads=threads)
+    return out
+
+
+def tree_velocity(targets: np.ndarray, a: np.ndarray, b: np.ndarray, gamma: np.ndarray, rc2,
+                  params: TreeParams = TreeParams(), threads: int | None = None) -> np.ndarray:
+    """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by free segments a -> b (m, 3) [m] of circulation
+    gamma (m,) [m^2/s] and squared core radius rc2 (m,) or scalar [m^2], by the treecode: the direct sum of
+    :func:`aero.biot_savart.segment_velocity` to within what theta allows (theta = 0: the direct sum to
+    rounding). The segments, put in spatial order (median bisection of their midpoints), are a lattice of one
+    edge per row (2 corners a row), whose row blocks are then spatial clusters."""
+    targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
+    a = np.asarray(a, dtype=float).reshape(-1, 3)
+    b = np.asarray(b, dtype=float).reshape(-1, 3)
+    gamma = np.asarray(gamma, dtype=float).ravel()
+    rc2 = np.broadcast_to(np.asarray(rc2, dtype=float), gamma.shape)
+    m = gamma.size
+    if m == 0 or targets.shape[0] == 0:
+        return np.zeros((targets.shape[0], 3))
+    mid = 0.5 * (a + b)
+    perm = _split(*(np.ascontiguousarray(mid[:, i]) for i in range(3)), 1)[0]
+    v = np.empty((2 * m, 3))
+    v[0::2], v[1::2] = a[perm], b[perm]
+    d = b[perm] - a[perm]
+    sg = np.zeros(2 * m)
+    sr = np.ones(2 * m)
+    sg[0::2] = gamma[perm]
+    sr[0::2] = (d * d).sum(1) * rc2[perm]
+    vx, vy, vz = (np.ascontiguousarray(v[:, i]) for i in range(3))
+    return lattice_tree_velocity(targets, vx, vy, vz, 2, sg, sr, np.zeros(2 * m), np.ones(2 * m), params,
+                                 threads)

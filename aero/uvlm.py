@@ -37,6 +37,7 @@ import scipy.linalg
 from aero.biot_savart import PRECISIONS, ring_influence
 from aero.lattice import Lattice, lattice_velocity, ring_lattice
 from aero.mesh import WingMesh
+from aero.treecode import TreeParams, lattice_tree
 from aero.wake import Wake
 
 
@@ -59,6 +60,15 @@ length; a coarser step under-resolves the near wake."""
 
 SHED_RULES = ("ring", "travel")
 """Placements of the newest wake vortex (:class:`UVLMConfig` ``shed_rule``)."""
+
+
+WAKE_SUMMATIONS = ("direct", "tree", "auto")
+"""How the wake-on-wake velocities that convect the free wake are summed (:class:`UVLMConfig` ``wake_summation``)."""
+
+TREE_MIN_SEGMENTS = 6000
+"""``wake_summation="auto"`` uses the treecode from this many wake segments (edges with circulation, per solved
+wing set, before mirror images) on, the direct sum below: the crossover measured by
+scripts/benchmarks/bench_treecode.py (docs/performance.md, "Treecode")."""
 
 
 ROTOR_A_PRIME = 6.5e-5
@@ -98,6 +108,15 @@ class UVLMConfig:
     "mixed" (float32 evaluations, float64 sums: :data:`aero.biot_savart.PRECISIONS`; opt-in, its effect on the
     cycle averages is measured by scripts/studies/mixed_precision.py, docs/uvlm.md, "Speed"). The wings'
     velocities, and the wake's velocity at the wings, stay float64.
+    wake_summation: how the same wake-on-wake velocities are summed: "direct" (default: every segment on every
+    corner, O(N^2) in the wake size), "tree" (:mod:`aero.treecode`, a Barnes-Hut treecode with opening angle
+    ``tree_theta``, ~O(N log N)) or "auto" (the tree from :data:`TREE_MIN_SEGMENTS` wake segments on, where it is
+    the faster). With the tree, the wings' share stays the direct float64 sum; the wake's velocity at the wings
+    (the solve and the loads) is always the direct sum. Opt-in (the default's results are bit for bit those of
+    the direct sum); at tree_theta = 0.4 the cycle averages L+, D+, M+, P+ stay within 1e-4 of the direct sum's
+    (scripts/benchmarks/bench_treecode.py --accuracy, docs/performance.md, "Treecode"). Needs wake_precision
+    "float64".
+    tree_theta: the treecode's opening angle (:class:`aero.treecode.TreeParams`; 0 gives the direct sum).
     """
 
     rho: float = 1.225
@@ -113,6 +132,8 @@ class UVLMConfig:
     shed_rule: str = "ring"
     shed_fraction: float = 0.25
     wake_precision: str = "float64"
+    wake_summation: str = "direct"
+    tree_theta: float = TreeParams.theta
 
     def __post_init__(self):
         if self.shed_rule not in SHED_RULES:
@@ -121,6 +142,12 @@ class UVLMConfig:
             raise ValueError(f"UVLMConfig.shed_fraction must lie in (0, 1], got {self.shed_fraction!r}")
         if self.wake_precision not in PRECISIONS:
             raise ValueError(f"UVLMConfig.wake_precision must be one of {PRECISIONS}, got {self.wake_precision!r}")
+        if self.wake_summation not in WAKE_SUMMATIONS:
+            raise ValueError(f"UVLMConfig.wake_summation must be one of {WAKE_SUMMATIONS}, "
+                             f"got {self.wake_summation!r}")
+        TreeParams(theta=self.tree_theta)  # checks it
+        if self.wake_summation != "direct" and self.wake_precision != "float64":
+            raise ValueError("UVLMConfig.wake_summation 'tree' / 'auto' needs wake_precision 'float64'")
 
 
 @dataclass(frozen=True)
@@ -217,6 +244,26 @@ class UVLM:
             return np.zeros((n, 3))
         pts = targets if mirror is None else np.concatenate([targets, _reflect_points(targets, *mirror)])
         out = lattice_velocity(pts, lattices, precision)
+        if mirror is None:
+            return out
+        return out[:n] + _reflect_vectors(out[n:], mirror[1])
+
+    def _use_tree(self, wake_lat: list[Lattice]) -> bool:
+        """Whether the wake-on-wake sum of this step goes to the treecode (``UVLMConfig.wake_summation``)."""
+        mode = self.config.wake_summation
+        if mode == "direct" or not wake_lat:
+            return False
+        if mode == "tree":
+            return True
+        edges = sum(int(np.count_nonzero(lat.span_gamma)) + int(np.count_nonzero(lat.chord_gamma))
+                    for lat in wake_lat)
+        return edges >= TREE_MIN_SEGMENTS
+
+    def _induced_tree(self, targets: np.ndarray, lattices: list[Lattice], mirror) -> np.ndarray:
+        """:meth:`_induced` by the treecode (:func:`aero.treecode.lattice_tree`, ``UVLMConfig.tree_theta``)."""
+        n = targets.shape[0]
+        pts = targets if mirror is None else np.concatenate([targets, _reflect_points(targets, *mirror)])
+        out = lattice_tree(pts, lattices, TreeParams(theta=self.config.tree_theta))
         if mirror is None:
             return out
         return out[:n] + _reflect_vectors(out[n:], mirror[1])
@@ -390,11 +437,14 @@ class UVLM:
         if c.free_wake:
             rcv = c.convection_core_chords * self.chord
             bound = [ring_lattice(G, g, rcv * rcv, rcv * rcv) for G, g in zip(rings, gammas)]
-            if c.wake_precision == "float64":
-                v = v + self._induced(pts, bound + self._wake_lattices(r_attached=rcv), mirror)
+            wake_lat = self._wake_lattices(r_attached=rcv)
+            if self._use_tree(wake_lat):  # wake on wake by the treecode, the wings' share direct
+                v = v + (self._induced(pts, bound, mirror) + self._induced_tree(pts, wake_lat, mirror))
+            elif c.wake_precision == "float64":
+                v = v + self._induced(pts, bound + wake_lat, mirror)
             else:  # wake on wake in the given precision, the wings' share in float64
                 v = v + (self._induced(pts, bound, mirror)
-                         + self._induced(pts, self._wake_lattices(r_attached=rcv), mirror, c.wake_precision))
+                         + self._induced(pts, wake_lat, mirror, c.wake_precision))
         if not np.all(np.isfinite(v)):
             raise FloatingPointError(f"UVLM blow-up at step {self.step_count}: non-finite wake velocity")
         off = 0
