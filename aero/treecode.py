@@ -453,13 +453,58 @@ def _tree_chunks(x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_righ
         q = claim(counter)
 
 
+NEAR_COST = 1.6
+"""Cost of one near-field edge-target pair of the treecode (a block's edges, padding included) in direct-sum pairs
+(the lattice kernel's): measured 0.22 s against 0.13 s for the same 10-beat wake with theta = 0 (one thread)."""
+
+FAR_COST = 3.0
+"""Cost of one cluster-target far-field evaluation (:func:`_far`, ~80 FP operations) in direct-sum pairs (~36)."""
+
+TREE_MARGIN = 0.8
+"""``plan``: the tree is worth it when its estimated cost is below this fraction of the direct sum's."""
+
+
+@njit(cache=True)
+def _plan(lc, lr, ln, b_c, b_rho, b_rc, b_left, b_right, b_r0, b_r1, b_c0, b_c1, nrows, stride, theta, kappa):
+    """The traversal of :func:`_tree_chunks` without the arithmetic: (near-field edge-target pairs, far-field
+    cluster-target evaluations)."""
+    near = 0.0
+    far = 0.0
+    stack = np.empty(STACK, np.int64)
+    for L in range(lc.shape[0]):
+        stack[0] = 0
+        sp = 1
+        while sp > 0:
+            sp -= 1
+            k = stack[sp]
+            if b_rc[k] < 0.0:
+                continue
+            dx = lc[L, 0] - b_c[k, 0]
+            dy = lc[L, 1] - b_c[k, 1]
+            dz = lc[L, 2] - b_c[k, 2]
+            dist = np.sqrt(dx * dx + dy * dy + dz * dz)
+            if b_rho[k] + kappa * b_rc[k] < theta * (dist - lr[L]):
+                far += ln[L]
+            elif b_left[k] < 0:
+                w = min(b_c1[k], stride - 1) - b_c0[k] + 1
+                h = min(b_r1[k], nrows - 1) - b_r0[k] + 1
+                near += ln[L] * 2.0 * h * w
+            else:
+                stack[sp] = b_right[k]
+                stack[sp + 1] = b_left[k]
+                sp += 2
+    return near, far
+
+
 def lattice_tree_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, params: TreeParams = TreeParams(),
-                          threads: int | None = None) -> np.ndarray:
+                          threads: int | None = None, plan: bool = False) -> np.ndarray | None:
     """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the edges of a stacked lattice (the arrays of
     :func:`aero.biot_savart.lattice_induced_velocity`: corners vx, vy, vz (nc,) row-major with ``stride`` per
     row, span / chord edge circulations sg, cg and rr = |r0|^2 r_c^2 sr, cr per corner, zero-circulation padding
     where an edge does not exist), by the treecode with ``params``. threads: default numba's thread count; the
-    result is the same, bit for bit, for any."""
+    result is the same, bit for bit, for any. plan: first estimate the tree's cost from its interaction counts
+    (:data:`NEAR_COST`, :data:`FAR_COST`) and return None, having evaluated nothing, when it is not below
+    :data:`TREE_MARGIN` x the direct sum's (n x 2 nc pairs)."""
     targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
     n = targets.shape[0]
     out = np.zeros((n, 3))
@@ -471,6 +516,11 @@ def lattice_tree_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, params: T
                                               params.target_leaf)
     x, y, z = (np.ascontiguousarray(targets[tperm, i]) for i in range(3))
     ls, le, lc, lr = _target_leaves(t_start, t_end, t_left, x, y, z)
+    if plan:
+        near, far = _plan(lc, lr, le - ls, b_c, b_rho, b_rc, b_left, b_right, b_r0, b_r1, b_c0, b_c1,
+                          vx.shape[0] // stride, stride, float(params.theta), float(params.core_factor))
+        if NEAR_COST * near + FAR_COST * far >= TREE_MARGIN * 2.0 * n * vx.shape[0]:
+            return None
     res = np.empty((n, 3))
     run_chunked(_tree_chunks, (x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_right, b_c, b_rho, b_rc,
                                b_mom, vx, vy, vz, stride, sg, sr, cg, cr, float(params.theta),
@@ -480,15 +530,20 @@ def lattice_tree_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, params: T
     return out
 
 
-def lattice_tree(targets: np.ndarray, lattices, params: TreeParams = TreeParams(), threads: int | None = None
-                 ) -> np.ndarray:
+def lattice_tree(targets: np.ndarray, lattices, params: TreeParams = TreeParams(), threads: int | None = None,
+                 plan: bool = False) -> np.ndarray | None:
     """:func:`aero.lattice.lattice_velocity` by the treecode: velocity (n, 3) [m/s] at targets (n, 3) [m]
     induced by the edges of the ring lattices (:class:`aero.lattice.Lattice`, wing or wake, Scully cores);
-    lattices with the same number of corners per row share one tree."""
+    lattices with the same number of corners per row share one tree. plan: None where the tree would not be
+    the faster (:func:`lattice_tree_velocity`) for any group of lattices."""
     targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
     out = np.zeros((targets.shape[0], 3))
     for stride, arrays in stacked_lattices(lattices).items():
-        out += lattice_tree_velocity(targets, *arrays[:3], stride, *arrays[3:], params=params, threads=threads)
+        v = lattice_tree_velocity(targets, *arrays[:3], stride, *arrays[3:], params=params, threads=threads,
+                                  plan=plan)
+        if v is None:
+            return None
+        out += v
     return out
 
 

@@ -65,10 +65,17 @@ SHED_RULES = ("ring", "travel")
 WAKE_SUMMATIONS = ("direct", "tree", "auto")
 """How the wake-on-wake velocities that convect the free wake are summed (:class:`UVLMConfig` ``wake_summation``)."""
 
-TREE_MIN_SEGMENTS = 6000
-"""``wake_summation="auto"`` uses the treecode from this many wake segments (edges with circulation, per solved
-wing set, before mirror images) on, the direct sum below: the crossover measured by
-scripts/benchmarks/bench_treecode.py (docs/performance.md, "Treecode")."""
+TREE_MIN_SEGMENTS = 4000
+"""``wake_summation="auto"`` considers the treecode from this many wake segments (edges with circulation, all
+solved wings, before mirror images) on, and below takes the direct sum: above the 3-beat wake `hawksim fly`
+keeps by default (3012 segments), so that its flights stay the direct sum bit for bit. The crossover depends on
+the wake's shape, not only its size (scripts/benchmarks/bench_treecode.py, docs/performance.md, "Treecode"): an
+unstretched wake-like lattice 1300-2500 segments, the stretched free wake of a hawkmoth flight none up to 10 beats
+(10 000 segments); above this floor "auto" therefore asks the tree's own plan."""
+
+TREE_REPLAN_STEPS = 40
+"""``wake_summation="auto"``: steps between two plans of the treecode (a wingbeat at the default resolution; the
+wake's shape changes over beats, and a plan costs ~10 % of a direct sum)."""
 
 
 ROTOR_A_PRIME = 6.5e-5
@@ -231,6 +238,7 @@ class UVLM:
         self.wakes = [Wake(m.shape[1]) for m in self.meshes]
         self.step_count = 0
         self._gamma_prev: list[np.ndarray] | None = None
+        self._tree_plan: tuple[int, bool] | None = None  # (step planned, tree chosen) of wake_summation="auto"
         self.mean_len = float(np.mean([m.mean_chordwise_length for m in self.meshes]))
         self.rb = config.core_fraction * self.mean_len
         self.chord = float(np.mean([m.panel_areas.sum() / np.ptp(m.vertices[..., 1]) for m in self.meshes]))
@@ -248,23 +256,37 @@ class UVLM:
             return out
         return out[:n] + _reflect_vectors(out[n:], mirror[1])
 
-    def _use_tree(self, wake_lat: list[Lattice]) -> bool:
-        """Whether the wake-on-wake sum of this step goes to the treecode (``UVLMConfig.wake_summation``)."""
+    def _tree_velocity(self, pts: np.ndarray, wake_lat: list[Lattice], mirror) -> np.ndarray | None:
+        """The wake-on-wake velocities by the treecode, or None where ``UVLMConfig.wake_summation`` asks for the
+        direct sum: always ("direct"), never ("tree"), or ("auto") below :data:`TREE_MIN_SEGMENTS` wake segments
+        and where the tree's planned work (:func:`aero.treecode.lattice_tree`, ``plan=True``) is not below
+        :data:`aero.treecode.TREE_MARGIN` of the direct sum's; that plan is made once every
+        :data:`TREE_REPLAN_STEPS` steps and kept in between."""
         mode = self.config.wake_summation
         if mode == "direct" or not wake_lat:
-            return False
-        if mode == "tree":
-            return True
-        edges = sum(int(np.count_nonzero(lat.span_gamma)) + int(np.count_nonzero(lat.chord_gamma))
-                    for lat in wake_lat)
-        return edges >= TREE_MIN_SEGMENTS
+            return None
+        if mode == "auto":
+            edges = sum(int(np.count_nonzero(lat.span_gamma)) + int(np.count_nonzero(lat.chord_gamma))
+                        for lat in wake_lat)
+            if edges < TREE_MIN_SEGMENTS:
+                return None
+            due = self._tree_plan is None or self.step_count - self._tree_plan[0] >= TREE_REPLAN_STEPS
+            if not due and not self._tree_plan[1]:
+                return None
+            if due:
+                v = self._induced_tree(pts, wake_lat, mirror, plan=True)
+                self._tree_plan = (self.step_count, v is not None)
+                return v
+        return self._induced_tree(pts, wake_lat, mirror)
 
-    def _induced_tree(self, targets: np.ndarray, lattices: list[Lattice], mirror) -> np.ndarray:
-        """:meth:`_induced` by the treecode (:func:`aero.treecode.lattice_tree`, ``UVLMConfig.tree_theta``)."""
+    def _induced_tree(self, targets: np.ndarray, lattices: list[Lattice], mirror, plan: bool = False
+                      ) -> np.ndarray | None:
+        """:meth:`_induced` by the treecode (:func:`aero.treecode.lattice_tree`, ``UVLMConfig.tree_theta``);
+        plan: None where the tree would not be the faster."""
         n = targets.shape[0]
         pts = targets if mirror is None else np.concatenate([targets, _reflect_points(targets, *mirror)])
-        out = lattice_tree(pts, lattices, TreeParams(theta=self.config.tree_theta))
-        if mirror is None:
+        out = lattice_tree(pts, lattices, TreeParams(theta=self.config.tree_theta), plan=plan)
+        if mirror is None or out is None:
             return out
         return out[:n] + _reflect_vectors(out[n:], mirror[1])
 
@@ -438,8 +460,9 @@ class UVLM:
             rcv = c.convection_core_chords * self.chord
             bound = [ring_lattice(G, g, rcv * rcv, rcv * rcv) for G, g in zip(rings, gammas)]
             wake_lat = self._wake_lattices(r_attached=rcv)
-            if self._use_tree(wake_lat):  # wake on wake by the treecode, the wings' share direct
-                v = v + (self._induced(pts, bound, mirror) + self._induced_tree(pts, wake_lat, mirror))
+            v_tree = self._tree_velocity(pts, wake_lat, mirror)
+            if v_tree is not None:  # wake on wake by the treecode, the wings' share direct
+                v = v + (self._induced(pts, bound, mirror) + v_tree)
             elif c.wake_precision == "float64":
                 v = v + self._induced(pts, bound + wake_lat, mirror)
             else:  # wake on wake in the given precision, the wings' share in float64
