@@ -64,7 +64,7 @@ class TreeParams:
     error only through the leaves' sizes in the criterion; tuned on 10-beat wakes, docs/performance.md).
     """
 
-    theta: float = 0.4
+    theta: float = 0.2
     core_factor: float = 1.0
     source_leaf: int = 128
     target_leaf: int = 32

@@ -117,12 +117,14 @@ class UVLMConfig:
     velocities, and the wake's velocity at the wings, stay float64.
     wake_summation: how the same wake-on-wake velocities are summed: "direct" (default: every segment on every
     corner, O(N^2) in the wake size), "tree" (:mod:`aero.treecode`, a Barnes-Hut treecode with opening angle
-    ``tree_theta``, ~O(N log N)) or "auto" (the tree from :data:`TREE_MIN_SEGMENTS` wake segments on, where it is
-    the faster). With the tree, the wings' share stays the direct float64 sum; the wake's velocity at the wings
-    (the solve and the loads) is always the direct sum. Opt-in (the default's results are bit for bit those of
-    the direct sum); at tree_theta = 0.4 the cycle averages L+, D+, M+, P+ stay within 1e-4 of the direct sum's
-    (scripts/benchmarks/bench_treecode.py --accuracy, docs/performance.md, "Treecode"). Needs wake_precision
-    "float64".
+    ``tree_theta``, ~O(N log N)) or "auto" (the direct sum below :data:`TREE_MIN_SEGMENTS` wake segments; above,
+    the tree where its own plan says it is the faster, checked once every :data:`TREE_REPLAN_STEPS` steps). With
+    the tree, the wings' share stays the direct float64 sum; the wake's velocity at the wings (the solve and the
+    loads) is always the direct sum. Opt-in (the default's results are bit for bit those of the direct sum); at
+    the default tree_theta = 0.2 the cycle averages stay within 1e-4 of the direct sum's on the reference case
+    (L, D, M, P) and at hover and 2 m/s (L+, D+, M+, P+); at 0.3 and 0.4 the reference case misses it (python
+    scripts/benchmarks/bench_treecode.py --sections accuracy, docs/performance.md, "Treecode"). Needs
+    wake_precision "float64".
     tree_theta: the treecode's opening angle (:class:`aero.treecode.TreeParams`; 0 gives the direct sum).
     """
 
