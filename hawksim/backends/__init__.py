@@ -69,17 +69,18 @@ def backend_for(res: Resolution, *, symmetric: bool = True, freestream=None):
 
 
 def flight_backend(name: str, *, kinematics=None, symmetric: bool = True, keep_panels: bool = False,
-                   wake_cycles: int = FLY_WAKE_CYCLES):
+                   wake_cycles: int = FLY_WAKE_CYCLES, wake_summation: str = "auto"):
     """The backend of `hawksim fly --aero NAME`: the UVLM at :data:`FLY_UVLM` keeping the last ``wake_cycles``
     wingbeats of wake (default :data:`FLY_WAKE_CYCLES`), its wake-on-wake velocities summed with
-    ``wake_summation="auto"``: the direct sum below ``aero.uvlm.TREE_MIN_SEGMENTS`` wake segments (so the
-    default 3-beat wake, ~3000 segments, is the direct sum, bit for bit), the treecode above (a 10-beat wake:
+    ``wake_summation`` (default "auto": the direct sum below ``aero.uvlm.TREE_MIN_SEGMENTS`` wake segments, so
+    that the default 3-beat wake, 3012 segments, is the direct sum bit for bit; above, the treecode where its plan
+    says it is the faster, which a hawkmoth flight's stretched wake of up to 10 beats is not:
     docs/performance.md, "Treecode")."""
     if int(wake_cycles) != wake_cycles or wake_cycles < 1:
         raise ValueError(f"wake_cycles must be a positive integer, got {wake_cycles!r}")
     return make_backend(name, resolution=FLY_UVLM, symmetric=symmetric, keep_panels=keep_panels,
                         max_wake_rows=int(wake_cycles) * FLY_UVLM.steps_per_cycle, kinematics=kinematics,
-                        wake_summation="auto")
+                        wake_summation=wake_summation)
 
 
 __all__ = ["FLIGHT_BACKENDS", "make_backend", "backend_for", "flight_backend", "Resolution", "DEFAULT"]

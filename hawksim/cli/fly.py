@@ -18,13 +18,15 @@ calibration wingbeat (where no orbit is available, or on request)."""
 
 def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinematics=None, perturb=None,
               model_path=None, steps_per_cycle: int = STEPS_PER_CYCLE, keep_extras_every: int = 0,
-              start: str | None = None, log=None, wake_cycles: int | None = None, **kw):
+              start: str | None = None, log=None, wake_cycles: int | None = None, wake_summation: str = "auto",
+              **kw):
     """`hawksim fly`'s flight: from the free body's periodic orbit (``start='orbit'``, the default where one is
     available: no given kinematics, the orbit solver's 200 steps per beat, and a shipped orbit of ``aero`` at
     ``speed`` or the quasi-steady backend, whose orbit is solved in ~1 s) or from the shipped held-body trim of
     ``aero`` at ``speed`` (or ``kinematics``) with a calibration beat (``start='trim'``), with the backend of that
     name, then :func:`hawksim.flight.fly.fly`. wake_cycles: wingbeats of UVLM wake kept (default
-    :data:`hawksim.backends.resolution.FLY_WAKE_CYCLES`)."""
+    :data:`hawksim.backends.resolution.FLY_WAKE_CYCLES`); wake_summation: the UVLM's
+    (:func:`hawksim.backends.flight_backend`)."""
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
     from hawksim.flight.start import is_lateral, parse_perturbations
@@ -67,7 +69,7 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
         trim = (Trim(float(speed), kinematics, model=aero, source="given") if kinematics is not None
                 else shipped_trim(speed, aero))
     backend = flight_backend(aero, kinematics=trim.kinematics, symmetric=not is_lateral(perturb),
-                             keep_panels=keep_extras_every > 0,
+                             keep_panels=keep_extras_every > 0, wake_summation=wake_summation,
                              **({} if wake_cycles is None else {"wake_cycles": wake_cycles}))
     return fly(trim, backend, cycles, perturb=perturb, model=load_model(model_path), steps_per_cycle=steps_per_cycle,
                keep_extras_every=keep_extras_every, start_state=start_state, **kw)

@@ -224,23 +224,17 @@ def crossover(theta: float) -> dict:
 def fly(cycles: int) -> dict:
     from hawksim.cli.fly import fly_named
 
-    fly_named(1.0, 1, "uvlm", wake_cycles=10)  # warm-up: numba cache, model
-    default_min = uvlm_module.TREE_MIN_SEGMENTS
+    fly_named(1.0, 1, "uvlm", wake_cycles=10, wake_summation="tree")  # warm-up: numba cache, model
     out = {"speed_m_s": 1.0, "cycles": cycles, "threads": _threads(), "runs": {}}
-    settings = (("wake_10_direct", 10, 10 ** 12), ("wake_10_tree", 10, 0), ("wake_10_auto", 10, default_min),
-                ("wake_3_default", 3, default_min))
-    try:
-        for name, wake, minimum in settings:
-            uvlm_module.TREE_MIN_SEGMENTS = minimum
-            load = _load()
-            r = fly_named(1.0, cycles, "uvlm", wake_cycles=wake)
-            beats = r.summary()["beats"]
-            out["runs"][name] = {"wake_cycles": wake, "loop_wall_s": round(r.wall_time_s, 2),
-                                 "wingbeats_per_s": round(cycles / r.wall_time_s, 3), "load_before": load,
-                                 "load_after": _load(),
-                                 "mean_vertical_speed_last_beat": beats[-1]["mean_vertical_speed"]}
-    finally:
-        uvlm_module.TREE_MIN_SEGMENTS = default_min
+    settings = (("wake_10_direct", 10, "direct"), ("wake_10_tree", 10, "tree"), ("wake_10_auto", 10, "auto"),
+                ("wake_3_default", 3, "auto"))
+    for name, wake, summation in settings:
+        load = _load()
+        r = fly_named(1.0, cycles, "uvlm", wake_cycles=wake, wake_summation=summation)
+        beats = r.summary()["beats"]
+        out["runs"][name] = {"wake_cycles": wake, "wake_summation": summation, "loop_wall_s": round(r.wall_time_s, 2),
+                             "wingbeats_per_s": round(cycles / r.wall_time_s, 3), "load_before": load,
+                             "load_after": _load(), "mean_vertical_speed_last_beat": beats[-1]["mean_vertical_speed"]}
     runs = out["runs"]
     direct, tree = runs["wake_10_direct"]["loop_wall_s"], runs["wake_10_tree"]["loop_wall_s"]
     out["tree_speedup_10_beat_wake"] = round(direct / tree, 3)

@@ -169,3 +169,18 @@ def test_the_plan_declines_where_the_direct_sum_is_faster():
         lat = ring_lattice(G, 1e-3 * rng.normal(size=(rows, 12)), 1e-8, 1e-8)
         v = lattice_tree(G[1:].reshape(-1, 3), [lat], plan=True)
         assert (v is not None) == chosen, rows
+
+
+def test_the_default_fly_wake_stays_below_the_auto_floor():
+    """`hawksim fly --aero uvlm` sums its wake with "auto"; its default wake (FLY_WAKE_CYCLES beats at FLY_UVLM)
+    must stay below TREE_MIN_SEGMENTS so that default flights are the direct sum bit for bit."""
+    from aero.uvlm import TREE_MIN_SEGMENTS
+    from hawksim.backends import flight_backend
+    from hawksim.backends.resolution import FLY_UVLM, FLY_WAKE_CYCLES
+
+    rows, ns = FLY_WAKE_CYCLES * FLY_UVLM.steps_per_cycle, FLY_UVLM.n_span
+    segments = (rows + 1) * ns + rows * (ns + 1)  # one solved wing (mirror images are targets, not segments)
+    assert segments < TREE_MIN_SEGMENTS
+    backend = flight_backend("uvlm")
+    assert backend.config.wake_summation == "auto" and backend.config.max_wake_rows == rows
+    assert flight_backend("uvlm", wake_cycles=10).config.max_wake_rows == 10 * FLY_UVLM.steps_per_cycle
