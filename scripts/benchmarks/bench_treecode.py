@@ -13,9 +13,10 @@ Sections (``--sections``, default all):
   no truncation) after 1, 2, 3, 5, 7 and 10 beats, and (b) unstretched wake-like lattices (rows of 12 rings,
   1 mm apart, the geometry of bench_uvlm.py's lattice kernel case) of 50 to 3200 rows; wake segments (edges with
   circulation), the tree's maximum velocity error relative to the largest velocity, time ratio.
-* ``fly``: `hawksim fly --aero uvlm --speed 1 --cycles N` (default 20) keeping a 10-beat wake, with the direct
-  sum and with the tree, one after the other in this process, and the default 3-beat wake (auto = direct there)
-  beside them: loop wall time and wingbeats per wall second (issue 23's target: >= 1 with the 10-beat wake).
+* ``fly``: `hawksim fly --aero uvlm --speed 1 --cycles N --wake-cycles 10` (default N = 20) with the wake-on-wake
+  sum "direct", "tree" and "auto" (the fly backend's default), one after the other in this process, and the
+  default 3-beat wake beside them: loop wall time and wingbeats per wall second (issue 23's target: >= 1 with the
+  10-beat wake), and the last beat's mean vertical speed (auto that keeps the direct sum gives its bits).
 * ``roofline``: peak FMA throughput of this CPU on all cores with 256- and 512-bit vectors (a C microbenchmark of
   12 independent FMA chains per thread, compiled here with the system C compiler; null without one), the lattice
   kernel's rate (bench_uvlm.py's case; the 512-bit figure in a child process with HAWKSIM_VECTOR_WIDTH=512),
