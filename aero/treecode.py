@@ -15,18 +15,26 @@ The direct sum over N targets and M segments costs N M pair evaluations; for a f
   v = 1/(4 pi) sum alpha x (x - y)/|x - y|^3 to second order (monopole, dipole, quadrupole), i.e. it neglects
   terms of relative size (rho / |R|)^3, rho the cluster's radius about c (covering every segment end point).
 * **Near field.** Clusters that do not pass the opening criterion are opened; at a leaf the segments act exactly,
-  through the regularised (Scully-core) segment formula of :mod:`aero.biot_savart` (the lattice kernel's
-  arithmetic: 1/sqrt by :func:`aero.biot_savart.rsqrt`, K = r0 . (r1/|r1| - r2/|r2|), one division).
+  in the lattice kernel's arithmetic (:func:`aero.biot_savart._edge_sum`: the Scully-core formula with
+  K = r0 . (r1/|r1| - r2/|r2|), one 1/sqrt (:func:`aero.biot_savart.rsqrt`) per corner and target, one
+  division per edge).
 * **Opening criterion (the error control).** A cluster acts through its moments on a leaf of targets only if,
-  for every target x of the leaf, ``(rho + r_c,max) < theta |x - c|``: rho the cluster's radius, r_c,max the
+  for every target x of the leaf, ``(rho + kappa r_c,max) < theta |x - c|``: rho the cluster's radius, r_c,max the
   largest core radius among its segments (the far field ignores the cores, whose effect on a segment's velocity
-  at distance h from its line is a factor h^2 / (h^2 + r_c^2)), theta the one parameter (:class:`TreeParams`).
-  theta -> 0 opens every cluster: the direct sum (to rounding). The error of the expansion falls as theta^3;
-  measured bounds are in tests/aero/test_treecode.py and docs/performance.md ("Treecode").
-* **Trees.** Sources (by segment midpoint) and targets are split into binary trees by median bisection along the
-  longest side of each node's bounding box (deterministic: stable sorts), rebuilt every call (the wake moves every
-  step). Targets are evaluated a leaf at a time: one traversal of the source tree per target leaf, its interaction
-  decisions shared by the leaf's targets, whose loops then vectorise.
+  at distance h from its line is a factor h^2 / (h^2 + r_c^2)), kappa = ``core_factor`` (1), theta the error
+  parameter (:class:`TreeParams`). theta = 0 opens every cluster: the direct sum (to rounding). The expansion's
+  error falls as theta^3 or faster; measured bounds: tests/aero/test_treecode.py, docs/performance.md
+  ("Treecode for the free wake"), where theta = 0.2 keeps the UVLM's cycle averages within 1e-4.
+* **Trees.** The sources are the edges of ring lattices (wing or wake, stacked as
+  :func:`aero.lattice.stacked_lattices` writes them): a binary tree of corner blocks (rows x columns, halved at
+  the middle index along the side that is longer in space; a block owns the edges that start at its corners), so
+  that a leaf's edges share their corners as in the lattice kernel. Free segments (:func:`tree_velocity`) are
+  first put in spatial order and treated as a lattice of one edge per row. Targets are split into a binary tree by
+  median bisection along the longest side of each node's bounding box (stable sorts). Both trees are rebuilt every
+  call (the wake moves every step). Targets are evaluated a leaf at a time: one traversal of the source tree per
+  target leaf, its decisions shared by the leaf's targets, whose loops then vectorise. ``plan=True``
+  (:func:`lattice_tree_velocity`) counts that traversal's work first and declines (None) where the direct sum is
+  the cheaper.
 
 Determinism: a target's sum is computed by one task in a fixed order (the traversal of its leaf), so results are
 bit-identical for any thread count and chunking (:func:`aero.scheduling.run_chunked` over target leaves).
