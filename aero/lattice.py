@@ -107,16 +107,14 @@ def _fill(G, span_gamma, span_rc2, chord_gamma, chord_rc2, off, vx, vy, vz, sg, 
                 cr[c] = 1.0
 
 
-def lattice_velocity(targets: np.ndarray, lattices, precision: str = "float64") -> np.ndarray:
-    """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the edges of all lattices (Scully cores, the
-    formula of :mod:`aero.biot_savart`). Lattices with the same number of corners per row share one kernel
-    call. precision: the pair evaluations' (:data:`aero.biot_savart.PRECISIONS`)."""
-    targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
-    out = np.zeros((targets.shape[0], 3))
+def stacked_lattices(lattices) -> dict[int, np.ndarray]:
+    """The kernel arrays of the lattices, stacked per row length: {stride: (7, nc) array of vx, vy, vz, sg, sr, cg,
+    cr} (:func:`_fill`; lattices with no edge are left out)."""
     groups: dict[int, list[Lattice]] = {}
     for lat in lattices:
         if lat.span_gamma.size + lat.chord_gamma.size:
             groups.setdefault(lat.G.shape[1], []).append(lat)
+    out = {}
     for stride, lats in groups.items():
         arrays = np.empty((7, stride * sum(lat.G.shape[0] for lat in lats)))
         off = 0
@@ -125,6 +123,17 @@ def lattice_velocity(targets: np.ndarray, lattices, precision: str = "float64") 
             _fill(*(np.ascontiguousarray(a) for a in (lat.G, lat.span_gamma, lat.span_rc2, lat.chord_gamma,
                                                       lat.chord_rc2)), off, *arrays)
             off += lat.G.shape[0] * stride
+        out[stride] = arrays
+    return out
+
+
+def lattice_velocity(targets: np.ndarray, lattices, precision: str = "float64") -> np.ndarray:
+    """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the edges of all lattices (Scully cores, the
+    formula of :mod:`aero.biot_savart`). Lattices with the same number of corners per row share one kernel
+    call. precision: the pair evaluations' (:data:`aero.biot_savart.PRECISIONS`)."""
+    targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
+    out = np.zeros((targets.shape[0], 3))
+    for stride, arrays in stacked_lattices(lattices).items():
         vx, vy, vz, sg, sr, cg, cr = arrays
         lattice_induced_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, out, precision=precision)
     return out

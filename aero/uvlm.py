@@ -37,6 +37,7 @@ import scipy.linalg
 from aero.biot_savart import PRECISIONS, ring_influence
 from aero.lattice import Lattice, lattice_velocity, ring_lattice
 from aero.mesh import WingMesh
+from aero.treecode import TreeParams, lattice_tree
 from aero.wake import Wake
 
 
@@ -59,6 +60,22 @@ length; a coarser step under-resolves the near wake."""
 
 SHED_RULES = ("ring", "travel")
 """Placements of the newest wake vortex (:class:`UVLMConfig` ``shed_rule``)."""
+
+
+WAKE_SUMMATIONS = ("direct", "tree", "auto")
+"""How the wake-on-wake velocities that convect the free wake are summed (:class:`UVLMConfig` ``wake_summation``)."""
+
+TREE_MIN_SEGMENTS = 4000
+"""``wake_summation="auto"`` considers the treecode from this many wake segments (edges with circulation, all
+solved wings, before mirror images) on, and below takes the direct sum: above the 3-beat wake `hawksim fly`
+keeps by default (3012 segments), so that its flights stay the direct sum bit for bit. The crossover depends on
+the wake's shape, not only its size (scripts/benchmarks/bench_treecode.py, docs/performance.md, "Treecode"): an
+unstretched wake-like lattice 1300-2500 segments, the stretched free wake of a hawkmoth flight none up to 10 beats
+(10 000 segments); above this floor "auto" therefore asks the tree's own plan."""
+
+TREE_REPLAN_STEPS = 40
+"""``wake_summation="auto"``: steps between two plans of the treecode (a wingbeat at the default resolution; the
+wake's shape changes over beats, and a plan costs ~10 % of a direct sum)."""
 
 
 ROTOR_A_PRIME = 6.5e-5
@@ -98,6 +115,17 @@ class UVLMConfig:
     "mixed" (float32 evaluations, float64 sums: :data:`aero.biot_savart.PRECISIONS`; opt-in, its effect on the
     cycle averages is measured by scripts/studies/mixed_precision.py, docs/uvlm.md, "Speed"). The wings'
     velocities, and the wake's velocity at the wings, stay float64.
+    wake_summation: how the same wake-on-wake velocities are summed: "direct" (default: every segment on every
+    corner, O(N^2) in the wake size), "tree" (:mod:`aero.treecode`, a Barnes-Hut treecode with opening angle
+    ``tree_theta``, ~O(N log N)) or "auto" (the direct sum below :data:`TREE_MIN_SEGMENTS` wake segments; above,
+    the tree where its own plan says it is the faster, checked once every :data:`TREE_REPLAN_STEPS` steps). With
+    the tree, the wings' share stays the direct float64 sum; the wake's velocity at the wings (the solve and the
+    loads) is always the direct sum. Opt-in (the default's results are bit for bit those of the direct sum); at
+    the default tree_theta = 0.2 the cycle averages stay within 1e-4 of the direct sum's on the reference case
+    (L, D, M, P) and at hover and 2 m/s (L+, D+, M+, P+); at 0.3 and 0.4 the reference case misses it (python
+    scripts/benchmarks/bench_treecode.py --sections accuracy, docs/performance.md, "Treecode"). Needs
+    wake_precision "float64".
+    tree_theta: the treecode's opening angle (:class:`aero.treecode.TreeParams`; 0 gives the direct sum).
     """
 
     rho: float = 1.225
@@ -113,6 +141,8 @@ class UVLMConfig:
     shed_rule: str = "ring"
     shed_fraction: float = 0.25
     wake_precision: str = "float64"
+    wake_summation: str = "direct"
+    tree_theta: float = TreeParams.theta
 
     def __post_init__(self):
         if self.shed_rule not in SHED_RULES:
@@ -121,6 +151,12 @@ class UVLMConfig:
             raise ValueError(f"UVLMConfig.shed_fraction must lie in (0, 1], got {self.shed_fraction!r}")
         if self.wake_precision not in PRECISIONS:
             raise ValueError(f"UVLMConfig.wake_precision must be one of {PRECISIONS}, got {self.wake_precision!r}")
+        if self.wake_summation not in WAKE_SUMMATIONS:
+            raise ValueError(f"UVLMConfig.wake_summation must be one of {WAKE_SUMMATIONS}, "
+                             f"got {self.wake_summation!r}")
+        TreeParams(theta=self.tree_theta)  # checks it
+        if self.wake_summation != "direct" and self.wake_precision != "float64":
+            raise ValueError("UVLMConfig.wake_summation 'tree' / 'auto' needs wake_precision 'float64'")
 
 
 @dataclass(frozen=True)
@@ -204,6 +240,7 @@ class UVLM:
         self.wakes = [Wake(m.shape[1]) for m in self.meshes]
         self.step_count = 0
         self._gamma_prev: list[np.ndarray] | None = None
+        self._tree_plan: tuple[int, bool] | None = None  # (step planned, tree chosen) of wake_summation="auto"
         self.mean_len = float(np.mean([m.mean_chordwise_length for m in self.meshes]))
         self.rb = config.core_fraction * self.mean_len
         self.chord = float(np.mean([m.panel_areas.sum() / np.ptp(m.vertices[..., 1]) for m in self.meshes]))
@@ -218,6 +255,40 @@ class UVLM:
         pts = targets if mirror is None else np.concatenate([targets, _reflect_points(targets, *mirror)])
         out = lattice_velocity(pts, lattices, precision)
         if mirror is None:
+            return out
+        return out[:n] + _reflect_vectors(out[n:], mirror[1])
+
+    def _tree_velocity(self, pts: np.ndarray, wake_lat: list[Lattice], mirror) -> np.ndarray | None:
+        """The wake-on-wake velocities by the treecode, or None where ``UVLMConfig.wake_summation`` asks for the
+        direct sum: always ("direct"), never ("tree"), or ("auto") below :data:`TREE_MIN_SEGMENTS` wake segments
+        and where the tree's planned work (:func:`aero.treecode.lattice_tree`, ``plan=True``) is not below
+        :data:`aero.treecode.TREE_MARGIN` of the direct sum's; that plan is made once every
+        :data:`TREE_REPLAN_STEPS` steps and kept in between."""
+        mode = self.config.wake_summation
+        if mode == "direct" or not wake_lat:
+            return None
+        if mode == "auto":
+            edges = sum(int(np.count_nonzero(lat.span_gamma)) + int(np.count_nonzero(lat.chord_gamma))
+                        for lat in wake_lat)
+            if edges < TREE_MIN_SEGMENTS:
+                return None
+            due = self._tree_plan is None or self.step_count - self._tree_plan[0] >= TREE_REPLAN_STEPS
+            if not due and not self._tree_plan[1]:
+                return None
+            if due:
+                v = self._induced_tree(pts, wake_lat, mirror, plan=True)
+                self._tree_plan = (self.step_count, v is not None)
+                return v
+        return self._induced_tree(pts, wake_lat, mirror)
+
+    def _induced_tree(self, targets: np.ndarray, lattices: list[Lattice], mirror, plan: bool = False
+                      ) -> np.ndarray | None:
+        """:meth:`_induced` by the treecode (:func:`aero.treecode.lattice_tree`, ``UVLMConfig.tree_theta``);
+        plan: None where the tree would not be the faster."""
+        n = targets.shape[0]
+        pts = targets if mirror is None else np.concatenate([targets, _reflect_points(targets, *mirror)])
+        out = lattice_tree(pts, lattices, TreeParams(theta=self.config.tree_theta), plan=plan)
+        if mirror is None or out is None:
             return out
         return out[:n] + _reflect_vectors(out[n:], mirror[1])
 
@@ -390,11 +461,15 @@ class UVLM:
         if c.free_wake:
             rcv = c.convection_core_chords * self.chord
             bound = [ring_lattice(G, g, rcv * rcv, rcv * rcv) for G, g in zip(rings, gammas)]
-            if c.wake_precision == "float64":
-                v = v + self._induced(pts, bound + self._wake_lattices(r_attached=rcv), mirror)
+            wake_lat = self._wake_lattices(r_attached=rcv)
+            v_tree = self._tree_velocity(pts, wake_lat, mirror)
+            if v_tree is not None:  # wake on wake by the treecode, the wings' share direct
+                v = v + (self._induced(pts, bound, mirror) + v_tree)
+            elif c.wake_precision == "float64":
+                v = v + self._induced(pts, bound + wake_lat, mirror)
             else:  # wake on wake in the given precision, the wings' share in float64
                 v = v + (self._induced(pts, bound, mirror)
-                         + self._induced(pts, self._wake_lattices(r_attached=rcv), mirror, c.wake_precision))
+                         + self._induced(pts, wake_lat, mirror, c.wake_precision))
         if not np.all(np.isfinite(v)):
             raise FloatingPointError(f"UVLM blow-up at step {self.step_count}: non-finite wake velocity")
         off = 0

@@ -59,17 +59,21 @@ class UVLMBackend:
         config: solver switches (leading-edge suction, core growth, free wake); air density from morphology.
         keep_panels: put panel vertices, pressure and the wake in ``WingLoads.extras`` (for recordings).
         max_wake_rows: truncate the wake to this many newest rows (long free flights; None: keep all).
+        wake_summation: how the wake-on-wake velocities are summed (``aero.uvlm.UVLMConfig.wake_summation``:
+            "direct", "tree" or "auto"); with ``config`` given, its own.
     """
 
     name = "uvlm"
 
     def __init__(self, morph: Morphology = HAWKMOTH, n_chord: int = DEFAULT.n_chord, n_span: int = DEFAULT.n_span, *,
                  symmetric: bool = True, freestream: FreeStream | None = None,
-                 config: UVLMConfig | None = None, keep_panels: bool = False, max_wake_rows: int | None = None):
+                 config: UVLMConfig | None = None, keep_panels: bool = False, max_wake_rows: int | None = None,
+                 wake_summation: str = "direct"):
         self.meshes = hawkmoth_meshes(morph, n_chord, n_span)
         self.symmetric = symmetric
         self.freestream = freestream if freestream is not None else FreeStream()
-        self.config = config if config is not None else UVLMConfig(rho=RHO_AIR, max_wake_rows=max_wake_rows)
+        self.config = config if config is not None else UVLMConfig(rho=RHO_AIR, max_wake_rows=max_wake_rows,
+                                                                    wake_summation=wake_summation)
         self.keep_panels = keep_panels
         self.solver: UVLM | None = None
 

@@ -4,11 +4,15 @@ from __future__ import annotations
 
 from hawksim.backends import FLIGHT_BACKENDS
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE as STEPS_PER_CYCLE
+from hawksim.backends.resolution import FLY_WAKE_CYCLES
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli.args import (KINEMATICS_HELP, MAX_FLY_STEPS, MAX_STEPS_PER_CYCLE, UsageError, cycles_arg,
                               parse_kinematics, perturbation_arg, positive_int_arg, speed_arg, writable_file)
 from hawksim.cli.progress import progress_for
 
+
+MAX_WAKE_CYCLES = 100
+"""Largest --wake-cycles (4000 wake rows at the fly lattice: ~1e10 pair evaluations a step by the direct sum)."""
 
 START_CHOICES = ("orbit", "trim")
 """Where `hawksim fly` starts: the periodic orbit of the free body (the shipped one of the backend at that speed,
@@ -18,12 +22,15 @@ calibration wingbeat (where no orbit is available, or on request)."""
 
 def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinematics=None, perturb=None,
               model_path=None, steps_per_cycle: int = STEPS_PER_CYCLE, keep_extras_every: int = 0,
-              start: str | None = None, log=None, **kw):
+              start: str | None = None, log=None, wake_cycles: int | None = None, wake_summation: str = "auto",
+              **kw):
     """`hawksim fly`'s flight: from the free body's periodic orbit (``start='orbit'``, the default where one is
     available: no given kinematics, the orbit solver's 200 steps per beat, and a shipped orbit of ``aero`` at
     ``speed`` or the quasi-steady backend, whose orbit is solved in ~1 s) or from the shipped held-body trim of
     ``aero`` at ``speed`` (or ``kinematics``) with a calibration beat (``start='trim'``), with the backend of that
-    name, then :func:`hawksim.flight.fly.fly`."""
+    name, then :func:`hawksim.flight.fly.fly`. wake_cycles: wingbeats of UVLM wake kept (default
+    :data:`hawksim.backends.resolution.FLY_WAKE_CYCLES`); wake_summation: the UVLM's
+    (:func:`hawksim.backends.flight_backend`)."""
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
     from hawksim.flight.start import is_lateral, parse_perturbations
@@ -66,7 +73,8 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
         trim = (Trim(float(speed), kinematics, model=aero, source="given") if kinematics is not None
                 else shipped_trim(speed, aero))
     backend = flight_backend(aero, kinematics=trim.kinematics, symmetric=not is_lateral(perturb),
-                             keep_panels=keep_extras_every > 0)
+                             keep_panels=keep_extras_every > 0, wake_summation=wake_summation,
+                             **({} if wake_cycles is None else {"wake_cycles": wake_cycles}))
     return fly(trim, backend, cycles, perturb=perturb, model=load_model(model_path), steps_per_cycle=steps_per_cycle,
                keep_extras_every=keep_extras_every, start_state=start_state, **kw)
 
@@ -79,7 +87,11 @@ def cmd_fly(args) -> dict:
     twice = sorted({k for k in names if names.count(k) > 1})
     if twice:
         raise UsageError(f"--perturb gives {', '.join(twice)} more than once")
+    if getattr(args, "wake_cycles", None) is not None and args.aero != "uvlm":
+        raise UsageError("--wake-cycles applies to --aero uvlm only")
     control = _control_of(args)  # issue 20: --control lqr (default for quasi-steady from the orbit), --gust
+    if control is not None and getattr(args, "wake_cycles", None) is not None:
+        raise UsageError("--wake-cycles applies to open-loop flights only (no --control, --gust or --ascent-profile)")
     progress = progress_for(args, "fly") if control is None else progress_for(args, "fly", "beat")
     guard = None
     if args.rrd:  # Ctrl-C / SIGTERM: write the recording of the steps flown (hawksim.flight.recording.InterruptGuard)
@@ -107,7 +119,8 @@ def _fly_open_loop(args, progress, guard) -> dict:
                        # the UVLM's panels and wake at every UVLM update (every aero_every steps)
                        keep_extras_every=(aero_every_for(SimpleNamespace(name="uvlm"), args.steps_per_cycle)
                                           if args.rrd and args.aero == "uvlm" else 0),
-                       progress=progress, start=args.start, **({"partial_on_interrupt": True} if args.rrd else {}))
+                       progress=progress, start=args.start, wake_cycles=getattr(args, "wake_cycles", None),
+                       **({"partial_on_interrupt": True} if args.rrd else {}))
     interrupted = len(result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
     rrd = _write_recording(args, result, guard, interrupted) if args.rrd else None  # first: a failure says one line
     out = result.summary()
@@ -242,6 +255,9 @@ def register(sub) -> None:
     f.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle", MAX_STEPS_PER_CYCLE),
                    default=STEPS_PER_CYCLE,
                    help=f"integration steps per wingbeat ({STEPS_PER_CYCLE}; at least {MIN_STEPS_PER_CYCLE})")
+    f.add_argument("--wake-cycles", type=positive_int_arg("wake-cycles", MAX_WAKE_CYCLES), default=None,
+                   help=f"--aero uvlm, open loop: wingbeats of free wake kept (default {FLY_WAKE_CYCLES}; its cost "
+                        "grows with its length squared: docs/performance.md, 'Treecode')")
     f.add_argument("--start", choices=START_CHOICES, default=None,
                    help="orbit: the free body's periodic orbit (the default where there is one: quasi-steady and "
                         "surrogate at any speed, the shipped UVLM orbits); trim: the held-body trim with a "
