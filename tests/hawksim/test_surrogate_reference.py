@@ -159,3 +159,28 @@ def test_predict_network_option(capsys):
     # the default stays the shipped network
     assert main(["predict", "--speed", f"{s['speed']:g}", "--kinematics", kin, "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["L_plus"] == out["shipped"]["L_plus"]
+
+
+@pytest.mark.skipif(not shipped_path(1.0).is_file(), reason="the shipped networks are not in this checkout")
+def test_train_base_writes_the_base_plus_a_correction(tmp_path, capsys):
+    """`hawksim train --base shipped` on a tiny data set: the file holds the shipped network's 500 units unchanged
+    beside the correction's, records its base, and its scores are of base + correction against the labels."""
+    from hawksim.backends.resolution import Resolution
+    from hawksim.surrogate.dataset import generate, read_samples
+    from hawksim.surrogate.train import TrainConfig, scores, split
+
+    data, out = tmp_path / "tiny.sqlite", tmp_path / "ref.safetensors"
+    generate(data, 1.0, 30, seed=3, resolution=Resolution(n_chord=2, n_span=2, steps_per_cycle=12, cycles=1),
+             workers=1)
+    assert main(["train", "--data", str(data), "--out", str(out), "--speed", "1", "--base", "shipped",
+                 "--hidden", "3", "--max-iter", "5", "--no-progress", "--json"]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    net, base = load(out), load(shipped_path(1.0))
+    assert net.hidden == 503 and rep["hidden"] == 503 and net.meta["correction_hidden"] == 3
+    assert np.array_equal(net.W1[:500], base.W1) and np.array_equal(net.b1[:500], base.b1)
+    assert net.meta["base"]["path"] == "shipped:uvlm_v1000.safetensors" and "--base shipped" in net.meta["command"]
+    t = read_samples(data)
+    test = split(len(t.y), 0, TrainConfig())[2]
+    r2 = scores(t.y[test], net.predict(t.x[test], 1.0)).r2
+    assert r2 == pytest.approx(rep["r2"], abs=1e-12)
+    assert r2 == pytest.approx(net.meta["test_r2"], abs=1e-12)
