@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from hawksim.backends.network import NETWORKS, OUTPUTS, SHIPPED_SPEEDS, default_for_speed, load_for_speed
-from hawksim.backends.resolution import REFERENCE
+from hawksim.backends.resolution import REFERENCE, TRAINING
 from hawksim.insect.kinematics import PARAM_NAMES
 from hawksim.jsonout import emit
 from hawksim.surrogate.dataset import generate, open_dataset
@@ -92,6 +92,9 @@ def main():
     ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--model", action="append", default=[], metavar="NAME=PATH",
                     help="another network to score (per-speed file: only at its speed; speed-input: at all)")
+    ap.add_argument("--training-labels", help="also run the same kinematics at the training lattice (TRAINING) into "
+                    "this data-set file and score those labels as 'uvlm_training_lattice' (what a perfect fit of the "
+                    "shipped networks' data would give)")
     ap.add_argument("--out")
     ap.add_argument("--fixture")
     ap.add_argument("--fixture-per-speed", type=int, default=4)
@@ -102,6 +105,8 @@ def main():
     for v in a.speeds:
         r = generate(a.labels, v, a.samples, seed=a.seed, resolution=REFERENCE, workers=a.workers)
         t_label[f"{v:g}"] = {"new": r.new, "wall_time_s": r.wall_time_s, "samples_per_s": r.samples_per_s}
+        if a.training_labels:
+            generate(a.training_labels, v, a.samples, seed=a.seed, resolution=TRAINING, workers=a.workers)
     per_speed, fixture = {}, []
     for v in a.speeds:
         lab = read_labels(a.labels, v, a.seed, a.samples)
@@ -124,6 +129,13 @@ def main():
             sc = error_scores(lab["y"][ok], p[ok])
             entry["networks"][name] = {"command": net.meta.get("command"), "scores": sc, "meets": meets(sc),
                                        "with_unsettled": error_scores(lab["y"], p)}
+        if a.training_labels:  # the training lattice's own labels of the same kinematics (where not diverged)
+            cheap = read_labels(a.training_labels, v, a.seed, a.samples)
+            by_idx = dict(zip(cheap["idx"].tolist(), cheap["y"]))
+            both = ok & np.array([int(i) in by_idx for i in lab["idx"]])
+            sc = error_scores(lab["y"][both], np.array([by_idx[int(i)] for i in lab["idx"][both]]))
+            entry["uvlm_training_lattice"] = {"n": int(both.sum()), "resolution": TRAINING.to_dict(), "scores": sc,
+                                              "meets": meets(sc)}
         per_speed[f"{v:g}"] = entry
         for k in np.flatnonzero(ok)[:a.fixture_per_speed]:
             fixture.append({"speed": v, "seed": a.seed, "idx": int(lab["idx"][k]),
