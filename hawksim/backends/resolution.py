@@ -49,7 +49,8 @@ Convergence study (``python scripts/studies/uvlm_convergence.py``, results/uvlm_
 doubling the rings in both directions and the steps per beat changes L+ and P+ by less than 3 %."""
 
 TRAINING = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=3)
-"""Resolution of the surrogate's training data (0.4 s per sample, 2.5x cheaper than DEFAULT): P+ within 2 % and
+"""Resolution of the surrogate's training data (0.4 s per sample, 2.5x cheaper than DEFAULT; 3.8x measured on
+2026-12-02, 0.16 against 0.60 s, results/surrogate/reference_label_cost.json): P+ within 2 % and
 L+ within 8 % of DEFAULT at Table 3's kinematics; the trim is re-balanced on the UVLM at DEFAULT afterwards."""
 
 REFERENCE = DEFAULT
