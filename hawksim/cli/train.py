@@ -95,6 +95,9 @@ def cmd_train(args) -> dict:
         speed = speeds[0]
     else:
         raise UsageError(f"--data {args.data} holds speeds {speeds} m/s: pass --speed V or --all-speeds")
+    if args.base is not None and args.validation_png:
+        raise UsageError("--validation-png plots a network's own targets; with --base those are the corrections: "
+                         "score the folded network with scripts/studies/surrogate_vs_reference.py instead")
     status("reading the samples")  # the bar opens once the options are checked (a bad one: one line, no bar)
     table = read_samples(args.data, speed=speed, seed=args.data_seed)
     x = table.x if speed is not None else np.column_stack([table.x, table.speed])

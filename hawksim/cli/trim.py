@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from hawksim.cli.args import MAX_POPULATION, positive_int_arg, seed_arg, speed_arg
+from hawksim.cli.predict import NETWORK_FAMILIES
 from hawksim.cli.progress import progress_for
 from hawksim.cli.stability import ORBIT_MODELS
 
@@ -66,7 +67,7 @@ def register(sub) -> None:
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
     which = p.add_mutually_exclusive_group()
     which.add_argument("--model", help="surrogate file (.safetensors; default: the shipped network for V)")
-    which.add_argument("--network", choices=("shipped", "reference"), default="shipped",
+    which.add_argument("--network", choices=NETWORK_FAMILIES, default="shipped",
                        help="family of shipped networks (hawksim.backends.network.NETWORKS): shipped (the default) "
                             "or reference (corrected to `hawksim aero`'s default lattice, docs/surrogate.md)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the GA (0)")

@@ -161,6 +161,10 @@ def test_predict_network_option(capsys):
                                                                      s["speed"])
         assert [out[net][k] for k in OUTPUT_KEYS] == pytest.approx([want[k] for k in OUTPUT_KEYS], rel=1e-12)
     assert out["reference"]["network"] == "reference" and out["reference"]["L_plus"] != out["shipped"]["L_plus"]
+    from hawksim.backends.network import NETWORKS
+    from hawksim.cli.predict import NETWORK_FAMILIES
+
+    assert NETWORK_FAMILIES == tuple(NETWORKS)
     # the default stays the shipped network
     assert main(["predict", "--speed", f"{s['speed']:g}", "--kinematics", kin, "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["L_plus"] == out["shipped"]["L_plus"]
