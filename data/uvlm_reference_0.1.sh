@@ -2,7 +2,7 @@
 # reference-lattice labels, seed 0 (same kinematics as data/uvlm_training_0.3.sqlite idx 0..n-1), round robin
 # (run 2026-12-02 06:07-07:25 UTC; stopped and restarted twice between runs to compute the held-out labels, which
 # resumes: the file holds samples 0-999 of seed 0 at each speed)
-cd /work/wt-fid
+cd "$(dirname "$0")/.."  # the repository root
 export NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1
 for n in 100 200 400 600 800 1000; do
   for v in 0 0.5 1 1.5 2; do
