@@ -211,10 +211,20 @@ def load(path: str | Path, expect: InputDefinition | None = None) -> Surrogate:
 SHIPPED_SPEEDS = (0.0, 0.5, 1.0, 1.5, 2.0)
 """Speeds [m/s] of the shipped per-speed networks (the paper's five)."""
 
+NETWORKS = {"shipped": "uvlm", "reference": "uvlm_reference"}
+"""Families of shipped networks (`hawksim predict --network NAME`) and their file-name stems. 'shipped': trained on
+the training lattice's labels (data/uvlm_training_0.3.sqlite; the default of every command); 'reference': the
+multi-fidelity networks, each a shipped network plus a correction trained on `hawksim aero`'s default-lattice labels
+(data/uvlm_reference_0.1.sqlite; :mod:`hawksim.surrogate.multifidelity`, docs/surrogate.md)."""
 
-def shipped_path(speed: float | None) -> Path:
-    """Package-data path of a shipped network: per speed, or ``speed=None`` for the speed-input network."""
-    name = "uvlm_all_speeds.safetensors" if speed is None else f"uvlm_v{int(round(speed * 1000)):04d}.safetensors"
+
+def shipped_path(speed: float | None, network: str = "shipped") -> Path:
+    """Package-data path of a shipped network of family ``network`` (:data:`NETWORKS`): per speed, or
+    ``speed=None`` for the speed-input network."""
+    if network not in NETWORKS:
+        raise SurrogateFileError(f"no network family {network!r}; expected one of {', '.join(NETWORKS)}")
+    stem = NETWORKS[network]
+    name = f"{stem}_all_speeds.safetensors" if speed is None else f"{stem}_v{int(round(speed * 1000)):04d}.safetensors"
     return Path(str(resources.files("hawksim") / "data" / "surrogates" / name))
 
 
@@ -223,22 +233,22 @@ def _load_cached(path: str) -> Surrogate:
     return load(path)
 
 
-def default_for_speed(speed: float) -> Surrogate:
-    """The shipped network used at ascent speed V: the per-speed network at the five study speeds, the
-    speed-input network in between."""
+def default_for_speed(speed: float, network: str = "shipped") -> Surrogate:
+    """The shipped network of family ``network`` used at ascent speed V: the per-speed network at the five study
+    speeds, the speed-input network in between."""
     for v in SHIPPED_SPEEDS:
-        if abs(v - speed) <= SPEED_TOL and shipped_path(v).is_file():
-            return _load_cached(str(shipped_path(v)))
-    p = shipped_path(None)
+        if abs(v - speed) <= SPEED_TOL and shipped_path(v, network).is_file():
+            return _load_cached(str(shipped_path(v, network)))
+    p = shipped_path(None, network)
     if not p.is_file():
-        raise SurrogateFileError(f"no shipped surrogate covers {speed:g} m/s (missing {p})")
+        raise SurrogateFileError(f"no shipped {network} surrogate covers {speed:g} m/s (missing {p})")
     return _load_cached(str(p))
 
 
-def load_for_speed(path: str | Path | None, speed: float) -> Surrogate:
-    """``--model PATH`` or the shipped default; a per-speed network must match the speed."""
+def load_for_speed(path: str | Path | None, speed: float, network: str = "shipped") -> Surrogate:
+    """``--model PATH`` or the shipped network of family ``network``; a per-speed network must match the speed."""
     if path is None:
-        return default_for_speed(speed)
+        return default_for_speed(speed, network)
     s = load(path)
     if s.inputs.speed is not None and abs(s.inputs.speed - speed) > SPEED_TOL:
         raise SurrogateFileError(f"surrogate {str(path)!r} was trained at {s.inputs.speed:g} m/s, "

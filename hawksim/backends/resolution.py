@@ -1,7 +1,9 @@
 """Numerical resolutions of the aerodynamic models: lattice, time step, wingbeats simulated and averaged.
 
 One home for the resolutions every command uses: :data:`DEFAULT` (`hawksim aero`, trim checks, stability),
-:data:`TRAINING` (the surrogate's data sets) and :data:`FLY_UVLM` (`hawksim fly --aero uvlm`).
+:data:`TRAINING` (the surrogate's data sets), :data:`REFERENCE` (the reference-lattice labels of the multi-fidelity
+surrogate, equal to DEFAULT) and :data:`FLY_UVLM` (`hawksim fly --aero uvlm`); :data:`NAMED` maps the names
+`hawksim dataset --resolution` accepts to them.
 """
 
 from __future__ import annotations
@@ -47,8 +49,17 @@ Convergence study (``python scripts/studies/uvlm_convergence.py``, results/uvlm_
 doubling the rings in both directions and the steps per beat changes L+ and P+ by less than 3 %."""
 
 TRAINING = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=3)
-"""Resolution of the surrogate's training data (0.4 s per sample, 2.5x cheaper than DEFAULT): P+ within 2 % and
+"""Resolution of the surrogate's training data (0.4 s per sample, 2.5x cheaper than DEFAULT; 3.8x measured on
+2026-12-02, 0.16 against 0.60 s, results/surrogate/reference_label_cost.json): P+ within 2 % and
 L+ within 8 % of DEFAULT at Table 3's kinematics; the trim is re-balanced on the UVLM at DEFAULT afterwards."""
+
+REFERENCE = DEFAULT
+"""Resolution of the reference labels (``hawksim dataset --resolution reference``): `hawksim aero`'s default lattice,
+so a reference label is exactly what a fresh `hawksim aero` run gives at those kinematics (docs/surrogate.md,
+"A surrogate of the reference UVLM")."""
+
+NAMED = {"training": TRAINING, "reference": REFERENCE}
+"""Named resolutions of `hawksim dataset --resolution NAME` (the options --n-chord etc. override single fields)."""
 
 FLY_UVLM = DEFAULT
 """Lattice and UVLM update rate of `hawksim fly --aero uvlm` (the MuJoCo step is finer; loads are held)."""

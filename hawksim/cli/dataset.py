@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from hawksim.backends.resolution import TRAINING
+from hawksim.backends.resolution import NAMED, TRAINING
 from hawksim.cli.args import add_resolution_args, positive_int_arg, resolution_from, seed_arg, speed_arg, writable_file
 from hawksim.cli.progress import progress_for
 
@@ -31,7 +31,7 @@ def cmd_dataset(args) -> dict:
     if args.speed is None:
         raise UsageError("--speed is required for --kind samples")
 
-    res = resolution_from(args, TRAINING)
+    res = resolution_from(args, NAMED[args.resolution])
     progress = progress_for(args, f"dataset V={args.speed:g}", "sample", mininterval=1.0, smoothing=0.05)
     r = generate(args.out, args.speed, args.samples, seed=args.seed, resolution=res, scheduler=args.scheduler,
                  workers=args.workers, progress=progress)
@@ -63,6 +63,11 @@ def register(sub) -> None:
     p.add_argument("--scheduler", help="address of a running Dask scheduler (default: a LocalCluster)")
     p.add_argument("--workers", type=positive_int_arg("workers"),
                    help="LocalCluster worker processes (default: the machine's cores)")
+    p.add_argument("--resolution", choices=tuple(NAMED), default="training",
+                   help="named UVLM resolution of the labels: training (4 x 8 rings, 30 steps per beat: the shipped "
+                        "networks' data) or reference (`hawksim aero`'s default lattice, 6 x 12 rings, 40 steps: "
+                        "the reference surrogate's labels); --n-chord, --n-span, --steps-per-cycle, --cycles "
+                        "override single values (default: training)")
     add_resolution_args(p, TRAINING, "training")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")

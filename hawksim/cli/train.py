@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import shlex
+from pathlib import Path
 
 from hawksim import interrupts
 from hawksim.cli.args import UsageError, positive_int_arg, seconds_arg, seed_arg, speed_arg, writable_file
@@ -98,6 +99,9 @@ def cmd_train(args) -> dict:
         speed = speeds[0]
     else:
         raise UsageError(f"--data {args.data} holds speeds {speeds} m/s: pass --speed V or --all-speeds")
+    if args.base is not None and args.validation_png:
+        raise UsageError("--validation-png plots a network's own targets; with --base those are the corrections: "
+                         "score the folded network with scripts/studies/surrogate_vs_reference.py instead")
     status("reading the samples")  # the bar opens once the options are checked (a bad one: one line, no bar)
     table = read_samples(args.data, speed=speed, seed=args.data_seed)
     x = table.x if speed is not None else np.column_stack([table.x, table.speed])
@@ -106,6 +110,20 @@ def cmd_train(args) -> dict:
                "--hidden", str(args.hidden), "--max-iter", str(args.max_iter), "--time-limit", f"{args.time_limit:g}"]
     command += ["--all-speeds"] if speed is None else ["--speed", f"{speed:g}"]
     command += [] if args.data_seed is None else ["--data-seed", str(args.data_seed)]
+    command += [] if args.base is None else ["--base", str(args.base)]
+    base = base_meta = None
+    y = table.y
+    if args.base is not None:  # multi-fidelity: train a correction on the labels minus the base's prediction
+        from hawksim.backends.network import load, shipped_path
+        from hawksim.surrogate.multifidelity import correction_targets
+
+        base_path = shipped_path(speed) if args.base == "shipped" else args.base
+        base = load(base_path, expect=InputDefinition.for_speed(speed))
+        base_meta = {"path": str(base_path) if args.base != "shipped" else f"shipped:{Path(base_path).name}",
+                     "file_sha256": _file_sha256(base_path), "command": base.meta.get("command"),
+                     "hidden": base.hidden}
+        status("the base network's predictions")
+        y = correction_targets(base, x, table.y)
     meta = {"command": shlex.join(command), "data": str(args.data),
             "data_sha256": file_sha256(args.data, speed, args.data_seed),
             "n_samples": int(len(table.y)),
@@ -113,20 +131,49 @@ def cmd_train(args) -> dict:
             "n_diverged_left_out": table.n_diverged, "n_unsettled_left_out": table.n_unsettled}
     if args.data_seed is not None:
         meta["data_seed"] = args.data_seed
-    r = train(x, table.y, InputDefinition.for_speed(speed), seed=args.seed, cfg=cfg, meta=meta, progress=progress,
+    r = train(x, y, InputDefinition.for_speed(speed), seed=args.seed, cfg=cfg, meta=meta, progress=progress,
               groups=np.round(table.speed * 1000).astype(int) if speed is None else None, status=status)
     if bar is not None:
         bar.close()
+    net, test_scores = r.surrogate, r.test_scores
+    if base is not None:
+        net, test_scores = _fold_correction(base, base_meta, r)
     interrupts.begin_work()  # until the network is written, a Ctrl-C leaves at once (nothing to clean up)
-    r.surrogate.save(args.out)
+    net.save(args.out)
     if args.validation_png:
         from hawksim.surrogate.plots import validation_figure
 
         validation_figure(r, args.validation_png)
     return {"n_train": r.n_train, "n_val": r.n_val, "n_test": r.n_test,
-            "rmse": r.test_scores.rmse, "r2": r.test_scores.r2, "iterations": r.iterations,
-            "stopped_by": r.surrogate.meta.get("stopped_by"),
+            "rmse": test_scores.rmse, "r2": test_scores.r2, "iterations": r.iterations,
+            "stopped_by": r.surrogate.meta.get("stopped_by"), "hidden": net.hidden,
             "speed": speed, "out": str(args.out), "wall_time_s": r.wall_time_s}
+
+
+def _file_sha256(path) -> str:
+    import hashlib
+
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _fold_correction(base, base_meta: dict, r):
+    """The base network plus the trained correction ``r.surrogate`` as one network, its metadata and its held-out
+    scores against the labels themselves (``r``'s scores are of the correction against the differences: the same
+    RMSE, another R^2)."""
+    from hawksim.surrogate.multifidelity import fold
+    from hawksim.surrogate.train import scores
+
+    corr = r.surrogate
+    speed = r.test_x[:, 7] if base.inputs.speed is None else None
+    labels = r.test_y + base.predict(r.test_x[:, :7], speed)
+    m = dict(corr.meta)
+    m.update(route="multi-fidelity", base=base_meta, correction_hidden=corr.hidden, hidden=base.hidden + corr.hidden,
+             correction_test_rmse=m.pop("test_rmse"), correction_test_r2=m.pop("test_r2"))
+    net = fold(base, corr, meta=m)
+    sc = scores(labels, net.predict(r.test_x[:, :7], speed))
+    base_sc = scores(labels, base.predict(r.test_x[:, :7], speed))
+    net.meta.update(test_rmse=sc.rmse, test_r2=sc.r2, base_test_rmse=base_sc.rmse, base_test_r2=base_sc.r2)
+    return net, sc
 
 
 def register(sub) -> None:
@@ -153,6 +200,10 @@ def register(sub) -> None:
     which.add_argument("--all-speeds", action="store_true",
                    help="one network with the ascent speed as an 8th input, on all speeds in the file")
     p.add_argument("--data-seed", type=seed_arg, help="use only the samples drawn with this seed")
+    p.add_argument("--base", help="multi-fidelity: train a correction on the labels minus this network's prediction "
+                                  "and write base + correction as one network ('shipped': the shipped network of "
+                                  "--speed, or the speed-input one with --all-speeds; or a .safetensors file); "
+                                  "hawksim.surrogate.multifidelity")
     p.add_argument("--hidden", type=positive_int_arg("hidden"), default=500, help="hidden sigmoid units (500)")
     p.add_argument("--max-iter", type=positive_int_arg("max-iter"), default=300,
                    help="LM iterations (--kind step: epochs) at most (300)")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from hawksim.cli.args import MAX_POPULATION, positive_int_arg, seed_arg, speed_arg
+from hawksim.cli.predict import NETWORK_FAMILIES
 from hawksim.cli.progress import progress_for
 from hawksim.cli.stability import ORBIT_MODELS
 
@@ -32,7 +33,7 @@ def cmd_trim(args) -> dict:
     from hawksim.backends.network import load_for_speed
     from hawksim.trim.search import GAConfig, trim_on_surrogate
 
-    sur = load_for_speed(args.model, args.speed)
+    sur = load_for_speed(args.model, args.speed, args.network)
     cfg = replace(GAConfig(), population=args.population)
     bar = progress_for(args, "trim (GA)", "gen")
     progress = None if bar is None else (lambda g, n, best: bar(g, n, best=f"{best:.6f}"))
@@ -42,7 +43,7 @@ def cmd_trim(args) -> dict:
     out = {"kinematics": r.kinematics.to_edge(), "chi": math.degrees(r.kinematics.chi), **r.outputs,
            "fitness": r.fitness, "speed": args.speed, "seed": args.seed, "generations": r.search.generations,
            "nm_evaluations": r.evaluations, "wall_time_s": r.wall_time_s,
-           "model": sur.meta.get("command", args.model or "shipped")}
+           "model": sur.meta.get("command", args.model or args.network)}
     if args.verify:
         from hawksim.backends.held import evaluate
         from hawksim.backends.resolution import DEFAULT
@@ -64,7 +65,11 @@ def cmd_trim(args) -> dict:
 def register(sub) -> None:
     p = sub.add_parser("trim", help="minimum-power trim on the surrogate (GA + Nelder-Mead, paper Eq. 3)")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
-    p.add_argument("--model", help="surrogate file (.safetensors; default: the shipped network for V)")
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--model", help="surrogate file (.safetensors; default: the shipped network for V)")
+    which.add_argument("--network", choices=NETWORK_FAMILIES, default="shipped",
+                       help="family of shipped networks (hawksim.backends.network.NETWORKS): shipped (the default) "
+                            "or reference (corrected to `hawksim aero`'s default lattice, docs/surrogate.md)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the GA (0)")
     p.add_argument("--population", type=positive_int_arg("population", MAX_POPULATION), default=100_000,
                    help=f"GA population (1e5, as in the paper; at most {MAX_POPULATION:g})")

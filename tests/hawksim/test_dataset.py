@@ -252,7 +252,10 @@ def test_layout_1_files_are_read_but_not_continued(tmp_path, capsys):
     assert old.read_bytes() == before
 
 
-SHIPPED_NETWORK_DATA = {"uvlm_training_0.3.sqlite": ("samples", 15000), "uvlm_flights_0.2.0.sqlite": ("flights", 700)}
+SHIPPED_NETWORK_DATA = {"uvlm_training_0.3.sqlite": ("samples", 15000), "uvlm_flights_0.2.0.sqlite": ("flights", 700),
+                        "uvlm_reference_0.1.sqlite": ("samples", 5000),
+                        "uvlm_reference_heldout_s22.sqlite": ("samples", 500),
+                        "uvlm_training_heldout_s22.sqlite": ("samples", 500)}
 """The committed data sets and their row counts (hawksim/data/surrogates/README.md)."""
 
 
