@@ -158,6 +158,23 @@ def _edge_sum(m, x1, y1, z1, e1, f1, g1, x2, y2, z2, e2, f2, g2, gamma, rr, ux, 
     return ux, uy, uz
 
 
+@njit(fastmath=True, error_model="numpy", inline="always", cache=True)
+def corner_vectors(px, py, pz, bx, by, bz, m, rx, ry, rz, ex, ey, ez):
+    """The lattice kernel's first pass for one target p: r = p - corner and its unit vector e (floored at
+    :data:`RSQRT_MIN`) into rx..ez for the corners 0..m-1 of (bx, by, bz); shared by the treecode's near field."""
+    for k in range(m):
+        x = px - bx[k]
+        y = py - by[k]
+        z = pz - bz[k]
+        inv = rsqrt(max(x * x + y * y + z * z, RSQRT_MIN))
+        rx[k] = x
+        ry[k] = y
+        rz[k] = z
+        ex[k] = x * inv
+        ey[k] = y * inv
+        ez[k] = z * inv
+
+
 @njit(nogil=True, fastmath=True, error_model="numpy", cache=True)
 def _lattice_chunks(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out, counter, nchunk):
     """One task of :func:`lattice_induced_velocity`: chunks q = claim(counter) < nchunk of the targets."""
@@ -188,18 +205,7 @@ def _lattice_chunks(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamm
             bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
             sg, sr, cg, cr = span_gamma[c0:], span_rr[c0:], chord_gamma[c0:], chord_rr[c0:]
             for i in range(i0, i1):
-                px, py, pz = targets[i, 0], targets[i, 1], targets[i, 2]
-                for k in range(m):
-                    x = px - bx[k]
-                    y = py - by[k]
-                    z = pz - bz[k]
-                    inv = rsqrt(max(x * x + y * y + z * z, RSQRT_MIN))
-                    rx[k] = x
-                    ry[k] = y
-                    rz[k] = z
-                    ex[k] = x * inv
-                    ey[k] = y * inv
-                    ez[k] = z * inv
+                corner_vectors(targets[i, 0], targets[i, 1], targets[i, 2], bx, by, bz, m, rx, ry, rz, ex, ey, ez)
                 ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
                                        ez[1:], sg, sr, 0.0, 0.0, 0.0)
                 if mc > 0:

@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from aero.biot_savart import FOUR_PI, RSQRT_MIN, _edge_sum, claim, rsqrt
+from aero.biot_savart import FOUR_PI, RSQRT_MIN, _edge_sum, claim, corner_vectors, rsqrt
 from aero.lattice import stacked_lattices
 from aero.scheduling import run_chunked
 
@@ -430,18 +430,7 @@ def _tree_chunks(x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_righ
                                 lcg[lo], lcr[lo] = 0.0, 1.0
                     nloc = h * w
                     for j in range(nt):
-                        px, py, pz = xs[j], ys[j], zs[j]
-                        for kk in range(nloc):
-                            xx = px - bx[kk]
-                            yy = py - by[kk]
-                            zz = pz - bz[kk]
-                            inv = rsqrt(max(xx * xx + yy * yy + zz * zz, RSQRT_MIN))
-                            rx[kk] = xx
-                            ry[kk] = yy
-                            rz[kk] = zz
-                            ex[kk] = xx * inv
-                            ey[kk] = yy * inv
-                            ez[kk] = zz * inv
+                        corner_vectors(xs[j], ys[j], zs[j], bx, by, bz, nloc, rx, ry, rz, ex, ey, ez)
                         sx, sy, sz = _edge_sum(nloc - 1, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:],
                                                ey[1:], ez[1:], lsg, lsr, 0.0, 0.0, 0.0)
                         if h > 1:
