@@ -20,7 +20,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from hawksim.backends.base import FlightState, WingLoads
 from hawksim.backends.step_network import MIRROR_F, MIRROR_M, MIRROR_V, MIRROR_W, StepNetwork, load, shipped_path
@@ -55,7 +54,7 @@ class StepSurrogateBackend:
         K, h = blocks[0][0].shape[0], blocks[0][0].shape[2]
         parts = []
         for k, (W, b) in enumerate(blocks):
-            parts.append(W.ravel())  # (K, in, out): the layout of mlp
+            parts.append(np.ascontiguousarray(W.transpose(0, 2, 1)).ravel())  # (K, out, in): the layout of mlp
             parts.append(np.broadcast_to(b.reshape(-1, b.shape[-1]), (K, b.shape[-1])).ravel() if k < len(blocks) - 1
                          else np.zeros(K * 6, np.float32))
         parts.append(self.layers[-1][1])
@@ -130,11 +129,11 @@ class StepSurrogateBackend:
 @dataclass(frozen=True)
 class NativeNetwork:
     """A per-step surrogate for the flight loop's native callback (:meth:`StepSurrogateBackend.native`;
-    :func:`mlp` evaluates it):
+    :func:`hawksim.flight.native.mlp` evaluates it):
     ``buffer`` float64-aligned bytes: its first float64 the number of float32 values that follow (the layout of
-    :func:`mlp`); members, n_in, hidden, layers; ``every`` steps per update; omega_f = 2 pi f [rad/s] of its phase
-    input; kinematics (7,) its kinematic inputs (SI); mirrors (12,) MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M;
-    plant_kinematics below."""
+    :func:`hawksim.flight.native.mlp`); members, n_in, hidden, layers; ``every`` steps per update; omega_f =
+    2 pi f [rad/s] of its phase input; kinematics (7,) its kinematic inputs (SI); mirrors (12,) MIRROR_V,
+    MIRROR_W, MIRROR_F, MIRROR_M; plant_kinematics below."""
 
     buffer: np.ndarray
     members: int
@@ -157,50 +156,6 @@ class NativeNetwork:
         out[0] = len(values)
         out[1:].view(np.float32)[:len(values)] = values
         return out
-
-
-@njit(cache=True)
-def mlp(x, buf, K, n_in, h, L):
-    """The folded ensemble network at inputs x (n, n_in) float32, compiled (the flight loop's native callback,
-    :mod:`hawksim.flight.native`, calls it with a :class:`NativeNetwork`'s buffer):
-    K members of L layers (tanh between), summed, plus the output bias. ``buf`` (float32, flat) holds, per layer
-    l, the weights (K, a_l, b_l) (input-major, as the numpy evaluation's W^T) then the biases (K, b_l) (a_0 = n_in,
-    hidden b = h, last b = 6; the last layer's biases are the members' zeros), then the output bias (6). The
-    arithmetic of the numpy evaluation up to the order of the float32 sums (~1e-7 relative); each weight row is
-    read once for all n rows of x (the weights, ~0.9 MB for the shipped 3 x 192^3 network, are what costs)."""
-    n = x.shape[0]
-    out = np.zeros((n, 6), np.float32)
-    for k in range(K):
-        hcur = x.copy()
-        off = 0
-        for lay in range(L):
-            a = n_in if lay == 0 else h
-            b = 6 if lay == L - 1 else h
-            wbase = off + k * a * b
-            off += K * a * b
-            bias = buf[off + k * b:off + (k + 1) * b]
-            off += K * b
-            nxt = np.zeros((n, b), np.float32)
-            for i in range(a):
-                w = buf[wbase + i * b:wbase + (i + 1) * b]
-                for r in range(n):
-                    xi = hcur[r, i]
-                    acc = nxt[r]
-                    for j in range(b):
-                        acc[j] += xi * w[j]
-            for r in range(n):
-                for j in range(b):
-                    v = nxt[r, j] + bias[j]
-                    nxt[r, j] = np.tanh(v) if lay < L - 1 else v
-            hcur = nxt
-        for r in range(n):
-            for j in range(6):
-                out[r, j] += hcur[r, j]
-    fb = buf.shape[0] - 6
-    for r in range(n):
-        for j in range(6):
-            out[r, j] += buf[fb + j]
-    return out
 
 
 def ensemble_blocks(layers) -> tuple[tuple[np.ndarray, np.ndarray], ...] | None:

@@ -34,29 +34,34 @@ def main():
     ap.add_argument("--cycles", type=int, default=20)
     ap.add_argument("--aero", default="quasi-steady")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--steps-per-cycle", type=int, default=None,
+                    help="RK4 steps per wingbeat (default the flight's 200, from the shipped orbit; another count "
+                         "starts from the held-body trim with a calibration beat, as `hawksim fly` does)")
     a = ap.parse_args()
+    spc = {} if a.steps_per_cycle is None else {"steps_per_cycle": a.steps_per_cycle}
 
     from hawksim.cli.fly import fly_named
 
-    fly_named(a.speed, 1, a.aero)  # warm-up: numba cache, model generation
+    fly_named(a.speed, 1, a.aero, **spc)  # warm-up: numba cache, model generation
     with python_callback():
-        fly_named(a.speed, 1, a.aero)
+        fly_named(a.speed, 1, a.aero, **spc)
     loop, loop_py = [], []
     for _ in range(a.repeat):  # interleaved: the native callback (default) and the Python one, same sitting
         t0 = time.perf_counter()
-        r = fly_named(a.speed, a.cycles, a.aero)
+        r = fly_named(a.speed, a.cycles, a.aero, **spc)
         loop.append((r.wall_time_s, time.perf_counter() - t0))
         with python_callback():
-            loop_py.append(fly_named(a.speed, a.cycles, a.aero).wall_time_s)
+            loop_py.append(fly_named(a.speed, a.cycles, a.aero, **spc).wall_time_s)
     sim_time = a.cycles * r.kinematics.period  # the flown trim (the model's own)
     cmd = [sys.executable, "-m", "hawksim.cli", "fly", "--speed", str(a.speed), "--cycles", str(a.cycles),
-           "--aero", a.aero, "--json", "--no-progress"]
+           "--aero", a.aero, "--json", "--no-progress"] + (
+        [] if a.steps_per_cycle is None else ["--steps-per-cycle", str(a.steps_per_cycle)])
     wall_cmd = []
     for _ in range(a.repeat):
         t0 = time.perf_counter()
         subprocess.run(cmd, check=True, capture_output=True)
         wall_cmd.append(time.perf_counter() - t0)
-    split = _time_split(a)
+    split = _time_split(a, spc)
     floors = _floors(r.kinematics, r.steps_per_cycle, a.cycles, a.repeat)
     best_loop = min(x[0] for x in loop)
     best_fly = min(x[1] for x in loop)
@@ -134,7 +139,7 @@ def _floors(kin, steps_per_cycle: int, cycles: int, repeat: int) -> dict:
     return out
 
 
-def _time_split(a) -> dict:
+def _time_split(a, spc: dict) -> dict:
     import cProfile
     import pstats
 
@@ -142,7 +147,7 @@ def _time_split(a) -> dict:
 
     prof = cProfile.Profile()
     prof.enable()
-    fly_named(a.speed, a.cycles, a.aero)
+    fly_named(a.speed, a.cycles, a.aero, **spc)
     prof.disable()
     st = pstats.Stats(prof).stats  # {(file, line, name): (cc, nc, tottime, cumtime, callers)}
 
