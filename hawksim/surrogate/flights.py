@@ -219,9 +219,16 @@ def sample_flight(seed: int, i: int, family: str = "orbit") -> FlightSpec:
                       tuple(map(float, pert)), symmetric)
 
 
-def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = "orbit") -> FlightSample:
+def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = "orbit", *,
+                    history_kick: np.ndarray | None = None, state_at_kick: np.ndarray | None = None,
+                    kick_log: list | None = None) -> FlightSample:
     """Fly flight i of ``family`` (UVLM in the loop, `hawksim fly --aero uvlm`'s settings) and record every UVLM
-    update."""
+    update.
+
+    For the memory study (``scripts/studies/step_surrogate_memory.py``; the data sets use none of these):
+    history_kick (9,) is added to the body state one beat before the kick; state_at_kick (9,) is written at the
+    kick instead of the state flown + the spec's perturbation, so that two flights leave the kick in the same body
+    state with different wakes; kick_log, a list, receives the body state just before the kick."""
     from hawksim.backends import flight_backend
     from hawksim.flight.orbit import read_body_state, set_body_state
     from hawksim.flight.simulator import Simulator, aero_every_for
@@ -243,8 +250,14 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
     rows, cut, status, att0 = [], None, "ok", None
     try:
         for step in range(beats * FLY_STEPS_PER_CYCLE):
+            if history_kick is not None and step == (WARM_BEATS - 1) * FLY_STEPS_PER_CYCLE:
+                _kick(sim, read_body_state(sim, spec.chi_ref) + np.asarray(history_kick), spec.chi_ref)
             if step == WARM_BEATS * FLY_STEPS_PER_CYCLE:
-                _kick(sim, read_body_state(sim, spec.chi_ref) + np.asarray(spec.perturbation), spec.chi_ref)
+                before = read_body_state(sim, spec.chi_ref)
+                if kick_log is not None:
+                    kick_log.append(before)
+                x = before + np.asarray(spec.perturbation) if state_at_kick is None else np.asarray(state_at_kick)
+                _kick(sim, x, spec.chi_ref)
             rec = sim.step()
             if step % every:
                 continue

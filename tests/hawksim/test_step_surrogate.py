@@ -326,3 +326,32 @@ def test_a_folded_ensemble_is_evaluated_block_by_block_with_the_same_result():
     x = _inputs(net).astype(np.float32)
     ref = net.predict(x)
     assert np.abs(b.evaluate(x) - ref).max() <= FOLD_RTOL * np.abs(ref).max()
+
+
+def test_twin_flights_share_the_body_state_but_not_the_wake():
+    """scripts/studies/step_surrogate_memory.py's twins (hawksim.surrogate.flights.evaluate_flight's history
+    options): flight 54 of seed 7 (hover, 0.027 m/s) and its twin kicked one beat earlier too, written to the same
+    body state at the kick. The defaults are untouched (kick_log changes nothing); the twins leave the kick in one
+    state (float32 rows); their UVLM M+ over the next beat differs by what the wake remembers (measured +0.062 at 4
+    beats, results/surrogate/step_memory.json), which a memoryless network cannot see."""
+    from hawksim.surrogate.flights import evaluate_flight, sample_flight
+    from hawksim.surrogate.step_train import UPDATES_PER_BEAT
+
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[2] / "scripts" / "studies" / "step_surrogate_memory.py"
+    spec_ = importlib.util.spec_from_file_location("step_surrogate_memory", path)
+    study = importlib.util.module_from_spec(spec_)
+    spec_.loader.exec_module(study)
+    spec = sample_flight(7, 54)
+    plain = evaluate_flight(7, 54, beats=3)
+    log: list = []
+    a = evaluate_flight(7, 54, beats=3, kick_log=log)
+    np.testing.assert_array_equal(plain.rows, a.rows)
+    pert = np.asarray(spec.perturbation)
+    b = evaluate_flight(7, 54, beats=3, history_kick=pert, state_at_kick=log[0] + pert)
+    k = 2 * UPDATES_PER_BEAT  # the row of the kick's step (rows every update, the kick at t = 2 T)
+    np.testing.assert_allclose(b.rows[k, 1:7], a.rows[k, 1:7], rtol=1e-4, atol=1e-6)  # one step after the kick
+    assert np.abs(b.rows[UPDATES_PER_BEAT + 5, 1:4] - a.rows[UPDATES_PER_BEAT + 5, 1:4]).max() > 1e-3  # history
+    ua, ub = study._means(study._stored(a)), study._means(study._stored(b))
+    assert abs((ua - ub)[0, 2]) == pytest.approx(0.062, abs=0.02)
