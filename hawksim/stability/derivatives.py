@@ -45,7 +45,8 @@ DELTA_RATE = 0.05
 
 def mass_properties(kin: Kinematics, model: mujoco.MjModel | None = None) -> MassProperties:
     """Total mass and inertia about the centre of mass with the wings at their mean position (phi0, theta0,
-    90 deg + alpha0) and the body at the trim attitude chi, in stability axes."""
+    90 deg + alpha0) and the body at the trim attitude chi, in stability axes, and the body's own centre of mass
+    relative to it (``body_cg``, stability axes [m]; ~0.75 mm below it)."""
     m = model if model is not None else load_model()
     d = mujoco.MjData(m)
     d.qpos[3:7] = quat_from_matrix(rot_y(-kin.chi))
@@ -62,8 +63,10 @@ def mass_properties(kin: Kinematics, model: mujoco.MjModel | None = None) -> Mas
         r = d.xipos[b] - com
         I += R @ np.diag(m.body_inertia[b]) @ R.T + m.body_mass[b] * (r @ r * np.eye(3) - np.outer(r, r))
     Is = S_WORLD @ I @ S_WORLD
+    a = S_WORLD @ (d.xipos[ModelIndex.of(m).body] - com)
     return MassProperties(m=float(mass), Ix=float(Is[0, 0]), Iy=float(Is[1, 1]), Iz=float(Is[2, 2]),
-                          Ixz=float(-Is[0, 2]))
+                          Ixz=float(-Is[0, 2]), body_cg=(float(a[0]), 0.0 if abs(a[1]) < 1e-15 else float(a[1]),
+                                                         float(a[2])))
 
 
 @dataclass(frozen=True)

@@ -232,7 +232,8 @@ added-mass memory)."""
 
 @dataclass(frozen=True)
 class AveragedSystem:
-    """Cycle-averaged linear model: dimensional derivatives (stability axes, SI), nondimensional A_long (4, 4),
+    """Cycle-averaged linear model: dimensional derivatives (stability axes, SI, about the system's centre of mass:
+    :func:`hawksim.stability.system.about_centre_of_mass`), nondimensional A_long (4, 4),
     A_lat (4, 4) (t+ = t/T), their eigenvalues (complex, sorted by real part descending), and Eq. 8's scalars."""
 
     derivatives: dict
@@ -255,7 +256,7 @@ def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int =
     """Stability derivatives of the quasi-steady backend at ``kin`` on the held trim path (ascent ``speed``,
     body at chi), and the nondimensional A matrices (hawksim.stability.system)."""
     from hawksim.stability.derivatives import mass_properties
-    from hawksim.stability.system import nondimensional_system
+    from hawksim.stability.system import about_centre_of_mass, nondimensional_system
 
     U, T = scales(kin)
     dv, dw = DERIV_DELTA_VELOCITY * U, DERIV_DELTA_RATE / T
@@ -273,11 +274,13 @@ def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int =
         diff = (ys[0] - ys[1]) / (2 * h)
         for f in forces:
             out[f + var] = float(diff[comp[f]])
-    d, Al, At, scalars = nondimensional_system(kin, speed, out, mass_properties(kin))
+    mp = mass_properties(kin)
+    d, Al, At, scalars = nondimensional_system(kin, speed, out, mp)  # moved to the system's centre of mass
 
     def ev(A):
         w = np.linalg.eigvals(A)
         return w[np.argsort(-w.real, kind="stable")]
 
-    return AveragedSystem(derivatives=out, nondimensional=d, A_long=Al, A_lat=At, eig_long=ev(Al), eig_lat=ev(At),
+    return AveragedSystem(derivatives=about_centre_of_mass(out, mp.body_cg), nondimensional=d, A_long=Al, A_lat=At,
+                          eig_long=ev(Al), eig_lat=ev(At),
                           scalars=scalars)

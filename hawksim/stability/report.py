@@ -11,7 +11,8 @@ def stability_report(speed: float, *, kinematics=None, client=None, progress=Non
     dask.distributed client whose workers run the UVLM cases
     (:func:`hawksim.stability.derivatives.dimensional_derivatives`)."""
     from hawksim.stability.derivatives import dimensional_derivatives, mass_properties
-    from hawksim.stability.system import LAT_DERIVATIVES, LONG_DERIVATIVES, modes_json, nondimensional_system
+    from hawksim.stability.system import (LAT_DERIVATIVES, LONG_DERIVATIVES, about_centre_of_mass, modes_json,
+                                          nondimensional_system)
     from hawksim.trim.tables import shipped_trim
 
     trim = shipped_trim(speed) if kinematics is None else None
@@ -24,7 +25,8 @@ def stability_report(speed: float, *, kinematics=None, client=None, progress=Non
         "trim": {"kinematics": kin.to_edge(), "source": trim.source if kinematics is None else "given"},
         "longitudinal": {"derivatives": {k: d[k] for k in LONG_DERIVATIVES}, **modes_json(A_long)},
         "lateral": {"derivatives": {k: d[k] for k in LAT_DERIVATIVES}, **modes_json(A_lat)},
-        "derivatives_dimensional": runs.derivatives,
+        "derivatives_dimensional": about_centre_of_mass(runs.derivatives, mp.body_cg),
+        "derivatives_dimensional_about_body_cg": runs.derivatives,
         "nondimensional": scalars,
         "mass_properties": vars(mp),
         "disturbances": runs.deltas,

@@ -74,13 +74,42 @@ class Scales:
 @dataclass(frozen=True)
 class MassProperties:
     """Mass [kg] and inertia about the centre of mass in stability axes [kg m^2] (Ix, Iy, Iz, Ixz = +int xz dm,
-    Etkin's sign)."""
+    Etkin's sign); body_cg (3,) [m]: the body's own centre of mass relative to the system's (stability axes), the
+    point the derivative runs take their moments and rotations about (:func:`about_centre_of_mass`)."""
 
     m: float
     Ix: float
     Iy: float
     Iz: float
     Ixz: float
+    body_cg: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+def about_centre_of_mass(derivs: dict[str, float], body_cg) -> dict[str, float]:
+    """The 18 dimensional derivatives (stability axes, SI) of runs that rotate the body about, and take moments
+    about, the body's own centre of mass O, moved to the system's centre of mass P, where the inertia is
+    (issue 22: one reference point), by rigid-body kinematics to first order. a = O - P = ``body_cg``:
+
+    - a rotation omega about P moves O at omega x a: F_q += a_z F_u - a_x F_w, F_p -= a_z F_v, F_r += a_x F_v for
+      every force and moment F (e_y x a = (a_z, 0, -a_x), e_x x a = (0, -a_z, 0), e_z x a = (0, a_x, 0));
+    - moments about P are M_P = M_O + a x F: M += a_z X - a_x Z, L -= a_z Y, N += a_x Y, per disturbance.
+
+    a_y must be 0 (a left/right symmetric insect): otherwise the two systems would couple."""
+    ax, ay, az = (float(c) for c in body_cg)
+    if abs(ay) > 1e-9:
+        raise ValueError(f"body_cg must lie in the plane of symmetry (a_y = 0), got a_y = {ay:g} m")
+    d = dict(derivs)
+    for F in "XZM":
+        d[F + "q"] = derivs[F + "q"] + az * derivs[F + "u"] - ax * derivs[F + "w"]
+    for F in "YLN":
+        d[F + "p"] = derivs[F + "p"] - az * derivs[F + "v"]
+        d[F + "r"] = derivs[F + "r"] + ax * derivs[F + "v"]
+    for v in "uwq":
+        d["M" + v] += az * d["X" + v] - ax * d["Z" + v]
+    for v in "vpr":
+        d["L" + v] -= az * d["Y" + v]
+        d["N" + v] += ax * d["Y" + v]
+    return d
 
 
 def a_long(d: dict[str, float], m: float, Iy: float, g: float, w_e: float) -> np.ndarray:
@@ -146,9 +175,11 @@ def modes_json(A: np.ndarray) -> dict:
 
 def nondimensional_system(kin: Kinematics, speed: float, derivs_dim: dict[str, float], mp: MassProperties,
                           morph: Morphology = HAWKMOTH, g: float = G) -> tuple[dict, np.ndarray, np.ndarray, dict]:
-    """(nondimensional derivatives, A_long+, A_lat+, scalars) from dimensional derivatives in stability axes."""
+    """(nondimensional derivatives, A_long+, A_lat+, scalars) from dimensional derivatives in stability axes about
+    the body's centre of mass (what the derivative runs give), moved to the system's (:func:`about_centre_of_mass`,
+    ``mp.body_cg``) where ``mp``'s inertia is."""
     sc = Scales.of(kin, morph)
-    d = {k: sc.derivative(k, v) for k, v in derivs_dim.items()}
+    d = {k: sc.derivative(k, v) for k, v in about_centre_of_mass(derivs_dim, mp.body_cg).items()}
     m = sc.mass(mp.m)
     Ix, Iy, Iz, Ixz = (sc.inertia(v) for v in (mp.Ix, mp.Iy, mp.Iz, mp.Ixz))
     g_p = g * sc.T / sc.U

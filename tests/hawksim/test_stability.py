@@ -65,9 +65,44 @@ def test_eq8_scales_and_mass_properties():
     assert mp.m == pytest.approx(1578.7e-6, rel=MASS_RTOL)
     assert mp.Iy > 0 and mp.Ix > 0 and mp.Iz > 0
     assert mp.Ixz < 0  # the nose-up body's long axis runs forward-up: -int xz dm < 0 in stability axes
-    d, Al, At, sca = nondimensional_system(kin, 1.0, {k: 1e-4 for k in D}, mp)
+    # the body's own centre of mass: in the plane of symmetry, 0.75 mm below the system's (the wings sit above it)
+    assert mp.body_cg[1] == 0.0 and mp.body_cg[2] == pytest.approx(7.5e-4, abs=0.5e-4)
+    from dataclasses import replace
+
+    d, Al, At, sca = nondimensional_system(kin, 1.0, {k: 1e-4 for k in D}, replace(mp, body_cg=(0.0, 0.0, 0.0)))
     assert sca["w_e_plus"] == pytest.approx(-1.0 / sc.U)
     assert sca["g_plus"] == pytest.approx(9.81 * sc.T / sc.U)
     assert d["Xu"] == pytest.approx(1e-4 / (0.5 * 1.225 * sc.U * sc.S_t))
     assert d["Mq"] == pytest.approx(1e-4 / (0.5 * 1.225 * sc.U**2 * sc.S_t * sc.cbar * sc.T))
     assert Al.shape == At.shape == (4, 4)
+
+
+def test_derivatives_move_to_the_system_centre_of_mass_by_rigid_body_kinematics():
+    """hawksim.stability.system.about_centre_of_mass against a direct evaluation: loads linear in the motion of O
+    (the body's centre of mass; random 6 x 6 map), the body moved by rotations about P = O - a and moments taken
+    about P with np.cross. Also: a = 0 changes nothing, and an a_y off the plane of symmetry is refused."""
+    import pytest
+
+    from hawksim.stability.system import about_centre_of_mass
+
+    rng = np.random.default_rng(5)
+    K = rng.normal(size=(6, 6))  # (X, Y, Z, L, M, N) about O per unit (u, v, w, p, q, r) of O's motion
+    a = np.array([-3.4e-5, 0.0, 7.5e-4])  # O - P, the hawkmoth's (mass_properties at 1 m/s)
+
+    def loads_about_P(v_P, w):
+        F_M = K @ np.concatenate([v_P + np.cross(w, a), w])
+        return np.concatenate([F_M[:3], F_M[3:] + np.cross(a, F_M[:3])])
+
+    names = "XYZLMN"
+    raw = {names[i] + "uvwpqr"[j]: K[i, j] for i in range(6) for j in range(6)}
+    paper = {k: raw[k] for k in ("Xu Zu Mu Xw Zw Mw Xq Zq Mq Yv Lv Nv Yp Lp Np Yr Lr Nr".split())}
+    got = about_centre_of_mass(paper, a)
+    e = np.eye(3)
+    for j, var in enumerate("uvwpqr"):
+        col = loads_about_P(e[j], np.zeros(3)) if j < 3 else loads_about_P(np.zeros(3), e[j - 3])
+        for i, f in enumerate(names):
+            if f + var in got:
+                assert got[f + var] == pytest.approx(col[i], rel=1e-12, abs=1e-15), f + var
+    assert about_centre_of_mass(paper, (0.0, 0.0, 0.0)) == paper
+    with pytest.raises(ValueError, match="plane of symmetry"):
+        about_centre_of_mass(paper, (0.0, 1e-4, 0.0))
