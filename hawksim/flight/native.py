@@ -246,8 +246,8 @@ def mlp(x, buf, K, n_in, h, L):
     the order of the float32 sums (``fastmath`` lets them vectorise; ~1e-7 relative) and tanh's last bit; each
     weight row is read once for both wings (the weights, ~0.9 MB for the shipped 3 x 192^3 network, are what
     costs: 21-25 us a call against 73-95 us with row-major axpy sums and libm's tanh, measured 2026-12-02).
-    It lives here, beside the callback that calls it, because numba's cache is keyed by the source file: a
-    callback compiled against an older network layout must not be loaded after this function changes."""
+    It lives beside the callback that calls it (the buffer layout is the callback's); that the callback is never
+    loaded from the cache compiled against an older version of it is :mod:`aero.numba_cache`'s per-source folder."""
     out = np.zeros((2, 6), np.float32)
     width = max(n_in, h)
     cur0, cur1 = np.empty(width, np.float32), np.empty(width, np.float32)
