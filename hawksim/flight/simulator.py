@@ -3,10 +3,13 @@
 Method (docs/conventions.md, "MuJoCo coupling"). The integrator is RK4. Inside ``mjcb_control``,
 called by MuJoCo at every RK4 stage, the six wing-joint torques are solved by computed torque so that the wing
 joint accelerations equal the prescribed ones (plus a stiff PD term that only removes round-off drift):
-with zero wing torque, ``mj_fwdActuation`` + ``mj_fwdAcceleration`` give the free acceleration a0 of the wing
-dofs; a torque tau changes it by [M^-1]_ww tau, so tau = ([M^-1]_ww)^-1 (a_des - a0). The torques are
-internal, so the body responds to the wings' inertia exactly and the system's momentum is conserved (tested).
-Wing qpos/qvel are never overwritten.
+with zero wing torque, ``mj_fwdActuation`` + ``mj_fwdAcceleration`` give the generalized force f0
+(``qfrc_smooth``), and with the dense mass matrix (``mj_fullM``) the equations of motion, split into the body's
+dofs b and the wings' w, give the torques of the prescribed wing accelerations a_des in one solve with M_bb:
+M_bb a_b = f0_b - M_bw a_des, tau = M_wb a_b + M_ww a_des - f0_w (:func:`prescribed_torque`; the same torques
+as tau = ([M^-1]_ww)^-1 (a_des - a0) with the free acceleration a0 = (M^-1 f0)_w, without solving with M). The
+torques are internal, so the body responds to the wings' inertia exactly and the system's momentum is conserved
+(tested). Wing qpos/qvel are never overwritten.
 
 Aerodynamic loads come from an :class:`hawksim.backends.base.AeroBackend` once per step (zero-order hold over the
 step) and enter through ``data.xfrc_applied`` of the wing bodies (world-frame force and torque at the wing
@@ -36,34 +39,95 @@ FEEDBACK_BANDWIDTH = 5.0
 
 
 @njit(cache=True)
-def _solve6(A, b):
-    """Solve the small SPD system A x = b (Cholesky); A is [M^-1]_ww, symmetric positive definite."""
-    return np.linalg.solve(A, b)
+def spd_solve_in_place(A, b):
+    """b <- A^-1 b for a symmetric positive definite A (n, n), by Cholesky (A = L L^T): L overwrites A's lower
+    triangle, which is all that is read of A. No allocation, as it runs at every RK4 stage."""
+    n = b.shape[0]
+    for j in range(n):
+        s = A[j, j]
+        for k in range(j):
+            s -= A[j, k] * A[j, k]
+        dj = math.sqrt(s)
+        A[j, j] = dj
+        for i in range(j + 1, n):
+            s = A[i, j]
+            for k in range(j):
+                s -= A[i, k] * A[j, k]
+            A[i, j] = s / dj
+    for i in range(n):  # L y = b
+        s = b[i]
+        for k in range(i):
+            s -= A[i, k] * b[k]
+        b[i] = s / A[i, i]
+    for i in range(n - 1, -1, -1):  # L^T x = y
+        s = b[i]
+        for k in range(i + 1, n):
+            s -= A[k, i] * b[k]
+        b[i] = s / A[i, i]
 
 
 @njit(cache=True)
-def _computed_torque(t, p, kp, kd, q, qd, a0, minv_ww):
+def prescribed_torque(M, f0, acc, work):
+    """The joint torques that give the last six dofs (the wings' hinges) the accelerations acc (6,), in place
+    (acc <- tau): with the dense mass matrix M (nv, nv) and the generalized force f0 (nv,) without those torques
+    (MuJoCo's qfrc_smooth: passive - bias + applied + the wings' loads through xfrc_applied), the equations of
+    motion M qacc = f0 + [0, tau] split into the body's block b (the first nv - 6 dofs) and the wings' w:
+
+        M_bb a_b = f0_b - M_bw acc,    tau = M_wb a_b + M_ww acc - f0_w,
+
+    the body's accelerations a_b by Cholesky of M_bb (overwritten; M_bb is SPD as a diagonal block of the SPD M).
+    One (nv - 6)-square solve and no solve with M itself, at every RK4 stage; work: scratch (nv - 6,). The native
+    callback (:mod:`hawksim.flight.native`) and the Python one call this same function, so the two give the same
+    floats."""
+    nb = M.shape[0] - 6
+    ab = work[:nb]
+    for i in range(nb):
+        s = f0[i]
+        for k in range(6):
+            s -= M[i, nb + k] * acc[k]
+        ab[i] = s
+    spd_solve_in_place(M[:nb, :nb], ab)
+    for k in range(6):
+        r = nb + k
+        s = -f0[r]
+        for i in range(nb):
+            s += M[r, i] * ab[i]
+        for j in range(6):
+            s += M[r, nb + j] * acc[j]
+        work[nb + k] = s
+    for k in range(6):
+        acc[k] = work[nb + k]
+
+
+@njit(cache=True)
+def _computed_torque(t, p, kp, kd, q, qd, M, f0, work):
     """The six wing-joint torques of one RK4 stage, compiled (one call instead of a dozen numpy operations per
     stage): Eq. 1 at time t for both wings (p = (f, phi0, theta0, alpha0, phi_a, alpha_a), SI; the arithmetic of
     :meth:`Kinematics.eq1`), the PD-corrected desired acceleration a_des = qdd + kp (q_des - q) + kd (qd_des - qd)
-    of the joint angles q (6,) and rates qd (6,), and tau = ([M^-1]_ww)^-1 (a_des - a0)."""
+    of the joint angles q (6,) and rates qd (6,), and the torques that give it (:func:`prescribed_torque` with the
+    dense mass matrix M, overwritten, and the force f0; work: scratch (nv,))."""
     f, phi0, theta0, alpha0, phi_a, alpha_a = p[0], p[1], p[2], p[3], p[4], p[5]
     w = 2.0 * math.pi * f
     c, s = math.cos(w * t), math.sin(w * t)
     qs = (phi0 - phi_a * c, theta0, 0.5 * math.pi + alpha0 - alpha_a * s)
     qds = (phi_a * w * s, 0.0, -alpha_a * w * c)
     qdds = (phi_a * w * w * c, 0.0, alpha_a * w * w * s)
-    rhs = np.empty(6)
+    acc = np.empty(6)
     for k in range(6):
         j = k % 3
-        rhs[k] = qdds[j] + kp * (qs[j] - q[k]) + kd * (qds[j] - qd[k]) - a0[k]
-    return np.linalg.solve(minv_ww, rhs)
+        acc[k] = qdds[j] + kp * (qs[j] - q[k]) + kd * (qds[j] - qd[k])
+    prescribed_torque(M, f0, acc, work)
+    return acc
 
 
 @njit(cache=True)
-def _computed_torque_given(q_des, qd_des, qdd_des, kp, kd, q, qd, a0, minv_ww):
+def _computed_torque_given(q_des, qd_des, qdd_des, kp, kd, q, qd, M, f0, work):
     """As :func:`_computed_torque` for a desired motion (6,) computed elsewhere (a subclass's ``desired``)."""
-    return np.linalg.solve(minv_ww, qdd_des + kp * (q_des - q) + kd * (qd_des - qd) - a0)
+    acc = np.empty(6)
+    for k in range(6):
+        acc[k] = qdd_des[k] + kp * (q_des[k] - q[k]) + kd * (qd_des[k] - qd[k])
+    prescribed_torque(M, f0, acc, work)
+    return acc
 
 
 @dataclass(frozen=True)
@@ -189,13 +253,20 @@ def idle_stages(model: mujoco.MjModel) -> int:
 
 
 @contextlib.contextmanager
-def _control_callback(fn):
+def _control_callback(fn, timer=None):
+    """MuJoCo's ``mjcb_control`` set to fn (and ``mjcb_time`` to timer, unless None) for the block, then put back
+    (both are one global per process)."""
     previous = mujoco.get_mjcb_control()
+    clock = mujoco.get_mjcb_time() if timer is not None else None
     mujoco.set_mjcb_control(fn)
+    if timer is not None:
+        mujoco.set_mjcb_time(timer)
     try:
         yield
     finally:
         mujoco.set_mjcb_control(previous)
+        if timer is not None:
+            mujoco.set_mjcb_time(clock)
 
 
 class Simulator:
@@ -242,9 +313,10 @@ class Simulator:
         self.d = mujoco.MjData(model)
         ix = ModelIndex.of(model)
         self.body_id, self.wing_ids, self.wing_qpos, self.wing_dof = ix.body, ix.wings, ix.wing_qpos, ix.wing_dof
-        self._unit = np.zeros((6, model.nv))
-        self._unit[np.arange(6), self.wing_dof] = 1.0
-        self._minv = np.zeros((6, model.nv))
+        if not np.array_equal(self.wing_dof, np.arange(model.nv - 6, model.nv)):
+            raise ValueError(f"the wing joints must be the model's last six dofs, got {self.wing_dof} of {model.nv}")
+        self._M = np.zeros((model.nv, model.nv))  # the computed torque's dense mass matrix and scratch, per stage
+        self._work = np.zeros(model.nv)
         wc = FEEDBACK_BANDWIDTH * 2 * np.pi * kin.f
         self._kp, self._kd = wc * wc, 2 * wc
         self._capture = False
@@ -286,14 +358,14 @@ class Simulator:
         d.qfrc_applied[vs] = 0.0
         mujoco.mj_fwdActuation(m, d)
         mujoco.mj_fwdAcceleration(m, d)
-        mujoco.mj_solveM(m, d, self._minv, self._unit)
+        mujoco.mj_fullM(m, d, self._M)
         if self._eq1_compiled:
-            tau = _computed_torque(d.time, self._p, self._kp, self._kd, d.qpos[qs], d.qvel[vs], d.qacc_smooth[vs],
-                                   self._minv[:, vs])
+            tau = _computed_torque(d.time, self._p, self._kp, self._kd, d.qpos[qs], d.qvel[vs], self._M, d.qfrc_smooth,
+                                   self._work)
         else:  # a subclass prescribes another motion (hawksim.control.plant: kinematics changed between beats)
             q, qd, qdd = self.desired(d.time)
-            tau = _computed_torque_given(q, qd, qdd, self._kp, self._kd, d.qpos[qs], d.qvel[vs], d.qacc_smooth[vs],
-                                         self._minv[:, vs])
+            tau = _computed_torque_given(q, qd, qdd, self._kp, self._kd, d.qpos[qs], d.qvel[vs], self._M,
+                                         d.qfrc_smooth, self._work)
         d.qfrc_applied[vs] = tau
         if self._capture:
             self._tau[:] = tau
@@ -467,7 +539,7 @@ class Simulator:
         before = [d.warning[w].number for w in self._warn_ids]
         _MUJOCO_LOG.held = []
         try:
-            with _control_callback(callback):
+            with _control_callback(callback, self._native.no_timer if self._native is not None else None):
                 mujoco.mj_step(m, d, nstep=k)
         finally:
             held, _MUJOCO_LOG.held = _MUJOCO_LOG.held, None

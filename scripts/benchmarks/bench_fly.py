@@ -112,7 +112,9 @@ def _floors(kin, steps_per_cycle: int, cycles: int, repeat: int) -> dict:
     """What the flight's steps cost without any Python per step and without aerodynamics, same model and time
     step: MuJoCo's RK4 alone (``mj_step(m, d, nstep)``, no callback: the wings flail) and with the native
     computed-torque callback (the wings on Eq. 1): the real-time factors no flight loop of this model at this
-    resolution can pass on this machine (issue 21's 10x: ceilings below it make it unreachable here)."""
+    resolution can pass on this machine (issue 21's 10x: ceilings below it make it unreachable here). The flight
+    switches MuJoCo's stage timers off (:attr:`hawksim.flight.mujoco_abi.Trampoline.no_timer`), and so do these
+    floors; ``rk4_alone_mujoco_default_timer`` keeps the mujoco package's default clock."""
     import mujoco
 
     from hawksim.backends.base import NoAero
@@ -123,15 +125,17 @@ def _floors(kin, steps_per_cycle: int, cycles: int, repeat: int) -> dict:
     m, d, steps = sim.m, sim.d, cycles * steps_per_cycle
     out = {}
     native = sim._native.callback if sim._native else None
-    for name, cb in (("rk4_alone", None), ("rk4_native_computed_torque", native)):
-        if name != "rk4_alone" and cb is None:
+    no_timer = sim._native.no_timer if sim._native else None
+    for name, cb, timer in (("rk4_alone_mujoco_default_timer", None, None), ("rk4_alone", None, no_timer),
+                            ("rk4_native_computed_torque", native, no_timer)):
+        if name != "rk4_alone_mujoco_default_timer" and (native is None):
             continue
         best = float("inf")
         for _ in range(repeat):
             sim.reset()
             if cb is not None:
                 sim._native.install()
-            with _control_callback(cb):
+            with _control_callback(cb, timer):
                 t0 = time.perf_counter()
                 mujoco.mj_step(m, d, nstep=steps)
                 best = min(best, time.perf_counter() - t0)

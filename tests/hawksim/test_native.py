@@ -120,6 +120,9 @@ def test_advance_is_the_steps_it_replaces():
 NETWORK_REL_TOL = 1e-5
 """The per-step surrogate evaluated in the callback (float32 sums in another order than numpy's sgemm) against the
 numpy evaluation: the loads agree to float32 round-off (measured 2-3e-7 relative to the peak force over a beat)."""
+FLOAT32_EVAL_TOL = 3e-5
+"""A float32 evaluation of the shipped network against the same weights in float64, relative to the peak output
+(measured 6-7e-6: sums of 192 products and the last layer's cancellation)."""
 
 
 def test_advance_with_the_network_in_the_callback_matches_the_python_network():
@@ -193,18 +196,30 @@ def test_tanh32_is_within_one_float32_ulp_of_tanh():
 
 
 def test_compiled_network_matches_the_numpy_evaluation():
-    """mlp (output-major weights, vectorised float32 sums, tanh32) against StepSurrogateBackend.evaluate (numpy
-    sgemm, np.tanh) on random inputs around the 1 m/s trim: float32 round-off (measured 4e-7 of the peak)."""
+    """mlp (output-major weights, vectorised float32 sums, tanh32) and StepSurrogateBackend.evaluate (numpy
+    sgemm, np.tanh) on random inputs around the 1 m/s trim, each against the same weights evaluated in float64:
+    float32 round-off only (both measured 6-7e-6 of the peak on 2026-12-02 with numpy 2.4.6; their difference
+    reaches 1e-5, so each is held to the exact evaluation, not to the other)."""
     from hawksim.backends.step_surrogate import StepSurrogateBackend
     from hawksim.flight.native import mlp
 
     be = StepSurrogateBackend(table3_kinematics(1.0))
     nn = be.native(5)
     buf = nn.buffer[1:].view(np.float32)[:int(nn.buffer[0])]
+    last = len(be.blocks) - 1
+
+    def exact(x):
+        h = x[None].astype(np.float64)
+        for k, (WT, b) in enumerate(be.blocks):
+            h = np.matmul(h, WT.astype(np.float64)) + b
+            h = np.tanh(h) if k < last else h
+        return h.sum(0) + be.layers[-1][1]
+
     rng = np.random.default_rng(3)
     for _ in range(20):
         x = be._x.copy()
         x[:, 7:] = rng.normal(scale=0.3, size=(2, nn.n_in - 7)).astype(np.float32)
-        y = mlp(x, buf, nn.members, nn.n_in, nn.hidden, nn.layers)
-        ref = be.evaluate(x)
-        assert np.abs(y - ref).max() <= NETWORK_REL_TOL * np.abs(ref).max()
+        ref = exact(x)
+        peak = np.abs(ref).max()
+        assert np.abs(mlp(x, buf, nn.members, nn.n_in, nn.hidden, nn.layers) - ref).max() <= FLOAT32_EVAL_TOL * peak
+        assert np.abs(be.evaluate(x) - ref).max() <= FLOAT32_EVAL_TOL * peak
