@@ -20,6 +20,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from hawksim.backends.base import FlightState, WingLoads
 from hawksim.backends.step_network import MIRROR_F, MIRROR_M, MIRROR_V, MIRROR_W, StepNetwork, load, shipped_path
@@ -40,14 +41,15 @@ class StepSurrogateBackend:
         self._x = np.zeros((2, self.net.n_in), dtype=np.float32)
         self._x[:, :7] = kin.as_array()
         self._omega_f = 2.0 * math.pi * kin.f
-        self._hist_t: list[float] = []
-        self._hist_s: list[np.ndarray] = []
+        self._lag_beats = np.asarray(self.lags, dtype=np.float64)
+        self.history = new_history(self.lags)
+        """The record of this backend's calls that its history inputs read (:func:`lagged_states`); the flight
+        loop's native callback reads and writes the same array, so the two paths share one record."""
+        self._lagged_out = np.zeros((len(self.lags), 6))
 
     def native(self, every: int):
-        """This network for the flight loop's native callback (:class:`hawksim.flight.native.NativeNetwork`),
-        updated every ``every`` steps; None for a network with history lags (their record stays in Python)."""
-        if self.lags:
-            return None
+        """This network for the flight loop's native callback (:class:`NativeNetwork`), updated every ``every``
+        steps; a network with history lags reads and writes this backend's :attr:`history`."""
         blocks = self.blocks if self.blocks is not None else tuple(
             (W[None], b.reshape(1, 1, -1)) for W, b in self.layers[:-1]) + (
             (self.layers[-1][0][None], np.zeros((1, 1, 6), np.float32)),)
@@ -61,23 +63,16 @@ class StepSurrogateBackend:
         return NativeNetwork(buffer=NativeNetwork.pack(np.concatenate(parts)), members=K, n_in=self.net.n_in,
                              hidden=h, layers=len(blocks), every=every, omega_f=self._omega_f,
                              kinematics=self._x[0, :7].astype(np.float64),
-                             mirrors=np.concatenate([MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M]).astype(float))
+                             mirrors=np.concatenate([MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M]).astype(float),
+                             lags=self.lags, history=self.history, period=1.0 / self.kin.f)
 
     def reset(self, state: FlightState) -> None:
-        self._hist_t, self._hist_s = [], []
+        self.history[1] = 0.0  # no records
 
-    def _lagged(self, t: float, s: np.ndarray) -> list[np.ndarray]:
-        """States (6,) at t - lag T for each lag (interpolated in this backend's record of calls)."""
-        self._hist_t.append(t)
-        self._hist_s.append(s)
-        T = 1.0 / self.kin.f
-        keep = max(self.lags) * T * 1.05 + 1e-12
-        while len(self._hist_t) > 2 and self._hist_t[1] < t - keep:
-            self._hist_t.pop(0)
-            self._hist_s.pop(0)
-        ts = np.asarray(self._hist_t)
-        S = np.asarray(self._hist_s)
-        return [np.array([np.interp(t - lag * T, ts, S[:, j]) for j in range(6)]) for lag in self.lags]
+    def _lagged(self, t: float, s: np.ndarray) -> np.ndarray:
+        """States (n_lags, 6) at t - lag T for each lag, after recording s (6,) at t (:func:`lagged_states`)."""
+        lagged_states(self.history, t, s, self._lag_beats, 1.0 / self.kin.f, self._lagged_out)
+        return self._lagged_out
 
     def evaluate(self, x: np.ndarray) -> np.ndarray:
         """The folded network at SI inputs x (n, n_in) float32 -> (n, 6). An ensemble folded into one network
@@ -147,6 +142,12 @@ class NativeNetwork:
     plant_kinematics: bool = False
     """True: the kinematic inputs and the phase are the controlled plant's blend (mode 1) instead of ``kinematics``
     and omega_f t (:class:`hawksim.control.surrogate.ControlledStepSurrogate`)."""
+    lags: tuple[float, ...] = ()
+    """History lags [wingbeats] (at most :data:`MAX_NATIVE_LAGS`); their inputs follow the first 15."""
+    history: np.ndarray | None = None
+    """The backend's record of calls (:func:`new_history`), read and written by the callback (None: no lags)."""
+    period: float = 0.0
+    """The wingbeat period T [s] the lags are counted in."""
 
     @staticmethod
     def pack(values: np.ndarray) -> np.ndarray:
@@ -156,6 +157,62 @@ class NativeNetwork:
         out[0] = len(values)
         out[1:].view(np.float32)[:len(values)] = values
         return out
+
+
+HISTORY_ROW = 7
+"""A history record's row: t [s], then the body's velocity relative to the air and angular velocity in body axes
+(m/s, rad/s)."""
+HISTORY_ROWS_PER_BEAT = 1024
+"""Rows kept per wingbeat of the longest lag: more than any flight's calls per beat (one per RK4 step at most,
+200 by default), so the ring never drops a row a lag still reads."""
+MAX_NATIVE_LAGS = 4
+"""History lags the native callback evaluates (its ctx slots)."""
+
+
+def new_history(lags) -> np.ndarray:
+    """An empty record for these lags [wingbeats]: float64 [capacity, count, newest row, then capacity rows of
+    :data:`HISTORY_ROW`]."""
+    cap = HISTORY_ROWS_PER_BEAT * max(1, math.ceil(max(lags, default=0.0) - 1e-9)) + 8
+    h = np.zeros(3 + HISTORY_ROW * cap)
+    h[0] = cap
+    return h
+
+
+@njit(cache=True)
+def lagged_states(hist, t, s, lags, period, out):
+    """Record the state s (6,) at time t [s] in the ring ``hist`` (:func:`new_history`), then write into out
+    (n_lags, 6) the recorded state at t - lag period for each lag [wingbeats]: linear in time between the two
+    records around that instant (np.interp's rule), the oldest record before the first one (before the flight's
+    start: the first call's state). The Python backend and the native callback both call this, so a flight's
+    history inputs are the same whichever runs a step. No allocation."""
+    cap, n, head = int(hist[0]), int(hist[1]), int(hist[2])
+    head = 0 if n == 0 else (head + 1) % cap
+    r = 3 + HISTORY_ROW * head
+    hist[r] = t
+    for j in range(6):
+        hist[r + 1 + j] = s[j]
+    n = min(n + 1, cap)
+    hist[1], hist[2] = n, head
+    for k in range(lags.shape[0]):
+        tau = t - lags[k] * period
+        i, newer, found = head, -1, False
+        for _ in range(n):
+            if hist[3 + HISTORY_ROW * i] <= tau:
+                found = True
+                break
+            newer = i
+            i = (i - 1) % cap
+        if not found:  # before the oldest record: the oldest
+            i, newer = newer, -1
+        ri = 3 + HISTORY_ROW * i
+        if newer < 0 or hist[ri] == tau:
+            for j in range(6):
+                out[k, j] = hist[ri + 1 + j]
+            continue
+        rn = 3 + HISTORY_ROW * newer
+        w = (tau - hist[ri]) / (hist[rn] - hist[ri])
+        for j in range(6):
+            out[k, j] = hist[ri + 1 + j] + w * (hist[rn + 1 + j] - hist[ri + 1 + j])
 
 
 def ensemble_blocks(layers) -> tuple[tuple[np.ndarray, np.ndarray], ...] | None:

@@ -37,6 +37,7 @@ import numpy as np
 from numba import carray, cfunc, njit, types
 
 from hawksim.flight.mujoco_abi import Trampoline, address, call_md, call_mdx, voidptr, layout
+from hawksim.backends.step_surrogate import HISTORY_ROW, MAX_NATIVE_LAGS, lagged_states
 from hawksim.flight.simulator import prescribed_torque
 
 # ---- ctx layout (float64 slots) ------------------------------------------------------------------------------
@@ -59,8 +60,11 @@ C_NET_ON, C_NET_ADDR, C_NET_K, C_NET_IN, C_NET_H, C_NET_L, C_EVERY, C_I0, C_OMEG
 C_KIN, C_AIR, C_MIRROR = 78, 85, 88
 C_NET_PLANT = 100    # 1: the network's kinematic inputs and phase follow the mode-1 blend (the controlled plant)
 C_BETA_NEW, C_BETA_OLD = 101, 103  # 2 each (left, right): the stroke-plane angle beta of the blend's kinematics
-C_SCRATCH = 105      # nv^2: the dense mass matrix of the stage (mj_fullM), then N_WORK
-N_FIXED = 105
+# a network with history lags: the address of its backend's record (StepSurrogateBackend.history), the number of
+# lags, the lags [wingbeats] (MAX_NATIVE_LAGS slots), the period they are counted in [s]
+C_HIST_ADDR, C_NLAG, C_LAGS, C_PERIOD = 105, 106, 107, 111
+C_SCRATCH = 112      # nv^2: the dense mass matrix of the stage (mj_fullM), then N_WORK
+N_FIXED = 112
 N_WORK = 64          # after the mass matrix: the stage's scratch (blend_desired's motion and its own, and
                      # prescribed_torque's, nv <= 37)
 
@@ -359,6 +363,18 @@ def _surrogate_loads(ctx, t, qvel, xmat, cvel, buf):
     for j in range(3):
         x[0, 9 + j], x[0, 12 + j] = v[j], w[j]
         x[1, 9 + j], x[1, 12 + j] = v[j] * ctx[C_MIRROR + j], w[j] * ctx[C_MIRROR + 3 + j]
+    nlag = int(ctx[C_NLAG])
+    if nlag > 0:  # the history inputs, from the backend's own record (the Python path's function and array)
+        ha = int(ctx[C_HIST_ADDR])
+        hist = carray(voidptr(ha), 3 + HISTORY_ROW * int(carray(voidptr(ha), 1, np.float64)[0]), np.float64)
+        s, lagged = np.empty(6), np.empty((nlag, 6))
+        for j in range(3):
+            s[j], s[3 + j] = v[j], w[j]
+        lagged_states(hist, t, s, ctx[C_LAGS:C_LAGS + nlag], ctx[C_PERIOD], lagged)
+        for k in range(nlag):
+            for j in range(6):
+                x[0, 15 + 6 * k + j] = lagged[k, j]
+                x[1, 15 + 6 * k + j] = lagged[k, j] * ctx[C_MIRROR + j]
     y = mlp(x, buf, int(ctx[C_NET_K]), n_in, int(ctx[C_NET_H]), int(ctx[C_NET_L]))  # NativeNetwork's layout
     power = 0.0
     for wg in range(2):
@@ -532,6 +548,14 @@ class NativeControl:
         c[C_KIN:C_KIN + 7] = net.kinematics
         c[C_MIRROR:C_MIRROR + 12] = net.mirrors
         c[C_NET_PLANT] = float(net.plant_kinematics)
+        nlag = len(net.lags)
+        if nlag > MAX_NATIVE_LAGS or (nlag and (net.plant_kinematics or net.history is None)):
+            raise ValueError(f"the native callback evaluates up to {MAX_NATIVE_LAGS} history lags of an uncontrolled "
+                             f"network with its record, got {tuple(net.lags)}")
+        c[C_NLAG] = nlag
+        c[C_LAGS:C_LAGS + nlag] = net.lags
+        c[C_HIST_ADDR] = float(net.history.ctypes.data) if nlag else 0.0
+        c[C_PERIOD] = net.period
         c[C_NET_ON] = 1.0
 
     def set_air(self, air_v) -> None:

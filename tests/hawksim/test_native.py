@@ -136,6 +136,40 @@ def test_advance_with_the_network_in_the_callback_matches_the_python_network():
     np.testing.assert_array_equal(a["t"], b["t"])
 
 
+def test_history_network_in_the_callback_matches_the_python_network():
+    """A network with history lags (T/2 and T) evaluated in the callback, which reads and writes its backend's record
+    of calls (StepSurrogateBackend.history, lagged_states), against the same network evaluated in Python at each
+    update (Simulator.step): 2.5 beats, so both lags read recorded states; float32 round-off apart."""
+    import math
+
+    from hawksim.backends.step_network import OUTPUTS, StepNetwork, input_names
+    from hawksim.backends.step_surrogate import StepSurrogateBackend
+
+    rng = np.random.default_rng(4)
+    lags = (0.5, 1.0)
+    n_in = len(input_names(lags))
+    sizes = [n_in, 16, 16, len(OUTPUTS)]
+    weights = tuple((rng.normal(0, 1 / math.sqrt(a), (b, a)).astype(np.float32),
+                     rng.normal(0, 0.1, b).astype(np.float32)) for a, b in zip(sizes[:-1], sizes[1:]))
+    x_std = np.concatenate([np.ones(9), np.full(n_in - 9, 0.3)])  # the state inputs matter at flight scale
+    net = StepNetwork(weights, np.zeros(n_in), x_std, np.zeros(6), np.full(6, 2e-3), lags=lags, meta={"test": True})
+    backend = StepSurrogateBackend(table3_kinematics(1.0), net)
+    assert backend.native(5) is not None
+    (a, qa, va), (b, qb, vb) = _advance_vs_step(backend, steps=250, chunks=(37, 63, 50, 100))
+    late = a["t"] >= a["t"][0] + 1.2 / table3_kinematics(1.0).f  # both lags inside the flight
+    assert late.sum() > 50
+    assert np.abs(a["force"] - b["force"]).max() <= NETWORK_REL_TOL * np.abs(a["force"]).max()
+    assert np.abs(a["moment"] - b["moment"]).max() <= NETWORK_REL_TOL * np.abs(a["moment"]).max()
+    np.testing.assert_allclose(qb, qa, rtol=0, atol=1e-7)
+    # the lagged inputs act: the same network with its history inputs zeroed gives other loads
+    flat = StepNetwork(tuple((W.copy(), c.copy()) for W, c in weights), np.zeros(n_in), x_std, np.zeros(6),
+                       np.full(6, 2e-3), lags=lags, meta={"test": True})
+    flat.weights[0][0][:, 15:] = 0.0
+    (c, _, _), _ = _advance_vs_step(StepSurrogateBackend(table3_kinematics(1.0), flat), steps=250,
+                                    chunks=(37, 63, 50, 100))
+    assert np.abs(c["force"][late] - a["force"][late]).max() > 100 * NETWORK_REL_TOL * np.abs(a["force"]).max()
+
+
 def test_skipping_the_idle_pipeline_stages_changes_nothing():
     """hawksim.flight.simulator.idle_stages: the hawkmoth's visual-only geoms cannot collide and it has no
     constraints, so skipping collision detection and the constraint stage gives the same floats."""
