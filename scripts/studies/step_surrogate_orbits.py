@@ -16,6 +16,10 @@ speed is replaced) and appends this command to the table's ``command``:
     python scripts/studies/step_surrogate_orbits.py --speeds 0.5 --out results/surrogate/step_orbits_0.5.json \
         --table hawksim/data/orbit_table_surrogate.json --merge
 
+For a network with history lags (a trial installed as the shipped file in a scratch worktree: docs/surrogate.md,
+"History inputs, measured") the monodromy is also taken on the augmented state, body and record of past calls
+(:func:`hawksim.stability.history_floquet.history_monodromy`, ``floquet_augmented``), beside the warm-up chain's.
+
 Prints (and writes) one JSON object.
 """
 
@@ -27,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hawksim.backends.step_surrogate import memory_beats
 from hawksim.flight.orbit import orbit_table, periodic_orbit, shipped_orbit
 from hawksim.jsonout import host_info
 from hawksim.stability.floquet import monodromy
@@ -103,6 +108,19 @@ def main():
                               "lateral": [c2(z) for z in fq.multipliers_lat], "coupling": fq.coupling,
                               "wall_s": fq.wall_time_s, "delta": fq.delta}
             row["uvlm_floquet"] = uvlm_multipliers(v)
+            if memory_beats():  # a history network: the exact Floquet analysis on the augmented state as well
+                from hawksim.stability.history_floquet import history_monodromy
+
+                hf = history_monodromy(o)
+                row["floquet_augmented"] = {
+                    "body_modes_longitudinal": [c2(z) for z in hf.body_modes("long")],
+                    "body_modes_lateral": [c2(z) for z in hf.body_modes("lat")],
+                    "largest_longitudinal": [c2(z) for z in hf.multipliers_long[:6]],
+                    "largest_lateral": [c2(z) for z in hf.multipliers_lat[:6]],
+                    "body_share_longitudinal": hf.body_share_long[:6].tolist(),
+                    "body_share_lateral": hf.body_share_lat[:6].tolist(), "records": hf.records,
+                    "coupling": hf.coupling, "residual": hf.residual, "record_mismatch": hf.record_mismatch,
+                    "delta": hf.delta, "wall_s": hf.wall_time_s}
             if a.validate:
                 from hawksim.stability.validation import validate_speed
 
