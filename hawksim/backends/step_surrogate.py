@@ -66,6 +66,10 @@ class StepSurrogateBackend:
                              mirrors=np.concatenate([MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M]).astype(float),
                              lags=self.lags, history=self.history, period=1.0 / self.kin.f)
 
+    def _phase(self, state: FlightState) -> float:
+        """The phase input [rad] at this call: 2 pi f t of this backend's kinematics."""
+        return self._omega_f * state.t
+
     def reset(self, state: FlightState) -> None:
         self.history[1] = 0.0  # no records
 
@@ -101,7 +105,7 @@ class StepSurrogateBackend:
         v = R.T @ (state.body_v - state.air_v)
         w = R.T @ state.body_omega
         x = self._x
-        ph = self._omega_f * state.t
+        ph = self._phase(state)
         x[:, 7] = math.sin(ph)
         x[:, 8] = math.cos(ph)
         x[0, 9:12], x[0, 12:15] = v, w

@@ -23,6 +23,7 @@ inputs, lateral :data:`LAT_X` with the antisymmetric ones; the cross blocks vani
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -98,37 +99,56 @@ def set_phase0(sim: ControlledSimulator, x: np.ndarray, chi_ref: float) -> None:
     mujoco.mj_forward(sim.m, d)
 
 
-class _UVLMSnapshot:
-    """A UVLM flight launched from the orbit's launch state and flown over its warm-up beats at the orbit's
-    kinematics; :meth:`beat` branches one controlled beat from a copy (the wake as developed on the orbit)."""
+class Snapshot:
+    """A controlled flight launched from the orbit's launch state and flown over its warm-up beats at the orbit's
+    kinematics, so that its backend's memory is the orbit's (the UVLM's wake, a history network's record of past
+    calls); :meth:`beat` branches one controlled beat, or half-stroke, from a copy of it. ``clip``: each wing
+    saturated at Table 2 (the surrogate's plant, :data:`SATURATED_DERIVATIVES`)."""
 
-    def __init__(self, orbit: Orbit, model):
+    def __init__(self, orbit: Orbit, model, *, clip: bool = False, sim=None):
         import copy
 
         self._copy = copy.deepcopy
-        kin = orbit.kinematics
-        sim = controlled_plant(model, kin, orbit.aero)
-        sim.set_wings(kin, kin)
-        set_body_state(sim, orbit.launch_state.as_array(), orbit.chi_ref)
-        for _ in range(orbit.warm_beats):
-            sim.begin_beat(kin, kin)
-            for _ in range(STEPS_PER_CYCLE):
-                sim.step()
-        self.sim, self.orbit = sim, orbit
+        self.orbit, self.sat = orbit, (saturate if clip else (lambda p: p))
+        if sim is None:
+            kin = orbit.kinematics
+            sim = controlled_plant(model, kin, orbit.aero)
+            sim.set_wings(kin, kin)
+            set_body_state(sim, orbit.launch_state.as_array(), orbit.chi_ref)
+            for _ in range(orbit.warm_beats):
+                sim.begin_beat(kin, kin)
+                for _ in range(STEPS_PER_CYCLE):
+                    sim.step()
+        self.sim = sim
 
-    def beat(self, x0, du_prev, du):
+    def beat(self, x0, du_prev, du, *, half: int | None = None, keep: bool = False):
+        """One controlled beat (``half`` None) or half-stroke (0: from phase 0, 1: from phase 0.5) from a copy of
+        the snapshot with the body state overwritten by x0 (9,) (:func:`set_phase0`; the backend's memory kept),
+        the wings on the orbit's kinematics + du_prev before and blended into + du: (state (9,) at its end,
+        horizontal displacement (2,) [m]), and with ``keep`` the branch's simulator as a :class:`Snapshot` there."""
         sim = self._copy(self.sim)
         kin, chi = self.orbit.kinematics, self.orbit.chi_ref
-        lp, rp = (Kinematics.from_array(p) for p in wing_kinematics(kin, du_prev))
+        lp, rp = (Kinematics.from_array(self.sat(p)) for p in wing_kinematics(kin, du_prev))
         sim._new = sim._old = (lp, rp)
-        sim._t0 = float(sim.d.time)  # phase 0 of the previous command's kinematics now
+        sim._same, sim._phase, sim._span = True, 0.0, 1.0
+        # phase 0 of the previous command's kinematics at the beat's start, half a period earlier at phase 0.5
+        sim._t0 = float(sim.d.time) - (0.5 * lp.period if half == 1 else 0.0)
+        sim._sync_native()
         set_phase0(sim, x0, chi)
         p0 = stability_position(sim.d.qpos[:3])
-        ln, rn = (Kinematics.from_array(p) for p in wing_kinematics(kin, du))
-        sim.begin_beat(ln, rn)
-        for _ in range(STEPS_PER_CYCLE):
+        ln, rn = (Kinematics.from_array(self.sat(p)) for p in wing_kinematics(kin, du))
+        if half is None:
+            sim.begin_beat(ln, rn)
+            n = STEPS_PER_CYCLE
+        else:
+            sim.begin_beat(ln, rn, phase=math.pi * half, span=0.5)
+            n = STEPS_PER_CYCLE // 2
+        for _ in range(n):
             sim.step()
-        return read_body_state(sim, chi), stability_position(sim.d.qpos[:3]) - p0
+        if not np.all(np.isfinite(sim.d.qpos)):
+            raise FloatingPointError("controlled beat diverged (non-finite state)")
+        out = (read_body_state(sim, chi), stability_position(sim.d.qpos[:3]) - p0)
+        return (*out, Snapshot(self.orbit, None, sim=sim, clip=self.sat is saturate)) if keep else out
 
 
 def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, *,
@@ -256,15 +276,13 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     t0 = time.perf_counter()
     if clip is None:
         clip = orbit.aero in SATURATED_DERIVATIVES
-    if clip and orbit.warm_beats:
-        raise ValueError("saturated derivatives are implemented for orbits with a settable state (no warm-up beats)")
     if delta is None:
-        delta = UVLM_FD_DELTA if orbit.warm_beats else SURROGATE_FD_DELTA if orbit.aero == "surrogate" else FD_DELTA
+        delta = SURROGATE_FD_DELTA if orbit.aero == "surrogate" else UVLM_FD_DELTA if orbit.warm_beats else FD_DELTA
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     sc = xi_scale(kin)
     if orbit.warm_beats:
-        snap = _UVLMSnapshot(orbit, model)
+        snap = Snapshot(orbit, model, clip=clip)
         x0 = orbit.initial_state.as_array()
 
         def beat(x, du_prev, du):

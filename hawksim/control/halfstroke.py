@@ -34,7 +34,7 @@ import mujoco
 import numpy as np
 
 from hawksim.control.derivatives import (FD_DELTA, LAT_X, LONG_X, SATURATED_DERIVATIVES, SURROGATE_FD_DELTA,
-                                         central_jacobians, stability_position, xi_scale)
+                                         Snapshot, central_jacobians, stability_position, xi_scale)
 from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
                                    wing_kinematics)
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state
@@ -46,14 +46,19 @@ HALVES = 2
 
 
 def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, half: int, *,
-              model: mujoco.MjModel | None = None) -> tuple[np.ndarray, np.ndarray]:
+              model: mujoco.MjModel | None = None, snapshot: Snapshot | None = None) -> tuple[np.ndarray, np.ndarray]:
     """One controlled half-stroke of the quasi-steady flight: from body state x0 (9,) at phase 0 (``half=0``) or
     0.5 (``half=1``), the wings on the orbit's kinematics + du_prev before and blended into + du over the half:
-    (state (9,) at the half's end, horizontal displacement (2,) [m], stability axes)."""
-    if orbit.warm_beats:
-        raise ValueError("half-stroke maps need a settable state (a quasi-steady orbit); the UVLM's wake is not")
+    (state (9,) at the half's end, horizontal displacement (2,) [m], stability axes). An orbit with warm-up beats
+    (a surrogate with history inputs) branches from ``snapshot``, the orbit's flight at that phase with its record
+    of past calls (:func:`linearize_half_stroke` makes both)."""
     if half not in (0, 1):
         raise ValueError(f"half must be 0 (phase 0 -> 0.5) or 1 (phase 0.5 -> 1), got {half}")
+    if orbit.warm_beats:
+        if snapshot is None:
+            raise ValueError("a half-stroke of an orbit with warm-up beats branches from a snapshot of the orbit's "
+                             "flight at that phase (linearize_half_stroke)")
+        return snapshot.beat(x0, du_prev, du, half=half)
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     if orbit.aero in SATURATED_DERIVATIVES:  # the surrogate: its controlled plant, each wing clipped at Table 2
@@ -125,8 +130,18 @@ def linearize_half_stroke(orbit: Orbit, *, delta: float | None = None,
     model = model if model is not None else load_model()
     sc = xi_scale(orbit.kinematics)
     zero = np.zeros(len(INPUTS))
-    x0 = orbit.launch_state.as_array()
-    x_half, pos_half = half_beat(orbit, x0, zero, zero, 0, model=model)
+    snaps = (None, None)
+    if orbit.warm_beats:  # the surrogate with history inputs: branch from the orbit's flight and its record
+        if orbit.aero != "surrogate":
+            raise ValueError("half-stroke maps need a settable state or the surrogate's record; the UVLM's wake "
+                             "cannot be set at phase 0.5")
+        snap0 = Snapshot(orbit, model, clip=orbit.aero in SATURATED_DERIVATIVES)
+        x0 = orbit.initial_state.as_array()
+        x_half, pos_half, snap1 = snap0.beat(x0, zero, zero, half=0, keep=True)
+        snaps = (snap0, snap1)
+    else:
+        x0 = orbit.launch_state.as_array()
+        x_half, pos_half = half_beat(orbit, x0, zero, zero, 0, model=model)
     mats = []
     for half, xs in ((0, x0), (1, x_half)):
         def xi(out):
@@ -134,7 +149,7 @@ def linearize_half_stroke(orbit: Orbit, *, delta: float | None = None,
             return np.concatenate([x, disp]) / sc
 
         def beat(x, du_prev, du, h=half):
-            return half_beat(orbit, x, du_prev, du, h, model=model)
+            return half_beat(orbit, x, du_prev, du, h, model=model, snapshot=snaps[h])
 
         # psi too (9 columns): it turns the half-stroke's horizontal displacement (X, Y rows)
         mats.append(central_jacobians(beat, xi, xs, sc, delta, 9))

@@ -9,8 +9,9 @@ into the new one, as the prescribed wing motion blends them); everything else (b
 angular velocity in body axes, the mirror image for the right wing, the world-frame loads, the power) is the base
 backend's. Until :meth:`ControlledStepSurrogate.bind` it is the base backend.
 
-Only a memoryless network (no history lags, the shipped one) is accepted: the plant's state at phase 0 must be the
-body state alone for the one-beat map and its derivatives (:mod:`hawksim.control.derivatives`).
+A network with history lags reads its record of past calls at the flight's own time (the plant's phase is a
+separate input); its one-beat and half-stroke maps then start from the orbit's record
+(:mod:`hawksim.control.derivatives`, :mod:`hawksim.control.halfstroke`).
 """
 
 from __future__ import annotations
@@ -27,10 +28,8 @@ class ControlledStepSurrogate(StepSurrogateBackend):
 
     def __init__(self, kin: Kinematics, network=None):
         super().__init__(kin, network)
-        if self.lags:
-            raise ValueError(f"the controlled surrogate needs a memoryless step network (this one has history lags "
-                             f"{self.lags} wingbeats: its state at phase 0 is more than the body state)")
         self._plant = None
+        self._plant_phase = 0.0
 
     def bind(self, plant) -> None:
         """Read the kinematic inputs from ``plant`` (a :class:`hawksim.control.plant.ControlledSimulator`)."""
@@ -48,8 +47,9 @@ class ControlledStepSurrogate(StepSurrogateBackend):
     def loads(self, state: FlightState) -> WingLoads:
         if self._plant is None:
             return super().loads(state)
-        params, phase = self._plant.network_kinematics(state.t)
+        params, self._plant_phase = self._plant.network_kinematics(state.t)
         self._x[:, :7] = params
-        # the base backend's phase input is omega_f t with its constructor's f: hand it the time at which that f
-        # reaches the plant's phase (the network is memoryless, so the time enters nowhere else)
-        return super().loads(replace(state, t=phase / self._omega_f))
+        return super().loads(state)
+
+    def _phase(self, state: FlightState) -> float:
+        return self._plant_phase if self._plant is not None else super()._phase(state)

@@ -494,6 +494,21 @@ class NativeControl:
         """MuJoCo's timers switched off for the flight's steps (:attr:`Trampoline.no_timer`)."""
         """The ctypes function pointer for ``mujoco.set_mjcb_control`` (None: unavailable)."""
 
+    def __deepcopy__(self, memo):
+        """A copy for a copied simulator (:class:`hawksim.control.derivatives.Snapshot`): its own ctx, the
+        process's trampoline shared, and the network's buffer and history record the copy's (deep-copied with the
+        simulator's backend through ``memo``), their addresses written into the new ctx."""
+        import copy
+
+        new = copy.copy(self)
+        memo[id(self)] = new
+        new.ctx = self.ctx.copy()
+        new.ctx[C_REC_ADDR] = new.ctx[C_REC_ROWS] = 0.0
+        new._net = copy.deepcopy(self._net, memo)
+        if new._net is not None:
+            new.set_network(new._net)
+        return new
+
     @property
     def available(self) -> bool:
         return self.callback is not None
@@ -549,9 +564,9 @@ class NativeControl:
         c[C_MIRROR:C_MIRROR + 12] = net.mirrors
         c[C_NET_PLANT] = float(net.plant_kinematics)
         nlag = len(net.lags)
-        if nlag > MAX_NATIVE_LAGS or (nlag and (net.plant_kinematics or net.history is None)):
-            raise ValueError(f"the native callback evaluates up to {MAX_NATIVE_LAGS} history lags of an uncontrolled "
-                             f"network with its record, got {tuple(net.lags)}")
+        if nlag > MAX_NATIVE_LAGS or (nlag and net.history is None):
+            raise ValueError(f"the native callback evaluates up to {MAX_NATIVE_LAGS} history lags of a network with "
+                             f"its record, got {tuple(net.lags)}")
         c[C_NLAG] = nlag
         c[C_LAGS:C_LAGS + nlag] = net.lags
         c[C_HIST_ADDR] = float(net.history.ctypes.data) if nlag else 0.0

@@ -58,3 +58,23 @@ def test_silent_history_gives_the_memoryless_multipliers():
                                    atol=MULTIPLIER_TOL)
         assert np.abs(got[4:]).max() < 1e-6
     assert hf.residual < 1e-5  # the memoryless orbit is periodic in the augmented state too
+
+
+@pytest.mark.skipif(not shipped_path().is_file(), reason="the shipped per-step network is not in this checkout")
+def test_half_stroke_maps_branch_from_the_orbit_flight_and_its_record(monkeypatch):
+    """An orbit with a warm-up beat (a history network's) has its half-stroke maps taken on copies of the orbit's
+    flight at phase 0 and 0.5, record included (hawksim.control.derivatives.Snapshot). With history inputs that do
+    not act and the shipped 1 m/s orbit launched one beat earlier, they are the settable path's maps: the same
+    dynamics, differenced from another start (the wings' tracking error and the time differ by round-off)."""
+    from dataclasses import replace
+
+    from hawksim.backends import step_surrogate
+    from hawksim.control.halfstroke import linearize_half_stroke
+
+    orbit = shipped_orbit(1.0, "surrogate")
+    ref = linearize_half_stroke(orbit)
+    monkeypatch.setitem(step_surrogate._CACHE, str(shipped_path()), _with_silent_history(load(shipped_path())))
+    got = linearize_half_stroke(replace(orbit, warm_beats=1))
+    np.testing.assert_allclose(got.x_half, ref.x_half, rtol=0, atol=1e-5)
+    for a, b in zip(got.A + got.B0 + got.B1, ref.A + ref.B0 + ref.B1):
+        assert np.abs(a - b).max() < MULTIPLIER_TOL

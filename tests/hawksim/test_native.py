@@ -14,6 +14,7 @@ import pytest
 from hawksim.backends.quasi_steady import QuasiSteadyBackend
 from hawksim.control.plant import ControlledSimulator
 from hawksim.flight.mujoco_abi import layout
+from hawksim.flight.native import C_NET_ADDR
 from hawksim.flight.simulator import Simulator
 from hawksim.insect.kinematics import table3_kinematics
 from hawksim.insect.model import load_model
@@ -168,6 +169,25 @@ def test_history_network_in_the_callback_matches_the_python_network():
     (c, _, _), _ = _advance_vs_step(StepSurrogateBackend(table3_kinematics(1.0), flat), steps=250,
                                     chunks=(37, 63, 50, 100))
     assert np.abs(c["force"][late] - a["force"][late]).max() > 100 * NETWORK_REL_TOL * np.abs(a["force"]).max()
+
+
+def test_a_copied_simulator_flies_on_with_its_own_network_and_record():
+    """copy.deepcopy of a simulator on the native callback (hawksim.control.derivatives.Snapshot branches from
+    copies): the copy's ctx points at its own network buffer and history record, and both continue bit for bit."""
+    import copy
+
+    from hawksim.backends.step_surrogate import StepSurrogateBackend
+
+    kin = table3_kinematics(1.0)
+    sim = Simulator(load_model(), kin, StepSurrogateBackend(kin), steps_per_cycle=200, aero_every=5)
+    sim.reset(velocity=(0.0, 0.0, 1.0))
+    sim.advance(130)
+    twin = copy.deepcopy(sim)
+    assert twin._native._tramp is sim._native._tramp and twin.backend is not sim.backend
+    a, b = sim.advance(200), twin.advance(200)
+    np.testing.assert_array_equal(a.force, b.force)
+    np.testing.assert_array_equal(sim.d.qpos, twin.d.qpos)
+    assert twin._native.ctx[C_NET_ADDR] == twin._net.buffer.ctypes.data != sim._native.ctx[C_NET_ADDR]
 
 
 def test_skipping_the_idle_pipeline_stages_changes_nothing():
