@@ -39,6 +39,23 @@ def test_ring_record_interpolates_like_np_interp():
             np.testing.assert_allclose(out[k], ref, rtol=0, atol=1e-12)
 
 
+def test_ring_record_wraps_around():
+    """A ring of 8 rows over 50 calls (it wraps 6 times): the lag still reads the right rows (np.interp over the
+    calls it keeps)."""
+    from hawksim.backends.step_surrogate import HISTORY_ROW
+
+    h = np.zeros(3 + HISTORY_ROW * 8)
+    h[0] = 8
+    ts = np.arange(50) * 1e-3
+    S = np.random.default_rng(1).normal(size=(50, 6))
+    out = np.zeros((1, 6))
+    for i in range(50):
+        lagged_states(h, ts[i], S[i], np.array([0.25]), 0.0185, out)  # 4.6 calls back
+        lo = max(0, i - 7)
+        ref = [np.interp(ts[i] - 0.25 * 0.0185, ts[lo:i + 1], S[lo:i + 1, j]) for j in range(6)]
+        np.testing.assert_allclose(out[0], ref, rtol=0, atol=1e-12)
+
+
 @pytest.mark.skipif(not shipped_path().is_file(), reason="the shipped per-step network is not in this checkout")
 def test_silent_history_gives_the_memoryless_multipliers():
     """With history inputs that do not act, the augmented map is block-triangular (the record feeds nothing), so
