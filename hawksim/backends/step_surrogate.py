@@ -128,9 +128,9 @@ class StepSurrogateBackend:
 @dataclass(frozen=True)
 class NativeNetwork:
     """A per-step surrogate for the flight loop's native callback (:meth:`StepSurrogateBackend.native`;
-    :func:`hawksim.flight.native.mlp` evaluates it):
+    :func:`hawksim.flight.network_kernel.mlp` evaluates it):
     ``buffer`` float64-aligned bytes: its first float64 the number of float32 values that follow (the layout of
-    :func:`hawksim.flight.native.mlp`); members, n_in, hidden, layers; ``every`` steps per update; omega_f =
+    :func:`hawksim.flight.network_kernel.mlp`); members, n_in, hidden, layers; ``every`` steps per update; omega_f =
     2 pi f [rad/s] of its phase input; kinematics (7,) its kinematic inputs (SI); mirrors (12,) MIRROR_V,
     MIRROR_W, MIRROR_F, MIRROR_M; plant_kinematics below."""
 

@@ -227,11 +227,11 @@ def test_controlled_surrogate_in_the_callback_matches_the_python_network(monkeyp
 
 
 def test_tanh32_is_within_one_float32_ulp_of_tanh():
-    """hawksim.flight.native.tanh32, the network's vectorisable tanh: within 1 float32 ulp of the exact
+    """hawksim.flight.network_kernel.tanh32, the network's vectorisable tanh: within 1 float32 ulp of the exact
     tanh (float64 reference) on [-12, 12] (measured 0.75 ulp), odd, and 1 beyond the clamp."""
     from numba import njit
 
-    from hawksim.flight.native import tanh32
+    from hawksim.flight.network_kernel import tanh32
 
     @njit
     def many(v):
@@ -255,7 +255,7 @@ def test_compiled_network_matches_the_numpy_evaluation():
     float32 round-off only (both measured 6-7e-6 of the peak on 2026-12-02 with numpy 2.4.6; their difference
     reaches 1e-5, so each is held to the exact evaluation, not to the other)."""
     from hawksim.backends.step_surrogate import StepSurrogateBackend
-    from hawksim.flight.native import mlp
+    from hawksim.flight.network_kernel import mlp
 
     be = StepSurrogateBackend(table3_kinematics(1.0))
     nn = be.native(5)
