@@ -182,6 +182,28 @@ def new_history(lags) -> np.ndarray:
     return h
 
 
+def history_rows(hist: np.ndarray, n: int) -> np.ndarray:
+    """The newest n records of the ring ``hist`` (:func:`new_history`) as (n, 6), oldest first."""
+    cap, count, head = int(hist[0]), int(hist[1]), int(hist[2])
+    if count < n:
+        raise RuntimeError(f"the record holds {count} calls, fewer than the {n} asked for")
+    idx = [(head - n + 1 + k) % cap for k in range(n)]
+    return np.array([hist[3 + HISTORY_ROW * i + 1:3 + HISTORY_ROW * (i + 1)] for i in idx])
+
+
+def set_history_rows(hist: np.ndarray, rows: np.ndarray, t0: float, dt: float) -> None:
+    """Make the ring ``hist`` hold exactly ``rows`` (n, 6), oldest first, as calls at t0 - n dt, ..., t0 - dt
+    (in place: the native callback holds the array's address)."""
+    n = len(rows)
+    if n > int(hist[0]):
+        raise ValueError(f"{n} rows do not fit a record of {int(hist[0])}")
+    for k in range(n):
+        r = 3 + HISTORY_ROW * k
+        hist[r] = t0 - (n - k) * dt
+        hist[r + 1:r + HISTORY_ROW] = rows[k]
+    hist[1], hist[2] = n, n - 1
+
+
 @njit(cache=True)
 def lagged_states(hist, t, s, lags, period, out):
     """Record the state s (6,) at time t [s] in the ring ``hist`` (:func:`new_history`), then write into out

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hawksim.backends.step_surrogate import HISTORY_ROW, StepSurrogateBackend
+from hawksim.backends.step_surrogate import StepSurrogateBackend, history_rows, set_history_rows
 from hawksim.flight.orbit import (STEPS_PER_CYCLE, SURROGATE_FD_STEP, Orbit, make_orbit_backend, read_body_state,
                                   set_body_state)
 from hawksim.flight.simulator import Simulator, aero_every_for
@@ -92,24 +92,10 @@ class _DelayMap:
         self.period = orbit.kinematics.period
 
     def _read(self, n: int) -> np.ndarray:
-        """The newest n records (n, 6), oldest first."""
-        h = self.backend.history
-        cap, count, head = int(h[0]), int(h[1]), int(h[2])
-        if count < n:
-            raise RuntimeError(f"the backend recorded {count} calls, fewer than the {n} the map's state needs")
-        idx = [(head - n + 1 + k) % cap for k in range(n)]
-        return np.array([h[3 + HISTORY_ROW * i + 1:3 + HISTORY_ROW * i + HISTORY_ROW] for i in idx])
+        return history_rows(self.backend.history, n)
 
     def _write(self, rows: np.ndarray, t0: float) -> None:
-        """Records (n, 6), oldest first, at the calls t0 - n dt_call ... t0 - dt_call (in place: the native callback
-        holds the array's address)."""
-        h = self.backend.history
-        n, dt = len(rows), self.period / self.calls
-        for k in range(n):
-            r = 3 + HISTORY_ROW * k
-            h[r] = t0 - (n - k) * dt
-            h[r + 1:r + HISTORY_ROW] = rows[k]
-        h[1], h[2] = n, n - 1
+        set_history_rows(self.backend.history, rows, t0, self.period / self.calls)
 
     def start(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The orbit's phase-0 state (9,) and a record (records, 6) for it: the launch flown through its warm-up
