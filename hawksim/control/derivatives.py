@@ -109,7 +109,8 @@ class Snapshot:
         import copy
 
         self._copy = copy.deepcopy
-        self.orbit, self.sat = orbit, (saturate if clip else (lambda p: p))
+        self.orbit, self.clip = orbit, clip
+        self.sat = saturate if clip else (lambda p: p)
         if sim is None:
             kin = orbit.kinematics
             sim = controlled_plant(model, kin, orbit.aero)
@@ -148,7 +149,7 @@ class Snapshot:
         if not np.all(np.isfinite(sim.d.qpos)):
             raise FloatingPointError("controlled beat diverged (non-finite state)")
         out = (read_body_state(sim, chi), stability_position(sim.d.qpos[:3]) - p0)
-        return (*out, Snapshot(self.orbit, None, sim=sim, clip=self.sat is saturate)) if keep else out
+        return (*out, Snapshot(self.orbit, None, sim=sim, clip=self.clip)) if keep else out
 
 
 def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, *,

@@ -76,7 +76,7 @@ def prescribed_torque(M, f0, acc, work):
         M_bb a_b = f0_b - M_bw acc,    tau = M_wb a_b + M_ww acc - f0_w,
 
     the body's accelerations a_b by Cholesky of M_bb (overwritten; M_bb is SPD as a diagonal block of the SPD M).
-    One (nv - 6)-square solve and no solve with M itself, at every RK4 stage; work: scratch (nv - 6,). The native
+    One (nv - 6)-square solve and no solve with M itself, at every RK4 stage; work: scratch (nv,). The native
     callback (:mod:`hawksim.flight.native`) and the Python one call this same function, so the two give the same
     floats."""
     nb = M.shape[0] - 6
