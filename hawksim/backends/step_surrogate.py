@@ -46,6 +46,10 @@ class StepSurrogateBackend:
         """The record of this backend's calls that its history inputs read (:func:`lagged_states`); the flight
         loop's native callback reads and writes the same array, so the two paths share one record."""
         self._lagged_out = np.zeros((len(self.lags), 6))
+        self.seed: tuple[np.ndarray, float] | None = None
+        """(rows (n, 6), dt [s]): the record a flight starts with (:meth:`reset` writes it as calls at t - n dt ...
+        t - dt before the start t): a periodic orbit's own record (:attr:`hawksim.flight.orbit.Orbit.record`), so
+        that a flight launched on the orbit continues it. None: a flight starts with no record."""
 
     def native(self, every: int):
         """This network for the flight loop's native callback (:class:`NativeNetwork`), updated every ``every``
@@ -71,7 +75,10 @@ class StepSurrogateBackend:
         return self._omega_f * state.t
 
     def reset(self, state: FlightState) -> None:
-        self.history[1] = 0.0  # no records
+        if self.seed is None:
+            self.history[1] = 0.0  # no records
+        else:
+            set_history_rows(self.history, self.seed[0], state.t, self.seed[1])
 
     def _lagged(self, t: float, s: np.ndarray) -> np.ndarray:
         """States (n_lags, 6) at t - lag T for each lag, after recording s (6,) at t (:func:`lagged_states`)."""
@@ -204,6 +211,18 @@ def set_history_rows(hist: np.ndarray, rows: np.ndarray, t0: float, dt: float) -
     hist[1], hist[2] = n, n - 1
 
 
+def set_history_values(hist: np.ndarray, rows: np.ndarray) -> None:
+    """Overwrite the values of the newest len(rows) records of the ring ``hist`` with ``rows`` (n, 6), oldest
+    first, keeping their times (in place)."""
+    cap, count, head = int(hist[0]), int(hist[1]), int(hist[2])
+    n = len(rows)
+    if count < n:
+        raise RuntimeError(f"the record holds {count} calls, fewer than the {n} given")
+    for k in range(n):
+        i = (head - n + 1 + k) % cap
+        hist[3 + HISTORY_ROW * i + 1:3 + HISTORY_ROW * (i + 1)] = rows[k]
+
+
 @njit(cache=True)
 def lagged_states(hist, t, s, lags, period, out):
     """Record the state s (6,) at time t [s] in the ring ``hist`` (:func:`new_history`), then write into out
@@ -264,6 +283,13 @@ def ensemble_blocks(layers) -> tuple[tuple[np.ndarray, np.ndarray], ...] | None:
             out.append((np.ascontiguousarray(WL.reshape(K, hb, -1)), np.zeros((1, 1, WL.shape[1]), np.float32)))
             return tuple(out)
     return None
+
+
+def record_size(lags, calls: int) -> int:
+    """Records of the calls before a beat's start that the beat's history inputs read: ceil(max lag x calls per
+    beat) (0 without lags), the record part of a history network's state (:attr:`hawksim.flight.orbit.Orbit.record`,
+    :mod:`hawksim.stability.history_floquet`)."""
+    return int(math.ceil(max(lags, default=0.0) * calls - 1e-9))
 
 
 def memory_beats(network: StepNetwork | None = None) -> int:

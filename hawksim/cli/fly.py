@@ -75,6 +75,8 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
     backend = flight_backend(aero, kinematics=trim.kinematics, symmetric=not is_lateral(perturb),
                              keep_panels=keep_extras_every > 0, wake_summation=wake_summation,
                              **({} if wake_cycles is None else {"wake_cycles": wake_cycles}))
+    if start_state is not None:
+        orbit.seed(backend)  # a history network's orbit: the flight starts with its record
     return fly(trim, backend, cycles, perturb=perturb, model=load_model(model_path), steps_per_cycle=steps_per_cycle,
                keep_extras_every=keep_extras_every, start_state=start_state, **kw)
 

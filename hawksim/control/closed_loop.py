@@ -32,7 +32,7 @@ import numpy as np
 from hawksim.control.derivatives import stability_position
 from hawksim.control.plant import command_of, controlled_plant, saturate
 from hawksim.control.schedule import Schedule
-from hawksim.flight.orbit import STEPS_PER_CYCLE, read_body_state, set_body_state
+from hawksim.flight.orbit import STEPS_PER_CYCLE, backend_record, read_body_state, set_body_state
 from hawksim.flight.result import FlightResult
 from hawksim.frames import attitude_of, pitch_of, quat_from_matrices
 from hawksim.insect.kinematics import Kinematics
@@ -226,6 +226,9 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     n = STEPS_PER_CYCLE
     rec = {k: [] for k in ("t", "pos", "R", "v", "w", "wR", "wo", "F", "M", "Pa", "Pj")}
     warm = exact[0].orbit.warm_beats if exact else 0
+    starts = [(1.0, exact[0].orbit)] if exact else [(w, pt.orbit) for w, pt in schedule.weights(speed)]
+    if all(o.record is not None for _, o in starts):  # a history network: start with the orbit's record
+        sim.backend.seed = (sum(w * o.record for w, o in starts), sum(w * o.record_dt for w, o in starts))
     if warm:  # UVLM: launch, develop the wake open loop, then sense the periodic beat's start
         set_body_state(sim, exact[0].orbit.launch_state.as_array() + (x0 - exact[0].orbit.initial_state.as_array()),
                        chi0)
@@ -243,12 +246,15 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     # the past commands the gains see: those flown (saturated), or for derivatives taken through the saturation
     # (hawksim.control.derivatives.SATURATED_DERIVATIVES) those sent, which is what that model's inputs are
     sent = any(p.model.clipped for p in schedule.points)
+    feeds = getattr(schedule, "feeds_record", False)  # a history network's gains read its record of calls
+    rec0 = backend_record(sim.backend, sim.aero_every) if feeds else None
     if nseg == 1:
-        sensed = [(x0, np.zeros(2))] * keep
+        sensed = [(x0, np.zeros(2), rec0)] * keep
     else:  # the entry m updates before the start was sensed at phase m mod 2 (the orbit's state there)
         _, x_h, _, _ = schedule.reference(speed, 1)
         pos_h = sum(w * pt.reference_state(1)[1] for w, pt in schedule.weights(speed))
-        sensed = [(x0, np.zeros(2)) if (keep - 1 - i) % 2 == 0 else (x_h, pos_h) for i in range(keep)]
+        rec_h = schedule.reference_record(speed, 1) if feeds else None
+        sensed = [(x0, np.zeros(2), rec0) if (keep - 1 - i) % 2 == 0 else (x_h, pos_h, rec_h) for i in range(keep)]
     out, refs = [], []
     v_ref = float(speed)
     speed_rate = SPEED_RATES.get(aero, SPEED_RATE) if speed_rate is None else float(speed_rate)
@@ -267,8 +273,9 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                 kin_ref, _, chi_ref, pitch_ref = schedule.reference(v_ref)
                 pitch_refs.append(pitch_ref)
                 if control != "none":
-                    x_s, pos_s = sensed[-1 - lag]
-                    lp, rp = schedule.wings(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg)
+                    x_s, pos_s, rec_s = sensed[-1 - lag]
+                    lp, rp = schedule.wings(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg,
+                                            **({"record": rec_s} if feeds else {}))
                 else:
                     lp = rp = p_orbit
                 ls, rs = saturate(lp), saturate(rp)
@@ -291,7 +298,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                 x = read_body_state(sim, chi_ref)
                 pos = stability_position(sim.d.qpos[:3]) - hold
                 flown.append((lp, rp) if sent else (ls, rs))
-                sensed.append((x, pos))
+                sensed.append((x, pos, backend_record(sim.backend, sim.aero_every) if feeds else None))
                 flown, sensed = flown[-keep:], sensed[-keep:]
             refs.append(v_ref)
             pitch_ref = sum(pitch_refs) / nseg

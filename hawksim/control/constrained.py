@@ -42,8 +42,8 @@ import numpy as np
 from scipy.linalg import solve_discrete_are, solve_triangular
 from scipy.optimize import lsq_linear
 
-from hawksim.control.derivatives import (FD_DELTA, SURROGATE_FD_DELTA, XI_NAMES, central_jacobians,
-                                         normalized_xi, one_beat, xi_scale)
+from hawksim.control.derivatives import (FD_DELTA, SURROGATE_FD_DELTA, XI_NAMES, Snapshot, central_jacobians,
+                                         normalized_xi, one_beat, record_jacobians, record_scale, xi_scale)
 from hawksim.control.lqr import U_MAX, X_MAX, augment
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import Orbit
@@ -144,7 +144,8 @@ def channel_bounds(base: Kinematics, *, envelope: float | None = None,
 @dataclass(frozen=True)
 class WingMapModel:
     """The controlled one-beat map in the per-wing channels about ``orbit`` (normalized as
-    :class:`hawksim.control.derivatives.BeatMapModel`): A (11, 11), B0 and B1 (11, 8) over :data:`WING_INPUTS`."""
+    :class:`hawksim.control.derivatives.BeatMapModel`): A (11, 11), B0 and B1 (11, 8) over :data:`WING_INPUTS`;
+    on a history network's augmented state (``records`` n > 0) (11 + 6 n) rows."""
 
     orbit: Orbit
     A: np.ndarray
@@ -152,6 +153,7 @@ class WingMapModel:
     B1: np.ndarray
     delta: float
     wall_time_s: float
+    records: int = 0
 
     def to_json(self) -> dict:
         return {"speed": self.orbit.speed, "aero": self.orbit.aero, "states": list(XI_NAMES),
@@ -165,18 +167,33 @@ def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float |
     (:func:`hawksim.control.derivatives.central_jacobians`, unclipped: at a bound the difference reaches
     ``delta`` past it, where the surrogate's network extrapolates smoothly); ``A``: the state block if known
     (a :class:`BeatMapModel`'s: the zero-command beats are the same), else differenced too. 32 one-beat
-    flights (+16 for A)."""
-    if orbit.warm_beats:
-        raise ValueError("per-wing derivatives need an orbit with a settable state (quasi-steady or surrogate)")
+    flights (+16 for A). A history network's orbit (:attr:`hawksim.flight.orbit.Orbit.record`): each beat branches
+    from the orbit's flight (:class:`hawksim.control.derivatives.Snapshot`); given an ``A`` on the augmented state
+    (a :class:`BeatMapModel` with ``records``), B0 and B1 get the record's rows too, else the record is held."""
+    if orbit.has_memory and orbit.record is None:
+        raise ValueError("per-wing derivatives need an orbit with a settable state or a record (quasi-steady or "
+                         "surrogate); the UVLM's wake is neither")
     t0 = time.perf_counter()
     model = model if model is not None else load_model()
     if delta is None:
         delta = SURROGATE_FD_DELTA if orbit.aero == "surrogate" else FD_DELTA
     sc = xi_scale(orbit.kinematics)
-    x0 = orbit.launch_state.as_array()
+    if orbit.record is not None:
+        snap = Snapshot(orbit, model)
+        x0 = orbit.initial_state.as_array()
+        if A is not None and A.shape[0] > 11:  # the augmented state: the commands' effect on the record too
+            _, B0, B1 = record_jacobians(lambda x, vp, v, r: snap.beat(x, vp, v, record=r, wings=wing_params), x0,
+                                         snap.record, sc, delta, 0, len(WING_INPUTS), states=False)
+            return WingMapModel(orbit=orbit, A=np.array(A, float), B0=B0, B1=B1, delta=delta,
+                                wall_time_s=time.perf_counter() - t0, records=len(snap.record))
 
-    def beat(x, v_prev, v):
-        return one_beat(orbit, x, v_prev, v, model=model, wings=wing_params)
+        def beat(x, v_prev, v):
+            return snap.beat(x, v_prev, v, wings=wing_params)
+    else:
+        x0 = orbit.launch_state.as_array()
+
+        def beat(x, v_prev, v):
+            return one_beat(orbit, x, v_prev, v, model=model, wings=wing_params)
 
     A_, B0, B1 = central_jacobians(beat, normalized_xi(sc), x0, sc, delta, 0 if A is not None else 8,
                                    len(WING_INPUTS))
@@ -248,8 +265,8 @@ def constrained_gain(lin: WingMapModel, delay: int = 0, *, x_max: dict | None = 
     n, m = lin.B1.shape
     nz = Az.shape[0]
     xm = {**X_MAX, **(x_max or {})}
-    Q = np.zeros((nz, nz))
-    Q[:n, :n] = np.diag([1 / xm[k] ** 2 for k in XI_NAMES])
+    Q = np.zeros((nz, nz))  # the 11 states of xi weighted; a history network's record values (after them) not
+    Q[:len(XI_NAMES), :len(XI_NAMES)] = np.diag([1 / xm[k] ** 2 for k in XI_NAMES])
     R = wing_weights(u_max)
     P = solve_discrete_are(Az, Bz, Q, R)
     K = np.linalg.solve(R + Bz.T @ P @ Bz, Bz.T @ P @ Az)
@@ -306,7 +323,7 @@ class ConstrainedSchedule(Schedule):
         self.bound_active = 0
 
     def wings(self, v: float, x_sensed: np.ndarray, pos_sensed: np.ndarray, past: list,
-              phase: int = 0) -> tuple[np.ndarray, np.ndarray]:
+              phase: int = 0, record: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(left, right) parameter vectors (7,) SI for the next beat (the arguments as :meth:`Schedule.command`),
         inside Table 2."""
         kin, x_ref, _, _ = self.reference(v, phase)
@@ -315,8 +332,11 @@ class ConstrainedSchedule(Schedule):
         lb, ub = channel_bounds(kin, envelope=self.envelope, held=self._held(kin))
         past_v = [wing_channels(kin, left, right) for left, right in past]
         out, active = np.zeros(len(WING_INPUTS)), False
+        rec_dev = None if record is None or not self.feeds_record else record - self.reference_record(v, phase)
         for w, pt in self.weights(v):
-            z = np.concatenate([xi / xi_scale(pt.orbit.kinematics)] + past_v)
+            sc = xi_scale(pt.orbit.kinematics)
+            parts = [xi / sc] if rec_dev is None else [xi / sc, (rec_dev / record_scale(sc)).ravel()]
+            z = np.concatenate(parts + past_v)
             vk, a = self.constrained[pt.speed].command(z, lb, ub)
             out += w * vk
             active |= a

@@ -36,6 +36,7 @@ from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, read_body_state, scales
 from hawksim.frames import STABILITY_TO_WORLD
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
+from hawksim.stability.history_floquet import RECORD_LAT, RECORD_LONG
 
 XI_NAMES = ("u", "v", "w", "p", "q", "r", "phi", "theta", "psi", "X", "Y")
 """The extended state: body state (hawksim.flight.orbit.STATE_NAMES) and horizontal position X (forward), Y (right)."""
@@ -100,10 +101,11 @@ def set_phase0(sim: ControlledSimulator, x: np.ndarray, chi_ref: float) -> None:
 
 
 class Snapshot:
-    """A controlled flight launched from the orbit's launch state and flown over its warm-up beats at the orbit's
-    kinematics, so that its backend's memory is the orbit's (the UVLM's wake, a history network's record of past
-    calls); :meth:`beat` branches one controlled beat, or half-stroke, from a copy of it. ``clip``: each wing
-    saturated at Table 2 (the surrogate's plant, :data:`SATURATED_DERIVATIVES`)."""
+    """A controlled flight launched from the orbit's launch state (with its record,
+    :meth:`hawksim.flight.orbit.Orbit.seed`) and flown over its warm-up beats at the orbit's kinematics, so that its
+    backend's memory is the orbit's (the UVLM's wake, a history network's record of past calls); :meth:`beat`
+    branches one controlled beat, or half-stroke, from a copy of it. ``clip``: each wing saturated at Table 2 (the
+    surrogate's plant, :data:`SATURATED_DERIVATIVES`)."""
 
     def __init__(self, orbit: Orbit, model, *, clip: bool = False, sim=None):
         import copy
@@ -114,22 +116,40 @@ class Snapshot:
         if sim is None:
             kin = orbit.kinematics
             sim = controlled_plant(model, kin, orbit.aero)
+            orbit.seed(sim.backend)
             sim.set_wings(kin, kin)
             set_body_state(sim, orbit.launch_state.as_array(), orbit.chi_ref)
             for _ in range(orbit.warm_beats):
                 sim.begin_beat(kin, kin)
-                for _ in range(STEPS_PER_CYCLE):
-                    sim.step()
+                sim.advance(STEPS_PER_CYCLE)
         self.sim = sim
+        self._shared = _immutables(sim)
 
-    def beat(self, x0, du_prev, du, *, half: int | None = None, keep: bool = False):
+    @property
+    def record(self) -> np.ndarray | None:
+        """The history network's record (n, 6) at the snapshot (:func:`hawksim.flight.orbit.backend_record`; None
+        for a backend without one)."""
+        from hawksim.flight.orbit import backend_record
+
+        return backend_record(self.sim.backend, self.sim.aero_every) if getattr(self.sim.backend, "lags", ()) \
+            else None
+
+    def beat(self, x0, du_prev, du, *, half: int | None = None, keep: bool = False, record=None,
+             wings=wing_kinematics):
         """One controlled beat (``half`` None) or half-stroke (0: from phase 0, 1: from phase 0.5) from a copy of
         the snapshot with the body state overwritten by x0 (9,) (:func:`set_phase0`; the backend's memory kept),
         the wings on the orbit's kinematics + du_prev before and blended into + du: (state (9,) at its end,
-        horizontal displacement (2,) [m]), and with ``keep`` the branch's simulator as a :class:`Snapshot` there."""
-        sim = self._copy(self.sim)
+        horizontal displacement (2,) [m]), and with ``keep`` the branch's simulator as a :class:`Snapshot` there.
+        ``record`` (n, 6): a history network's record overwritten by it (its values; times kept) before the beat,
+        and then the record at the beat's end is returned after the displacement. ``wings``: the command's
+        parameterization, as :func:`one_beat`'s."""
+        sim = self._copy(self.sim, dict(self._shared))
+        if record is not None:
+            from hawksim.backends.step_surrogate import set_history_values
+
+            set_history_values(sim.backend.history, np.asarray(record, float))
         kin, chi = self.orbit.kinematics, self.orbit.chi_ref
-        lp, rp = (Kinematics.from_array(self.sat(p)) for p in wing_kinematics(kin, du_prev))
+        lp, rp = (Kinematics.from_array(self.sat(p)) for p in wings(kin, du_prev))
         sim._new = sim._old = (lp, rp)
         sim._same, sim._phase, sim._span = True, 0.0, 1.0
         # phase 0 of the previous command's kinematics at the beat's start, half a period earlier at phase 0.5
@@ -137,19 +157,37 @@ class Snapshot:
         sim._sync_native()
         set_phase0(sim, x0, chi)
         p0 = stability_position(sim.d.qpos[:3])
-        ln, rn = (Kinematics.from_array(self.sat(p)) for p in wing_kinematics(kin, du))
+        ln, rn = (Kinematics.from_array(self.sat(p)) for p in wings(kin, du))
         if half is None:
             sim.begin_beat(ln, rn)
             n = STEPS_PER_CYCLE
         else:
             sim.begin_beat(ln, rn, phase=math.pi * half, span=0.5)
             n = STEPS_PER_CYCLE // 2
-        for _ in range(n):
-            sim.step()
+        sim.advance(n)  # as n calls of step (the native loop where there is one)
         if not np.all(np.isfinite(sim.d.qpos)):
             raise FloatingPointError("controlled beat diverged (non-finite state)")
         out = (read_body_state(sim, chi), stability_position(sim.d.qpos[:3]) - p0)
+        if record is not None:
+            from hawksim.flight.orbit import backend_record
+
+            out = (*out, backend_record(sim.backend, sim.aero_every))
         return (*out, Snapshot(self.orbit, None, sim=sim, clip=self.clip)) if keep else out
+
+
+def _immutables(sim) -> dict:
+    """A deepcopy memo that makes copies of ``sim`` share what no flight writes: the MjModel and a per-step
+    surrogate's network (its weights, folded layers and the native callback's packed weight buffer). The copy's
+    own state (MjData, the plant's blend, the backend's record of calls) is still copied. Measured: a branch of
+    the surrogate's snapshot 5.1 -> 2.6 ms (1 m/s, half-stroke)."""
+    b = sim.backend
+    if hasattr(sim, "_native_network"):
+        sim._native_network()  # the callback's network made (and cached) once, so that the copies share it
+    keep = [sim.m, getattr(b, "net", None), getattr(b, "layers", None), getattr(b, "blocks", None)]
+    net = getattr(sim, "_net", None)
+    if net is not None and getattr(sim, "_net_of", None) is b:
+        keep.append(net.buffer)
+    return {id(o): o for o in keep if o is not None}
 
 
 def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, *,
@@ -171,8 +209,7 @@ def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, 
     p0 = stability_position(sim.d.qpos[:3])
     ln, rn = (Kinematics.from_array(sat(p)) for p in wings(kin, du))
     sim.begin_beat(ln, rn)
-    for _ in range(STEPS_PER_CYCLE):
-        sim.step()
+    sim.advance(STEPS_PER_CYCLE)
     if not np.all(np.isfinite(sim.d.qpos)):
         raise FloatingPointError("controlled beat diverged (non-finite state)")
     return read_body_state(sim, orbit.chi_ref), stability_position(sim.d.qpos[:3]) - p0
@@ -194,6 +231,12 @@ class BeatMapModel:
     delta: float
     wall_time_s: float
     clipped: bool = False
+    records: int = 0
+    """A history network's orbit linearized on the augmented state (``linearize(..., records=True)``): the n records
+    of its calls in the state, after the 11 of xi (:func:`record_index`); A (11 + 6 n) square, B0 and B1
+    (11 + 6 n, 7). 0: the body state only (for a history network: the record held at the orbit's)."""
+    record_ref: np.ndarray | None = None
+    """The orbit's record (n, 6) SI at phase 0 (the linearization point's)."""
 
     @property
     def Bt(self) -> np.ndarray:
@@ -202,8 +245,9 @@ class BeatMapModel:
 
     def block(self, which: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(A, B0, B1) of the longitudinal ('long': LONG_X x SYM_INPUTS) or lateral ('lat': LAT_X x ANTI_INPUTS)
-        subsystem."""
+        subsystem, the records' values of that subsystem after the body states (:func:`record_index`)."""
         xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
+        xs = list(xs) + record_index(which, self.records)
         ix = np.ix_(xs, xs)
         iu = np.ix_(xs, us)
         return self.A[ix], self.B0[iu], self.B1[iu]
@@ -214,6 +258,9 @@ class BeatMapModel:
         return self.A[:8, :8]
 
     def to_json(self) -> dict:
+        if self.records:
+            raise ValueError("a model on the augmented state is made at start-up, not tabulated (its body block is "
+                             "the record-held model, linearize(..., records=False))")
         return {"speed": self.orbit.speed, "aero": self.orbit.aero, "states": list(XI_NAMES), "inputs": list(INPUTS),
                 "A": self.A.tolist(), "B0": self.B0.tolist(), "B1": self.B1.tolist(), "scale": self.scale.tolist(),
                 "coupling": self.coupling, "delta": self.delta, "clipped": self.clipped}
@@ -230,29 +277,75 @@ class BeatMapModel:
 
 
 def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
-                      n_states: int, n_inputs: int = len(INPUTS)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(A (11, 11), B0 (11, m), B1 (11, m)) of a controlled map ``beat(x, du_prev, du)`` about ``x0`` by central
+                      n_states: int, n_inputs: int = len(INPUTS), *, entries=None,
+                      columns=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A (N, N), B0 (N, m), B1 (N, m)) of a controlled map ``beat(x, du_prev, du)`` about ``x0`` by central
     differences of step ``delta`` (normalized; ``sc`` SI per unit of x, ``xi`` the normalized extended state of a
-    beat's output): A's first ``n_states`` columns (the rest identity; none for ``n_states=0``), B1 from a blend
-    into +-du, Bt = B0 + B1 from +-du held over the beat and the one before (module docstring); m = ``n_inputs``
-    channels (default the seven of INPUTS)."""
+    beat's output: 11 long, or N with ``columns``): A's columns from x's first ``n_states`` entries (or the entries
+    ``entries``), into column ``columns[k]`` for the k-th (default the entry's index; the other columns identity,
+    all of them for ``n_states=0``), B1 from a blend into +-du, Bt = B0 + B1 from +-du held over the beat and the
+    one before (module docstring); m = ``n_inputs`` channels (default the seven of INPUTS)."""
     m = int(n_inputs)
     zero = np.zeros(m)
-    A = np.eye(11)
-    for j in range(n_states):
+    ents = list(range(n_states)) if entries is None else list(entries)
+    cols = ents if columns is None else list(columns)
+    x_ref = np.asarray(x0, float)
+    N = 11 if columns is None else len(xi(beat(x_ref.copy(), zero, zero)))  # with a record: its rows too
+    A = np.eye(N)
+    for j, c in zip(ents, cols):
         r = []
         for s in (1, -1):
-            x = x0.copy()
+            x = x_ref.copy()
             x[j] += s * delta * sc[j]
             r.append(xi(beat(x, zero, zero)))
-        A[:, j] = (r[0] - r[1]) / (2 * delta)
-    B1, Bt = np.zeros((11, m)), np.zeros((11, m))
+        A[:, c] = (r[0] - r[1]) / (2 * delta)
+    B1, Bt = np.zeros((N, m)), np.zeros((N, m))
     for j in range(m):
         e = np.zeros(m)
         e[j] = delta
         B1[:, j] = (xi(beat(x0, zero, e)) - xi(beat(x0, zero, -e))) / (2 * delta)
         Bt[:, j] = (xi(beat(x0, e, e)) - xi(beat(x0, -e, -e))) / (2 * delta)
     return A, Bt - B1, B1
+
+
+def record_scale(sc: np.ndarray) -> np.ndarray:
+    """(6,) SI per normalized unit of a record's values (velocity relative to the air, angular velocity; body axes)
+    from the state scale ``sc`` (:func:`xi_scale`): U, 1 / T."""
+    return np.array([sc[0]] * 3 + [sc[3]] * 3)
+
+
+def record_index(which: str, records: int) -> list[int]:
+    """Indices in the augmented state (the 11 of :data:`XI_NAMES`, then each record's 6 values, oldest first) of
+    the records' longitudinal (v_x, v_z, omega_y) or lateral (v_y, omega_x, omega_z) values
+    (:data:`hawksim.stability.history_floquet.RECORD_LONG`, ``RECORD_LAT``; record-major)."""
+    comps = RECORD_LONG if which == "long" else RECORD_LAT
+    return [11 + 6 * k + c for k in range(records) for c in comps]
+
+
+def record_jacobians(beat, x0: np.ndarray, rec0: np.ndarray, sc: np.ndarray, delta: float,
+                     n_body: int, n_inputs: int = len(INPUTS), *,
+                     states: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`central_jacobians` on the augmented state of a history network (the body state and horizontal
+    position, then the record's n x 6 values normalized by :func:`record_scale`): ``beat(x (9,), du_prev, du,
+    record (n, 6)) -> (state (9,), displacement (2,), record (n, 6))`` branches from the orbit's flight with its
+    record replaced; A's columns from the first ``n_body`` body states and every record value (psi's, when not
+    among them, and X's, Y's identity). A (11 + 6 n) square, B0 and B1 (11 + 6 n, m). Each record value is one
+    more pair of flights: 2 (n_body + 6 n) + 4 m in all. ``states`` False: B0 and B1 only (A the identity), 4 m
+    flights; m = ``n_inputs`` channels."""
+    n = len(rec0)
+    rsc = record_scale(sc)
+
+    def xi(out):
+        x, disp, rec = out
+        return np.concatenate([np.concatenate([x, disp]) / sc, (rec / rsc).ravel()])
+
+    def aug(xa, du_prev, du):
+        return beat(xa[:9], du_prev, du, xa[9:].reshape(n, 6))
+
+    return central_jacobians(aug, xi, np.concatenate([x0, np.asarray(rec0, float).ravel()]),
+                             np.concatenate([sc[:9], np.tile(rsc, n)]), delta, 0, n_inputs,
+                             entries=list(range(n_body)) + list(range(9, 9 + 6 * n)) if states else [],
+                             columns=list(range(n_body)) + list(range(11, 11 + 6 * n)) if states else [])
 
 
 SATURATED_DERIVATIVES = ("surrogate",)
@@ -267,13 +360,16 @@ UVLM models are smooth across the bound and keep the unclipped derivatives of th
 
 
 def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None,
-              clip: bool | None = None) -> BeatMapModel:
+              clip: bool | None = None, records: bool = False) -> BeatMapModel:
     """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady and surrogate:
     each derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with
     warm-up beats): one flight is launched and flown over the warm-up beats, and every derivative beat branches from
     a copy of it at the periodic beat's start, with the body state overwritten there (:func:`set_phase0`) and the
     wake kept: the derivatives hold the wake at the orbit's (its memory of the perturbation is left out). ``clip``:
-    difference the map with each wing saturated at Table 2 (default: for :data:`SATURATED_DERIVATIVES`)."""
+    difference the map with each wing saturated at Table 2 (default: for :data:`SATURATED_DERIVATIVES`).
+    ``records``: for an orbit with a record (a history network's, :attr:`hawksim.flight.orbit.Orbit.record`), the
+    map on the augmented state (:func:`record_jacobians`, 2 (8 + 6 n) + 28 beats, ~2 s); without it the record is
+    held at the orbit's, which is that map's body block."""
     t0 = time.perf_counter()
     if clip is None:
         clip = orbit.aero in SATURATED_DERIVATIVES
@@ -282,7 +378,7 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     sc = xi_scale(kin)
-    if orbit.warm_beats:
+    if orbit.has_memory:
         snap = Snapshot(orbit, model, clip=clip)
         x0 = orbit.initial_state.as_array()
 
@@ -294,10 +390,16 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
         def beat(x, du_prev, du):
             return one_beat(orbit, x, du_prev, du, model=model, clip=clip)
 
-    A, B0, B1 = central_jacobians(beat, normalized_xi(sc), x0, sc, delta, 8)
+    rec0 = None
+    if records and orbit.record is not None:
+        rec0 = snap.record
+        A, B0, B1 = record_jacobians(lambda x, dp, d, r: snap.beat(x, dp, d, record=r), x0, rec0, sc, delta, 8)
+    else:
+        A, B0, B1 = central_jacobians(beat, normalized_xi(sc), x0, sc, delta, 8)
     # the neutral rows: psi and position do not feed back (identity columns set above); psi's own row from the map
     cross = max(np.abs(M[np.ix_(a, b)]).max() for M, (a, b) in
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
                  (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
     return BeatMapModel(orbit=orbit, A=A, B0=B0, B1=B1, scale=sc, coupling=float(cross), delta=delta,
-                        wall_time_s=time.perf_counter() - t0, clipped=bool(clip))
+                        wall_time_s=time.perf_counter() - t0, clipped=bool(clip),
+                        records=0 if rec0 is None else len(rec0), record_ref=rec0)

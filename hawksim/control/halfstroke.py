@@ -34,7 +34,8 @@ import mujoco
 import numpy as np
 
 from hawksim.control.derivatives import (FD_DELTA, LAT_X, LONG_X, SATURATED_DERIVATIVES, SURROGATE_FD_DELTA,
-                                         Snapshot, central_jacobians, stability_position, xi_scale)
+                                         Snapshot, central_jacobians, normalized_xi, record_index,
+                                         record_jacobians, record_scale, stability_position, xi_scale)
 from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
                                    wing_kinematics)
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state
@@ -46,19 +47,20 @@ HALVES = 2
 
 
 def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, half: int, *,
-              model: mujoco.MjModel | None = None, snapshot: Snapshot | None = None) -> tuple[np.ndarray, np.ndarray]:
+              model: mujoco.MjModel | None = None, snapshot: Snapshot | None = None, record=None) -> tuple:
     """One controlled half-stroke of the quasi-steady flight: from body state x0 (9,) at phase 0 (``half=0``) or
     0.5 (``half=1``), the wings on the orbit's kinematics + du_prev before and blended into + du over the half:
     (state (9,) at the half's end, horizontal displacement (2,) [m], stability axes). An orbit with warm-up beats
     (a surrogate with history inputs) branches from ``snapshot``, the orbit's flight at that phase with its record
-    of past calls (:func:`linearize_half_stroke` makes both)."""
+    of past calls (:func:`linearize_half_stroke` makes both); ``record`` (n, 6): that record's values replaced by
+    it, and the record at the half's end returned third (:meth:`hawksim.control.derivatives.Snapshot.beat`)."""
     if half not in (0, 1):
         raise ValueError(f"half must be 0 (phase 0 -> 0.5) or 1 (phase 0.5 -> 1), got {half}")
-    if orbit.warm_beats:
+    if orbit.has_memory:
         if snapshot is None:
             raise ValueError("a half-stroke of an orbit with warm-up beats branches from a snapshot of the orbit's "
                              "flight at that phase (linearize_half_stroke)")
-        return snapshot.beat(x0, du_prev, du, half=half)
+        return snapshot.beat(x0, du_prev, du, half=half, record=record)
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     if orbit.aero in SATURATED_DERIVATIVES:  # the surrogate: its controlled plant, each wing clipped at Table 2
@@ -74,8 +76,7 @@ def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray,
     p0 = stability_position(sim.d.qpos[:3])
     ln, rn = (Kinematics.from_array(p if sat is None else sat(p)) for p in wing_kinematics(kin, du))
     sim.begin_beat(ln, rn, phase=math.pi * half, span=0.5)
-    for _ in range(STEPS_PER_CYCLE // HALVES):
-        sim.step()
+    sim.advance(STEPS_PER_CYCLE // HALVES)
     if not np.all(np.isfinite(sim.d.qpos)):
         raise FloatingPointError("controlled half-stroke diverged (non-finite state)")
     return read_body_state(sim, orbit.chi_ref), stability_position(sim.d.qpos[:3]) - p0
@@ -99,17 +100,32 @@ class HalfStrokeModel:
     coupling: float
     delta: float
     wall_time_s: float = 0.0
+    records: int = 0
+    """A history network's orbit: the n records of its calls in the state (0 otherwise). The maps are then on the
+    augmented state (the 11 of xi, then each record's 6 values, oldest first, normalized by :attr:`record_scale`):
+    A (11 + 6 n) square, B0 and B1 (11 + 6 n, 7); the records are the backend's, read at each update."""
+    record_ref: tuple[np.ndarray, np.ndarray] | None = None
+    """The orbit's record (n, 6) SI at phase 0 and at phase 0.5 (the linearization points' records)."""
+    record_scale: np.ndarray | None = None
+    """(6,) SI per normalized unit of a record's values: U (velocities), 1 / T (rates)."""
+
+    def record_index(self, which: str) -> list[int]:
+        """:func:`hawksim.control.derivatives.record_index` of this model's records (empty without them)."""
+        return record_index(which, self.records)
 
     def block(self, which: str, half: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(A, B0, B1) of the 'long' (u, w, q, theta, X; f, phi0, alpha0, theta0) or 'lat' (v, p, r, phi, psi, Y;
-        dphi_a, dphi0, dalpha0) subsystem over half ``half`` (0 or 1)."""
+        dphi_a, dphi0, dalpha0) subsystem over half ``half`` (0 or 1), the records' values of that subsystem after
+        the body states (:meth:`record_index`)."""
         xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
+        xs = list(xs) + self.record_index(which)
         ix, iu = np.ix_(xs, xs), np.ix_(xs, us)
         return self.A[half][ix], self.B0[half][iu], self.B1[half][iu]
 
     @property
     def monodromy(self) -> np.ndarray:
-        """(8, 8) over (u, v, w, p, q, r, phi, theta): the product of the two halves' state maps (one beat)."""
+        """(8, 8) over (u, v, w, p, q, r, phi, theta): the product of the two halves' state maps (one beat; with
+        records, the body rows and columns of the augmented product)."""
         return (self.A[1] @ self.A[0])[:8, :8]
 
     def to_json(self) -> dict:
@@ -130,8 +146,8 @@ def linearize_half_stroke(orbit: Orbit, *, delta: float | None = None,
     model = model if model is not None else load_model()
     sc = xi_scale(orbit.kinematics)
     zero = np.zeros(len(INPUTS))
-    snaps = (None, None)
-    if orbit.warm_beats:  # the surrogate with history inputs: branch from the orbit's flight and its record
+    snaps, recs = (None, None), None
+    if orbit.has_memory:  # the surrogate with history inputs: branch from the orbit's flight and its record
         if orbit.aero != "surrogate":
             raise ValueError("half-stroke maps need a settable state or the surrogate's record; the UVLM's wake "
                              "cannot be set at phase 0.5")
@@ -139,23 +155,29 @@ def linearize_half_stroke(orbit: Orbit, *, delta: float | None = None,
         x0 = orbit.initial_state.as_array()
         x_half, pos_half, snap1 = snap0.beat(x0, zero, zero, half=0, keep=True)
         snaps = (snap0, snap1)
+        if orbit.record is not None:  # solved on the augmented state: the record is part of the maps' state
+            recs = (snap0.record, snap1.record)
     else:
         x0 = orbit.launch_state.as_array()
         x_half, pos_half = half_beat(orbit, x0, zero, zero, 0, model=model)
+    n = 0 if recs is None else len(recs[0])
     mats = []
     for half, xs in ((0, x0), (1, x_half)):
-        def xi(out):
-            x, disp = out
-            return np.concatenate([x, disp]) / sc
+        if recs is None:
+            def beat(x, du_prev, du, h=half):
+                return half_beat(orbit, x, du_prev, du, h, model=model, snapshot=snaps[h])
 
-        def beat(x, du_prev, du, h=half):
-            return half_beat(orbit, x, du_prev, du, h, model=model, snapshot=snaps[h])
+            # psi too (9 columns): it turns the half-stroke's horizontal displacement (X, Y rows)
+            mats.append(central_jacobians(beat, normalized_xi(sc), xs, sc, delta, 9))
+        else:  # the body's 9 columns and each record value's, which sit after X, Y in the augmented state
+            def beat(x, du_prev, du, rec, h=half):
+                return half_beat(orbit, x, du_prev, du, h, snapshot=snaps[h], record=rec)
 
-        # psi too (9 columns): it turns the half-stroke's horizontal displacement (X, Y rows)
-        mats.append(central_jacobians(beat, xi, xs, sc, delta, 9))
+            mats.append(record_jacobians(beat, xs, recs[half], sc, delta, 9))
     cross = max(np.abs(M[np.ix_(a, b)]).max() for A, B0, B1 in mats for M, (a, b) in
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
                  (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
     return HalfStrokeModel(orbit=orbit, A=(mats[0][0], mats[1][0]), B0=(mats[0][1], mats[1][1]),
                            B1=(mats[0][2], mats[1][2]), x_half=x_half, pos_half=pos_half, scale=sc,
-                           coupling=float(cross), delta=delta, wall_time_s=time.perf_counter() - t0)
+                           coupling=float(cross), delta=delta, wall_time_s=time.perf_counter() - t0, records=n,
+                           record_ref=recs, record_scale=record_scale(sc) if n else None)

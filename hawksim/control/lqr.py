@@ -23,6 +23,7 @@ from scipy.linalg import solve_discrete_are
 
 from hawksim.control.derivatives import LAT_X, LONG_X, XI_NAMES, BeatMapModel
 from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS
+from hawksim.stability.history_floquet import RECORD_LAT, RECORD_LONG
 
 X_MAX = {"u": 0.01, "v": 0.01, "w": 0.01, "p": 0.05, "q": 0.05, "r": 0.05, "phi": np.deg2rad(1.0),
          "theta": np.deg2rad(1.0), "psi": np.deg2rad(2.0), "X": 0.3, "Y": 0.3}
@@ -64,6 +65,9 @@ class Gain:
     states: tuple[int, ...]
     inputs: tuple[int, ...]
     delay: int
+    record: tuple[int, ...] = ()
+    """The record components (:data:`hawksim.stability.history_floquet.RECORD_LONG` or ``RECORD_LAT``) whose values
+    follow the states in z, record-major (a history network's half-stroke design; empty otherwise)."""
 
     @property
     def spectral_radius(self) -> float:
@@ -78,7 +82,8 @@ def lqr_gain(lin: BeatMapModel, which: str, delay: int = 0, x_max: dict | None =
              u_max: dict | None = None, inputs: tuple[int, ...] | None = None) -> Gain:
     """LQR of the 'long' or 'lat' subsystem of ``lin`` with a sensing delay of ``delay`` wingbeats; ``inputs``: the
     channels (indices in :data:`INPUTS`) of the subsystem it may use (default all; the others stay at the
-    reference)."""
+    reference). A model on a history network's augmented state (``lin.records``): the record's values carry no
+    weight and are fed back."""
     A, B0, B1 = lin.block(which)
     xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
     if inputs is not None:
@@ -88,22 +93,24 @@ def lqr_gain(lin: BeatMapModel, which: str, delay: int = 0, x_max: dict | None =
         B0, B1, us = B0[:, cols], B1[:, cols], tuple(inputs)
     xm, um = {**X_MAX, **(x_max or {})}, {**U_MAX, **(u_max or {})}
     Az, Bz = augment(A, B0, B1, delay)
-    n, m = B1.shape
-    Q = np.zeros_like(Az)
-    Q[:n, :n] = np.diag([1 / xm[XI_NAMES[i]] ** 2 for i in xs])
+    Q = np.zeros_like(Az)  # the body states weighted; a history network's record values (after them) not
+    Q[:len(xs), :len(xs)] = np.diag([1 / xm[XI_NAMES[i]] ** 2 for i in xs])
     R = np.diag([1 / um[INPUTS[i]] ** 2 for i in us])
     P = solve_discrete_are(Az, Bz, Q, R)
     K = np.linalg.solve(R + Bz.T @ P @ Bz, Bz.T @ P @ Az)
+    record = (RECORD_LONG if which == "long" else RECORD_LAT) if lin.records else ()
     return Gain(K=K, multipliers=_sorted(np.linalg.eigvals(Az - Bz @ K)), open_loop=_sorted(np.linalg.eigvals(A)),
-                states=xs, inputs=us, delay=int(delay))
+                states=xs, inputs=us, delay=int(delay), record=record)
 
 
 def periodic_lqr_gains(blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]], xs: tuple[int, ...],
                        us: tuple[int, ...], delay: int = 0, x_max: dict | None = None,
-                       u_max: dict | None = None) -> tuple[Gain, ...]:
+                       u_max: dict | None = None, record: tuple[int, ...] = ()) -> tuple[Gain, ...]:
     """LQR of a periodic plant sampled p times per wingbeat (the half-stroke maps: p = 2): ``blocks`` [(A_j,
     B0_j, B1_j)] of each phase j of one subsystem (states ``xs``, inputs ``us``), a sensing delay of ``delay``
-    SAMPLES, the same Bryson weights at every sample. One Gain per phase, u = -K_j z at phase j.
+    SAMPLES, the same Bryson weights at every sample. One Gain per phase, u = -K_j z at phase j. States of the
+    blocks beyond ``xs`` (a history network's record values, components ``record``) carry no weight: the cost is
+    the body's, and the gain feeds the record back.
 
     Method: each phase augmented as :func:`augment` ((Az_j, Bz_j)); the plant lifted over one beat from phase 0,
     z_p = Phi z_0 + Gamma (u_0, ..., u_{p-1}), with the cost of every sample folded into the lifted weights
@@ -117,7 +124,7 @@ def periodic_lqr_gains(blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]], 
     n, m = blocks[0][2].shape
     N, p = aug[0][0].shape[0], len(blocks)
     Q = np.zeros((N, N))
-    Q[:n, :n] = np.diag([1 / xm[XI_NAMES[i]] ** 2 for i in xs])
+    Q[:len(xs), :len(xs)] = np.diag([1 / xm[XI_NAMES[i]] ** 2 for i in xs])
     R = np.diag([1 / um[INPUTS[i]] ** 2 for i in us])
     Phi, Gam = np.eye(N), np.zeros((N, p * m))
     QL, RL, SL = np.zeros((N, N)), np.kron(np.eye(p), R), np.zeros((N, p * m))
@@ -141,5 +148,5 @@ def periodic_lqr_gains(blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]], 
     for A, _, _ in blocks:
         A_beat = A @ A_beat
     mu, ol = _sorted(np.linalg.eigvals(M)), _sorted(np.linalg.eigvals(A_beat))
-    return tuple(Gain(K=K, multipliers=mu, open_loop=ol, states=tuple(xs), inputs=tuple(us), delay=int(delay))
-                 for K in Ks)
+    return tuple(Gain(K=K, multipliers=mu, open_loop=ol, states=tuple(xs), inputs=tuple(us), delay=int(delay),
+                      record=tuple(record)) for K in Ks)

@@ -25,12 +25,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, xi_scale
+from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, record_scale, xi_scale
 from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_stroke
 from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gains
 from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, command_of, wing_kinematics
 from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
 from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
+from hawksim.stability.history_floquet import RECORD_LAT, RECORD_LONG
 
 SCHEDULE_SPEEDS = TABLE3_SPEEDS
 """Ascent speeds [m/s] of the quasi-steady gain schedule's orbits (0, 0.5, 1, 1.5, 2)."""
@@ -119,6 +120,13 @@ class SchedulePoint:
     def gains(self, phase: int) -> tuple[Gain, Gain]:
         """(long, lat) at update ``phase`` (0; per half-stroke also 1 = phase 0.5)."""
         return (self.long, self.lat) if phase == 0 else (self.long_half, self.lat_half)
+
+    def reference_record(self, phase: int) -> np.ndarray | None:
+        """The orbit's record (n, 6) SI at update ``phase`` for a history network's design on the augmented state
+        (its gains feed the record back), None otherwise."""
+        if self.rate == "half-stroke":
+            return self.half.record_ref[phase] if self.half is not None and self.half.records else None
+        return self.model.record_ref if self.model.records else None
 
     def reference_state(self, phase: int) -> tuple[np.ndarray, np.ndarray]:
         """(body state (9,) SI, horizontal offset (2,) [m] from the hold point) of the orbit at ``phase``."""
@@ -226,6 +234,13 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     if rate == "half-stroke" and aero not in HALF_STROKE_BACKENDS:
         raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady ({HALF_STROKE_WHY.get(aero, '')})")
     orb, lin = _orbit_and_model(speed, aero, model, log)
+    if rate == "beat" and orb.record is not None:  # a history network: the per-beat design on the augmented state
+        key = (float(speed), aero, "records")
+        if key not in _POINTS:
+            if log is not None:
+                log(f"linearizing the {aero} orbit at {speed:g} m/s with its record of calls (seconds) ...")
+            _POINTS[key] = linearize(orb, model=model, records=True)
+        lin = _POINTS[key]
     sym = symmetric_inputs(orb) if aero in ONE_SIDED_DROPPED else None
     long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
     if rate == "beat":
@@ -237,13 +252,14 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     d = HALVES * int(delay)
     cw = HALF_STROKE_COMMAND_WEIGHT if command_weight is None else float(command_weight)
     um = {k: v / np.sqrt(cw) for k, v in {**U_MAX, **(u_max or {})}.items()}
+    rl, rt = (RECORD_LONG, RECORD_LAT) if h.records else ((), ())
     if sym is None:
-        gl = periodic_lqr_gains([h.block("long", j) for j in range(HALVES)], LONG_X, SYM_INPUTS, d, x_max, um)
+        gl = periodic_lqr_gains([h.block("long", j) for j in range(HALVES)], LONG_X, SYM_INPUTS, d, x_max, um, rl)
     else:  # the channels of the per-beat design (theta0 out where it sits on its bound)
         cols = [SYM_INPUTS.index(i) for i in sym]
         blocks = [(A, B0[:, cols], B1[:, cols]) for A, B0, B1 in (h.block("long", j) for j in range(HALVES))]
-        gl = periodic_lqr_gains(blocks, LONG_X, sym, d, x_max, um)
-    gt = periodic_lqr_gains([h.block("lat", j) for j in range(HALVES)], LAT_X, ANTI_INPUTS, d, x_max, um)
+        gl = periodic_lqr_gains(blocks, LONG_X, sym, d, x_max, um, rl)
+    gt = periodic_lqr_gains([h.block("lat", j) for j in range(HALVES)], LAT_X, ANTI_INPUTS, d, x_max, um, rt)
     return SchedulePoint(float(speed), orb, lin, gl[0], gt[0], rate="half-stroke", half=h, long_half=gl[1],
                          lat_half=gt[1])
 
@@ -325,25 +341,48 @@ class Schedule:
         pitch = sum(w * pt.orbit.mean_pitch for w, pt in ws)
         return Kinematics.from_array(p), x, float(chi), float(pitch)
 
+    @property
+    def feeds_record(self) -> bool:
+        """Whether the gains feed a history network's record back (:meth:`command` needs it)."""
+        return any(g.record for pt in self.points for g in (pt.long, pt.lat))
+
+    def reference_record(self, v: float, phase: int = 0) -> np.ndarray | None:
+        """The orbits' record (n, 6) SI at update ``phase`` interpolated at v (None: no record feedback)."""
+        ws = self.weights(v)
+        recs = [(w, pt.reference_record(phase)) for w, pt in ws]
+        return None if any(r is None for _, r in recs) else sum(w * r for w, r in recs)
+
     def wings(self, v: float, x_sensed: np.ndarray, pos_sensed: np.ndarray, past: list,
-              phase: int = 0) -> tuple[np.ndarray, np.ndarray]:
+              phase: int = 0, record: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(left, right) parameter vectors (7,) SI, unsaturated, of :meth:`command` about the reference at v."""
-        return wing_kinematics(self.reference(v, phase)[0], self.command(v, x_sensed, pos_sensed, past, phase))
+        return wing_kinematics(self.reference(v, phase)[0],
+                               self.command(v, x_sensed, pos_sensed, past, phase, record=record))
 
     def command(self, v: float, x_sensed: np.ndarray, pos_sensed: np.ndarray, past: list,
-                phase: int = 0) -> np.ndarray:
+                phase: int = 0, record: np.ndarray | None = None) -> np.ndarray:
         """The command du (7,) (relative to the reference kinematics at v) at update ``phase`` from the body state
         (9,) and horizontal position (2,) [m] (from the hold point) sensed at the same phase (the delay is whole
         wingbeats), as deviations from the reference interpolated at v, and ``past``: the (left, right) parameter
-        vectors actually flown in the last (d + 1) updates, oldest first (d: the delay in updates)."""
+        vectors actually flown in the last (d + 1) updates, oldest first (d: the delay in updates). ``record``
+        (n, 6) SI: a history network's record of its calls sensed with the state, for gains that feed it back
+        (:attr:`feeds_record`; its deviation from the orbits' record at this phase, normalized per orbit)."""
         kin, x_ref, _, _ = self.reference(v, phase)
         pos_ref = sum(w * pt.reference_state(phase)[1] for w, pt in self.weights(v))
         xi = np.concatenate([x_sensed - x_ref, pos_sensed - pos_ref])
         past_du = [command_of(kin, l, r) for l, r in past]
         du = np.zeros(len(INPUTS))
+        rec_dev = None
+        if self.feeds_record:
+            if record is None:
+                raise ValueError("these gains feed the history network's record back: pass the sensed record")
+            rec_dev = record - self.reference_record(v, phase)
         for w, pt in self.weights(v):
             dxi = xi / xi_scale(pt.orbit.kinematics)
             for g in pt.gains(phase):
-                z = np.concatenate([dxi[list(g.states)]] + [d[list(g.inputs)] for d in past_du])
+                parts = [dxi[list(g.states)]]
+                if g.record:
+                    rsc = record_scale(xi_scale(pt.orbit.kinematics))
+                    parts.append((rec_dev / rsc)[:, list(g.record)].ravel())
+                z = np.concatenate(parts + [d[list(g.inputs)] for d in past_du])
                 du[list(g.inputs)] += w * (-g.K @ z)
         return du

@@ -104,6 +104,13 @@ truncation error, ~h times the map's curvature, stays ~1e-4)."""
 MAX_STEP = 0.2
 """Largest Newton step in any normalized unknown (u/U, w/U, q T, theta [rad], f/f_trim, phi0 [rad])."""
 
+RECORD_TOL = 1e-6
+"""A history network's orbit (:attr:`Orbit.record`) counts as converged when its record changes by at most this
+over the periodic beat (normalized as the state: velocities / U, rates x T), besides the body's residual."""
+
+MAX_RECORD_ITER = 30
+"""Updates of the record (each followed by the body's Newton solve) before a delay orbit gives up."""
+
 UVLM_WARM_BEATS = 2
 """Wingbeats that develop the UVLM wake before the measured beat."""
 
@@ -263,6 +270,18 @@ class Beats:
     mean_pitch: np.ndarray
     P_plus: np.ndarray
     wall_time_s: float
+    record: np.ndarray | None = None
+    """A history network's record (n, 6) at the flight's end (:func:`hawksim.backends.step_surrogate.history_rows`,
+    n = :func:`hawksim.backends.step_surrogate.record_size`); None for a backend without one."""
+
+
+def backend_record(backend, every: int) -> np.ndarray | None:
+    """The newest records (n, 6) of a history network's backend that a beat's history inputs read (n =
+    :func:`hawksim.backends.step_surrogate.record_size` at ``every`` steps per call), None without lags."""
+    from hawksim.backends.step_surrogate import history_rows, record_size
+
+    n = record_size(getattr(backend, "lags", ()), STEPS_PER_CYCLE // every)
+    return history_rows(backend.history, n) if n else None
 
 
 class _Flight:
@@ -273,10 +292,15 @@ class _Flight:
         self.symmetric = symmetric
         self.model = model if model is not None else load_model()
 
-    def fly(self, kin: Kinematics, x0: np.ndarray, beats: int, chi_ref: float, backend=None) -> Beats:
+    def fly(self, kin: Kinematics, x0: np.ndarray, beats: int, chi_ref: float, backend=None,
+            record: np.ndarray | None = None) -> Beats:
+        """``beats`` beats from x0 at phase 0; ``record`` (n, 6): a history network's record of the calls before
+        the start (:attr:`Orbit.record`; default none)."""
         if backend is None:
             backend, _ = make_orbit_backend(self.aero, symmetric=self.symmetric, kinematics=kin)
         every = aero_every_for(backend, STEPS_PER_CYCLE)
+        if record is not None:
+            backend.seed = (np.asarray(record, float), kin.period * every / STEPS_PER_CYCLE)
         sim = Simulator(self.model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
         set_body_state(sim, x0, chi_ref)
         t0 = time.perf_counter()
@@ -295,7 +319,8 @@ class _Flight:
             pos = new
             pitch.append(th.mean())
             pp.append(np.maximum(pw, 0.0).mean() / P0_W)
-        return Beats(np.array(states), np.array(vel), np.array(pitch), np.array(pp), time.perf_counter() - t0)
+        return Beats(np.array(states), np.array(vel), np.array(pitch), np.array(pp), time.perf_counter() - t0,
+                     backend_record(backend, every))
 
 
 @dataclass(frozen=True)
@@ -332,6 +357,27 @@ class Orbit:
     wall_time_s: float = 0.0
     chi_ref: float = 0.0
     """The reference body angle [rad] of the state's attitude chart (the held-body trim's chi)."""
+    record: np.ndarray | None = field(default=None, repr=False, compare=False)
+    """The orbit of a per-step surrogate with history inputs (a delay system): its record (n, 6) of the n calls
+    before the periodic beat (body-axes velocity relative to the air [m/s] and angular velocity [rad/s], oldest
+    first), which is the periodic beat's own calls: the augmented state (body state and record) repeats. Every
+    flight from the orbit starts with it (:meth:`seed`); warm_beats is then 0. None for a memoryless backend."""
+    record_dt: float = 0.0
+    """The interval [s] between the record's calls (T / calls per beat)."""
+    record_change: float = 0.0
+    """max |record after the periodic beat - record before| (normalized: velocities / U, rates x T) at the solution
+    (the fixed point of the record, :data:`RECORD_TOL`); 0 without a record."""
+
+    @property
+    def has_memory(self) -> bool:
+        """Whether the orbit's flights carry backend memory that its body state does not set (warm-up beats or a
+        record): its derivatives branch from a flight of it (:class:`hawksim.control.derivatives.Snapshot`)."""
+        return bool(self.warm_beats) or self.record is not None
+
+    def seed(self, backend) -> None:
+        """Make ``backend`` start its flights with this orbit's record (nothing for an orbit without one)."""
+        if self.record is not None:
+            backend.seed = (np.asarray(self.record, float), float(self.record_dt))
 
     def to_json(self) -> dict:
         """SI, JSON-ready (kinematics in SI under ``kinematics_si``, edge units under ``kinematics``)."""
@@ -342,7 +388,9 @@ class Orbit:
                 "mean_velocity": list(map(float, self.mean_velocity)), "mean_pitch": self.mean_pitch,
                 "P_plus": self.P_plus, "iterations": self.iterations, "converged": bool(self.converged),
                 "floor": self.floor, "history": list(self.history), "wall_time_s": self.wall_time_s,
-                "chi_ref": self.chi_ref}
+                "chi_ref": self.chi_ref} | ({} if self.record is None else {
+                    "record": np.asarray(self.record).tolist(), "record_dt": self.record_dt,
+                    "record_change": self.record_change})
 
     @staticmethod
     def from_json(d: dict) -> Orbit:
@@ -353,7 +401,9 @@ class Orbit:
                      residuals=np.asarray(d["residuals"], dtype=float), mean_velocity=np.asarray(d["mean_velocity"]),
                      mean_pitch=float(d["mean_pitch"]), P_plus=float(d["P_plus"]), iterations=int(d["iterations"]),
                      converged=bool(d["converged"]), floor=float(d["floor"]), history=tuple(d["history"]),
-                     wall_time_s=float(d["wall_time_s"]), chi_ref=float(d["chi_ref"]))
+                     wall_time_s=float(d["wall_time_s"]), chi_ref=float(d["chi_ref"]),
+                     record=np.asarray(d["record"], float) if d.get("record") is not None else None,
+                     record_dt=float(d.get("record_dt", 0.0)), record_change=float(d.get("record_change", 0.0)))
 
 
 def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
@@ -450,8 +500,16 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     periodicity of (u, w, q, theta) over the measured beat and its mean velocity (0, 0, V) (world). Forward-
     difference Jacobian (6 extra flights per iteration), full Newton step with backtracking (halving while the
     residual's max norm does not fall, at most 10 times). ``warm_beats``: beats before the measured one
-    (default 0 for the quasi-steady backend, :data:`UVLM_WARM_BEATS` for the UVLM). ``log``: called with a
-    line per iteration.
+    (default 0 for the quasi-steady backend and the surrogate, :data:`UVLM_WARM_BEATS` for the UVLM). ``log``:
+    called with a line per iteration.
+
+    A per-step surrogate with history inputs (and ``warm_beats`` not given) is a delay system: its state is the
+    body state and the record of its last calls (:mod:`hawksim.stability.history_floquet`). Its orbit is solved on
+    that augmented state: the Newton solve above from a record, then the record replaced by the periodic beat's
+    own calls and the body solved again, until the record repeats to :data:`RECORD_TOL` (a fixed-point
+    iteration: the record is a shift register whose every entry is overwritten in one beat, so it enters its own
+    update only through the network's history inputs). The orbit keeps that record (:attr:`Orbit.record`) and
+    every flight from it starts with it.
     """
     t_start = time.perf_counter()
     guess = shipped_orbit(speed, "uvlm") if aero == "surrogate" else None  # the surrogate mimics the UVLM
@@ -460,10 +518,11 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         x0 = guess.initial_state.as_array() if x0 is None else x0
     base = kinematics if kinematics is not None else trim_kinematics(speed, aero)
     chi = base.chi
-    if warm_beats is None:  # beats before the measured one: the UVLM's wake, the surrogate's history inputs
-        from hawksim.backends.step_surrogate import memory_beats
+    from hawksim.backends.step_surrogate import memory_beats
 
-        warm_beats = UVLM_WARM_BEATS if aero == "uvlm" else memory_beats() if aero == "surrogate" else 0
+    delay = aero == "surrogate" and warm_beats is None and memory_beats() > 0  # the orbit of a delay system
+    if warm_beats is None:  # beats before the measured one: the UVLM's wake (a history network's: its record)
+        warm_beats = UVLM_WARM_BEATS if aero == "uvlm" else 0
     warm = warm_beats
     fl = _Flight(aero, symmetric=True, model=model)
     h_fd = fd_step if fd_step is not None else {"uvlm": UVLM_FD_STEP, "surrogate": SURROGATE_FD_STEP}.get(aero, FD_STEP)
@@ -472,10 +531,11 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         x0 = initial_guess(base, speed, fl, 0)
     U, T = scales(base)
     z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
+    rec = None  # the record the flights start with (a delay orbit's; None: no record)
 
     def F(zz):
         kin, x = _unpack(zz, base, f_ref)
-        b = fl.fly(kin, x, warm + 1, chi)
+        b = fl.fly(kin, x, warm + 1, chi, record=rec)
         return _residual(kin, speed, b, warm), b
 
     def met(rr, zz) -> bool:
@@ -486,34 +546,52 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         kin_, _ = _unpack(zz, base, f_ref)
         return orbit_within_uvlm_tolerance(rr, kin_)
 
-    r, b = F(z)
-    hist = [float(np.abs(r).max())]
-    if log is not None:
-        log(f"start: max|residual| {hist[-1]:.3e}")
-    it = 0
-    while not met(r, z) and it < max_iter:
-        it += 1
-        J = np.empty((6, 6))
-        for j in range(6):
-            zj = z.copy()
-            zj[j] += h_fd
-            J[:, j] = (F(zj)[0] - r) / h_fd
-        dz = np.linalg.solve(J, -r)
-        lam = min(1.0, MAX_STEP / np.abs(dz).max())
-        for _ in range(11):
-            try:
-                rn, bn = F(z + lam * dz)
-            except (ValueError, FloatingPointError):  # e.g. the UVLM refuses a far-off flight
-                rn, bn = np.full(6, np.inf), None
-            if np.abs(rn).max() < hist[-1]:
-                break
-            lam /= 2
-        if bn is None:
-            break
-        z, r, b = z + lam * dz, rn, bn
+    hist: list[float] = []
+
+    def newton(z, it):  # at most max_iter iterations per solve; ``it`` counts them all
+        r, b = F(z)
         hist.append(float(np.abs(r).max()))
         if log is not None:
-            log(f"iteration {it}: max|residual| {hist[-1]:.3e} (step {lam:g})")
+            log(f"start: max|residual| {hist[-1]:.3e}" if len(hist) == 1 else
+                f"record updated: max|residual| {hist[-1]:.3e}")
+        k = 0
+        while not met(r, z) and k < max_iter:
+            it, k = it + 1, k + 1
+            J = np.empty((6, 6))
+            for j in range(6):
+                zj = z.copy()
+                zj[j] += h_fd
+                J[:, j] = (F(zj)[0] - r) / h_fd
+            dz = np.linalg.solve(J, -r)
+            lam = min(1.0, MAX_STEP / np.abs(dz).max())
+            for _ in range(11):
+                try:
+                    rn, bn = F(z + lam * dz)
+                except (ValueError, FloatingPointError):  # e.g. the UVLM refuses a far-off flight
+                    rn, bn = np.full(6, np.inf), None
+                if np.abs(rn).max() < hist[-1]:
+                    break
+                lam /= 2
+            if bn is None:
+                break
+            z, r, b = z + lam * dz, rn, bn
+            hist.append(float(np.abs(r).max()))
+            if log is not None:
+                log(f"iteration {it}: max|residual| {hist[-1]:.3e} (step {lam:g})")
+        return z, r, b, it
+
+    z, r, b, it = newton(z, 0)
+    change = 0.0
+    if delay:  # the record's fixed point: fly from the last periodic beat's own calls until they repeat
+        rec_scale = np.array([U] * 3 + [1 / T] * 3)
+        for _ in range(MAX_RECORD_ITER):
+            change = float("inf") if rec is None else float(np.abs((b.record - rec) / rec_scale).max())
+            if change <= RECORD_TOL:
+                break
+            rec = b.record
+            z, r, b, it = newton(z, it)
+        if log is not None:
+            log(f"record: max change over the periodic beat {change:.2e}")
     kin, x_launch = _unpack(z, base, f_ref)
     floor = 0.0
     if warm > 0:
@@ -521,11 +599,15 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         rf = _residual(kin, speed, Beats(bf.states[1:], bf.mean_velocity[1:], bf.mean_pitch[1:], bf.P_plus[1:],
                                          0.0), warm)
         floor = float(np.abs(rf[:4]).max())
+    extra = {}
+    if rec is not None:
+        _, every = make_orbit_backend(aero, kinematics=kin)
+        extra = {"record": rec, "record_dt": kin.period * every / STEPS_PER_CYCLE, "record_change": change}
     return Orbit(speed=float(speed), aero=aero, kinematics=kin, initial_state=BodyState.from_array(b.states[warm]),
                  launch_state=BodyState.from_array(x_launch), warm_beats=warm, residual=hist[-1], residuals=r,
                  mean_velocity=b.mean_velocity[warm], mean_pitch=float(b.mean_pitch[warm]),
-                 P_plus=float(b.P_plus[warm]), iterations=it, converged=met(r, z), floor=floor,
-                 history=tuple(hist), wall_time_s=time.perf_counter() - t_start, chi_ref=chi)
+                 P_plus=float(b.P_plus[warm]), iterations=it, converged=met(r, z) and change <= RECORD_TOL,
+                 floor=floor, history=tuple(hist), wall_time_s=time.perf_counter() - t_start, chi_ref=chi, **extra)
 
 
 def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = None,
@@ -538,7 +620,8 @@ def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = Non
     and the wing-rate tracking error at phase 0 (5e-4 rad/s): measured 4.5e-4 rad/s in q (q T = 1.6e-5) and 8e-6
     m/s in u after one beat at 1 m/s, then amplified by the multipliers.
     ``perturbation`` (9,) is added to the launch state (SI, state order).
-    For the UVLM the flight includes the orbit's ``warm_beats`` (the returned rows start at the periodic beat).
+    For the UVLM the flight includes the orbit's ``warm_beats`` (the returned rows start at the periodic beat); an
+    orbit with a record (a history network's) starts with it.
     symmetric: mirror the UVLM (default: unless the perturbation is lateral)."""
     x = orbit.launch_state.as_array()
     if perturbation is not None:
@@ -548,16 +631,17 @@ def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = Non
     fl = _Flight(orbit.aero, symmetric=symmetric, model=model)
     w = orbit.warm_beats
     if iterate_map:
-        if w:
-            raise ValueError("iterate_map needs a settable state (quasi-steady orbit); the UVLM's wake is not")
-        rows = [fl.fly(orbit.kinematics, x, 1, orbit.chi_ref, backend=backend)]
+        if orbit.has_memory:
+            raise ValueError("iterate_map needs a settable state (quasi-steady orbit); the UVLM's wake and a history "
+                             "network's record are not")
+        rows = [fl.fly(orbit.kinematics, x, 1, orbit.chi_ref, backend=backend, record=orbit.record)]
         for _ in range(beats - 1):
             rows.append(fl.fly(orbit.kinematics, rows[-1].states[-1], 1, orbit.chi_ref, backend=backend))
         return Beats(np.array([rows[0].states[0]] + [r.states[-1] for r in rows]),
                      np.concatenate([r.mean_velocity for r in rows]), np.concatenate([r.mean_pitch for r in rows]),
                      np.concatenate([r.P_plus for r in rows]), sum(r.wall_time_s for r in rows))
-    b = fl.fly(orbit.kinematics, x, w + beats, orbit.chi_ref, backend=backend)
-    return Beats(b.states[w:], b.mean_velocity[w:], b.mean_pitch[w:], b.P_plus[w:], b.wall_time_s)
+    b = fl.fly(orbit.kinematics, x, w + beats, orbit.chi_ref, backend=backend, record=orbit.record)
+    return Beats(b.states[w:], b.mean_velocity[w:], b.mean_pitch[w:], b.P_plus[w:], b.wall_time_s, b.record)
 
 
 def beat_map(orbit: Orbit, x: np.ndarray, *, model: mujoco.MjModel | None = None, symmetric: bool = True,
@@ -565,4 +649,5 @@ def beat_map(orbit: Orbit, x: np.ndarray, *, model: mujoco.MjModel | None = None
     """The one-beat map at the orbit's kinematics: state (9,) at the launch -> state (9,) ``beats`` beats after
     the measured beat starts (for the UVLM the launch is ``warm_beats`` earlier, from an empty wake)."""
     fl = _Flight(orbit.aero, symmetric=symmetric, model=model)
-    return fl.fly(orbit.kinematics, np.asarray(x, float), orbit.warm_beats + beats, orbit.chi_ref).states[-1]
+    return fl.fly(orbit.kinematics, np.asarray(x, float), orbit.warm_beats + beats, orbit.chi_ref,
+                  record=orbit.record).states[-1]

@@ -13,8 +13,9 @@ At 0, 1 and 2 m/s, for the quasi-steady model, the per-step surrogate of the UVL
 * the Floquet multipliers of the orbit: quasi-steady and UVLM from the validation
   (results/free_flight/validation.json, `hawksim reproduce --only validation` / ``validation_uvlm``; the UVLM's with
   their ``resolved`` flag, and its hover row marked not resolved, since its orbit did not converge and its map is
-  not smooth there, docs/free_flight.md), the surrogate's from its shipped control model's monodromy
-  (hawksim/data/control_models_surrogate.json);
+  not smooth there, docs/free_flight.md), the surrogate's from the monodromy on its augmented state (body and
+  record of calls, :func:`hawksim.stability.history_floquet.history_monodromy`; a memoryless network's from its
+  shipped control model's monodromy, hawksim/data/control_models_surrogate.json);
 * controlled flights under the LQR at each backend's default rate (per beat; the surrogate per half-stroke,
   :data:`hawksim.control.schedule.DEFAULT_RATES`; :func:`hawksim.control.closed_loop.fly_closed_loop`): quasi-steady
   and surrogate flown here (100 beats from the orbit, 100 from a perturbed start, 30 with a 0.5 m/s lateral gust over
@@ -78,7 +79,17 @@ def floquet(aero: str, speed: float, out_dir: Path) -> dict:
     """Floquet multipliers (per beat, [re, im]) of ``aero``'s orbit at ``speed`` and where they come from."""
     if aero == "surrogate":
         from hawksim.control.schedule import shipped_control_model
+        from hawksim.flight.orbit import shipped_orbit
 
+        orb = shipped_orbit(speed, "surrogate")
+        if orb is not None and orb.record is not None:  # a history network: the monodromy on the augmented state
+            from hawksim.stability.history_floquet import history_monodromy
+
+            hf = history_monodromy(orb)
+            return {"source": f"hawksim.stability.history_floquet.history_monodromy (body and the record of the last "
+                              f"{hf.records} calls; step {hf.delta:g}): the body modes",
+                    "longitudinal": [_c(z) for z in hf.body_modes("long")],
+                    "lateral": [_c(z) for z in hf.body_modes("lat")]}
         m = shipped_control_model(speed, "surrogate")
         if m is None:
             return {"source": "no shipped surrogate control model", "longitudinal": None, "lateral": None}
@@ -125,7 +136,9 @@ def open_loop(aero: str, speed: float) -> dict:
     w = orb.warm_beats
     n = w + OPEN_LOOP_BEATS[aero]
     trim = Trim(float(speed), orb.kinematics, model=aero, source="shipped periodic orbit of the free body")
-    r = fly(trim, flight_backend(aero, kinematics=orb.kinematics), n, model=load_model(),
+    backend = flight_backend(aero, kinematics=orb.kinematics)
+    orb.seed(backend)
+    r = fly(trim, backend, n, model=load_model(),
             start_state=(orb.launch_state.as_array(), orb.chi_ref))  # as `hawksim fly --aero NAME --control none`
     beats = r.summary()["beats"]
     lift, _ = r.lift_drag()

@@ -126,7 +126,9 @@ def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     beat (the perturbation's evolution over the warm-up beats is included: the Jacobian is then that of
     ``warm_beats + 1`` beats relative to ``warm_beats``, see :func:`_chain`). Each UVLM mode gets its ``reach``
     and is ``resolved`` or not (:data:`REACH_MIN`): an unresolved exponent is the launch family's extrapolation,
-    not a mode of the flight."""
+    not a mode of the flight. An orbit with a record (a history network's, :attr:`hawksim.flight.orbit.Orbit.record`)
+    is flown from its record, which is held: the body block of the augmented map; its modes are
+    :func:`hawksim.stability.history_floquet.history_monodromy`'s."""
     import time
 
     t0 = time.perf_counter()
@@ -165,7 +167,7 @@ def _monodromy_matrix(orbit: Orbit, delta: float, model, lateral: bool) -> np.nd
         for s in (1, -1):
             x = x0.copy()
             x[FLOQUET_STATES[j]] += s * delta * sc[j]
-            st = fl[sym].fly(kin, x, w + 1, orbit.chi_ref).states
+            st = fl[sym].fly(kin, x, w + 1, orbit.chi_ref, record=orbit.record).states
             outs.append((st[w][:8] / sc, st[w + 1][:8] / sc))
         A[:, j] = (outs[0][0] - outs[1][0]) / (2 * delta)
         B[:, j] = (outs[0][1] - outs[1][1]) / (2 * delta)

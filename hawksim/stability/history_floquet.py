@@ -20,14 +20,13 @@ the body-state rows of their eigenvectors carry (:attr:`HistoryFloquet.body_shar
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
-from hawksim.backends.step_surrogate import StepSurrogateBackend, history_rows, set_history_rows
+from hawksim.backends.step_surrogate import StepSurrogateBackend, history_rows, record_size, set_history_rows
 from hawksim.flight.orbit import (STEPS_PER_CYCLE, SURROGATE_FD_STEP, Orbit, make_orbit_backend, read_body_state,
                                   set_body_state)
 from hawksim.flight.simulator import Simulator, aero_every_for
@@ -59,8 +58,9 @@ class HistoryFloquet:
     """max |z' - z| of the augmented state (normalized) one beat after the linearization point: how far the point
     (the orbit's state and its periodic beat's record) is from periodic in the augmented state."""
     record_mismatch: float
-    """max |difference| (normalized) of that record and the warm-up beat's, which the orbit was solved with (nan:
-    an orbit solved without a warm-up beat)."""
+    """max |difference| (normalized) of that record and the one the periodic beat started with, which the orbit
+    was solved with (its :attr:`hawksim.flight.orbit.Orbit.record`, or the warm-up beat's calls; nan: an orbit with
+    neither)."""
     wall_time_s: float
 
     def body_modes(self, system: str, share: float = 0.05, count: int = 4) -> np.ndarray:
@@ -84,11 +84,12 @@ class _DelayMap:
             every = aero_every_for(backend, STEPS_PER_CYCLE)
         if not getattr(backend, "lags", ()):
             raise ValueError("history_monodromy needs a per-step surrogate with history lags (this backend has none)")
+        orbit.seed(backend)  # an orbit solved on the augmented state starts with its record
         self.backend = backend
         self.sim = Simulator(model if model is not None else load_model(), orbit.kinematics, backend,
                              steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
         self.calls = STEPS_PER_CYCLE // aero_every_for(backend, STEPS_PER_CYCLE)
-        self.records = int(math.ceil(max(backend.lags) * self.calls - 1e-9))
+        self.records = record_size(backend.lags, self.calls)
         self.period = orbit.kinematics.period
 
     def _read(self, n: int) -> np.ndarray:
@@ -98,16 +99,18 @@ class _DelayMap:
         set_history_rows(self.backend.history, rows, t0, self.period / self.calls)
 
     def start(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The orbit's phase-0 state (9,) and a record (records, 6) for it: the launch flown through its warm-up
-        beats, then the periodic beat, whose own calls are the record (the orbit's body state repeats after that
-        beat; its record is the warm-up beat's, whose lagged inputs reach before the launch). Also the record the
-        warm-up left (records, 6; None for an orbit solved without warm-up), for the mismatch of the two."""
+        """The orbit's phase-0 state (9,) and a record (records, 6) for it: the launch (with the orbit's record,
+        if it has one) flown through its warm-up beats, then the periodic beat, whose own calls are the record.
+        Also the record the periodic beat started with (records, 6; None for an orbit with neither warm-up beats
+        nor a record), for the mismatch of the two: 0 up to :data:`hawksim.flight.orbit.RECORD_TOL` for an orbit
+        solved on the augmented state; for one solved with a warm-up beat, whose lagged inputs reach before the
+        launch, not."""
         o = self.orbit
         set_body_state(self.sim, o.launch_state.as_array(), o.chi_ref)
         if o.warm_beats:
             self.sim.advance(o.warm_beats * STEPS_PER_CYCLE)
         x = read_body_state(self.sim, o.chi_ref)
-        before = self._read(self.records) if o.warm_beats else None
+        before = self._read(self.records) if o.has_memory else None
         self.sim.advance(STEPS_PER_CYCLE)
         return x, self._read(self.records), before
 

@@ -157,7 +157,7 @@ def extended_monodromy(orbit, *, delta: float | None = None, model=None) -> tupl
     from hawksim.flight.orbit import _Flight
     from hawksim.stability.floquet import FD_DELTA, state_scale
 
-    if orbit.warm_beats:
+    if orbit.has_memory:
         raise ValueError("extended_monodromy: orbits without warm-up beats only (quasi-steady)")
     h = FD_DELTA if delta is None else delta
     kin = orbit.kinematics

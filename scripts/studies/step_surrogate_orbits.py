@@ -16,9 +16,10 @@ speed is replaced) and appends this command to the table's ``command``:
     python scripts/studies/step_surrogate_orbits.py --speeds 0.5 --out results/surrogate/step_orbits_0.5.json \
         --table hawksim/data/orbit_table_surrogate.json --merge
 
-For a network with history lags (a trial installed as the shipped file in a scratch worktree: docs/surrogate.md,
-"History inputs, measured") the monodromy is also taken on the augmented state, body and record of past calls
-(:func:`hawksim.stability.history_floquet.history_monodromy`, ``floquet_augmented``), beside the warm-up chain's.
+For a network with history lags (the shipped one since 2026-12-02: docs/surrogate.md, "History inputs, shipped") the
+orbit is periodic in the body state and the record of past calls (:attr:`hawksim.flight.orbit.Orbit.record`), and
+the monodromy is also taken on that augmented state (:func:`hawksim.stability.history_floquet.history_monodromy`,
+``floquet_augmented``: the flight's multipliers), beside the record-held one (``floquet``).
 
 Prints (and writes) one JSON object.
 """

@@ -5,22 +5,53 @@ import pytest
 
 from hawksim.backends.step_network import StepNetwork, load, shipped_path
 from hawksim.backends.step_surrogate import lagged_states, new_history
-from hawksim.flight.orbit import shipped_orbit
 
 MULTIPLIER_TOL = 2e-3
 """Relative: two central-difference monodromies (step 1e-4 normalized, float32 loads) of the same dynamics; the
 shipped surrogate's Floquet fits agree to ~1e-4 between steps (docs/free_flight.md)."""
 
 
-def _with_silent_history(net: StepNetwork, lags=(0.5, 1.0)) -> StepNetwork:
-    """``net`` with history inputs for ``lags`` whose first-layer weights are zero: the same loads, but the map's
-    state now carries the record."""
+N_MEMORYLESS_INPUTS = 15
+"""The memoryless inputs: the seven kinematic parameters, sin and cos of the phase, the body-axes velocity and angular
+velocity; a history network's lagged states follow them (hawksim.backends.step_surrogate)."""
+
+
+def _silenced(net: StepNetwork) -> tuple[StepNetwork, StepNetwork]:
+    """(silent, memoryless) from the history network ``net``: the first with the history inputs' first-layer
+    weights zeroed (the same lags, so the map's state still carries the record, which now feeds nothing), the
+    second with those inputs removed. Both give the same loads."""
+    assert net.lags, "the shipped per-step network has history inputs"
     (W0, b0), rest = net.weights[0], net.weights[1:]
-    extra = 6 * len(lags)
-    W0x = np.concatenate([W0, np.zeros((W0.shape[0], extra), np.float32)], axis=1)
-    return StepNetwork(((W0x, b0), *rest), np.concatenate([net.x_mean, np.zeros(extra)]),
-                       np.concatenate([net.x_std, np.ones(extra)]), net.y_mean, net.y_std, lags=lags,
-                       meta={"test": "silent history"})
+    n = N_MEMORYLESS_INPUTS
+    W0s = W0.copy()
+    W0s[:, n:] = 0.0
+    silent = StepNetwork(((W0s, b0), *rest), net.x_mean, net.x_std, net.y_mean, net.y_std, lags=net.lags,
+                         meta={"test": "silent history"})
+    plain = StepNetwork(((np.ascontiguousarray(W0[:, :n]), b0), *rest), net.x_mean[:n], net.x_std[:n], net.y_mean,
+                        net.y_std, lags=(), meta={"test": "history inputs removed"})
+    return silent, plain
+
+
+@pytest.fixture(scope="module")
+def silenced():
+    """The silent and memoryless versions of the shipped network, and the memoryless one's 1 m/s orbit (solved here
+    with it installed as the shipped network; ~1 s)."""
+    from hawksim.backends import step_surrogate
+    from hawksim.flight.orbit import periodic_orbit
+
+    silent, plain = _silenced(load(shipped_path()))
+    key = str(shipped_path())
+    saved = step_surrogate._CACHE.get(key)
+    step_surrogate._CACHE[key] = plain
+    try:
+        orbit = periodic_orbit(1.0, "surrogate")
+    finally:
+        if saved is None:
+            step_surrogate._CACHE.pop(key, None)
+        else:
+            step_surrogate._CACHE[key] = saved
+    assert orbit.converged and orbit.record is None
+    return silent, plain, orbit
 
 
 def test_ring_record_interpolates_like_np_interp():
@@ -57,18 +88,19 @@ def test_ring_record_wraps_around():
 
 
 @pytest.mark.skipif(not shipped_path().is_file(), reason="the shipped per-step network is not in this checkout")
-def test_silent_history_gives_the_memoryless_multipliers():
+def test_silent_history_gives_the_memoryless_multipliers(silenced, monkeypatch):
     """With history inputs that do not act, the augmented map is block-triangular (the record feeds nothing), so
-    its body modes are the memoryless network's multipliers (the shipped 1 m/s orbit's own monodromy) and every
-    other multiplier is 0: checks the augmented state's assembly (body rows and columns, their scaling, the split
-    into longitudinal and lateral blocks)."""
+    its body modes are the memoryless network's multipliers (its 1 m/s orbit's own monodromy) and every other
+    multiplier is 0: checks the augmented state's assembly (body rows and columns, their scaling, the split into
+    longitudinal and lateral blocks)."""
+    from hawksim.backends import step_surrogate
     from hawksim.stability.floquet import monodromy
     from hawksim.stability.history_floquet import history_monodromy
 
-    orbit = shipped_orbit(1.0, "surrogate")
-    assert orbit is not None and orbit.warm_beats == 0
+    silent, plain, orbit = silenced
+    monkeypatch.setitem(step_surrogate._CACHE, str(shipped_path()), plain)
     ref = monodromy(orbit)
-    hf = history_monodromy(orbit, network=_with_silent_history(load(shipped_path())))
+    hf = history_monodromy(orbit, network=silent)
     assert hf.records == 40 and hf.coupling < 1e-6
     for got, want in ((hf.multipliers_long, ref.multipliers_long), (hf.multipliers_lat, ref.multipliers_lat)):
         np.testing.assert_allclose(np.sort_complex(got[:4]), np.sort_complex(want), rtol=MULTIPLIER_TOL,
@@ -78,20 +110,34 @@ def test_silent_history_gives_the_memoryless_multipliers():
 
 
 @pytest.mark.skipif(not shipped_path().is_file(), reason="the shipped per-step network is not in this checkout")
-def test_half_stroke_maps_branch_from_the_orbit_flight_and_its_record(monkeypatch):
-    """An orbit with a warm-up beat (a history network's) has its half-stroke maps taken on copies of the orbit's
-    flight at phase 0 and 0.5, record included (hawksim.control.derivatives.Snapshot). With history inputs that do
-    not act and the shipped 1 m/s orbit launched one beat earlier, they are the settable path's maps: the same
-    dynamics, differenced from another start (the wings' tracking error and the time differ by round-off)."""
+def test_half_stroke_maps_branch_from_the_orbit_flight_and_its_record(silenced, monkeypatch):
+    """An orbit with backend memory has its half-stroke maps taken on copies of the orbit's flight at phase 0 and
+    0.5 (hawksim.control.derivatives.Snapshot). With history inputs that do not act they are the settable path's
+    maps of the memoryless network: launched one beat earlier (a warm-up beat, the record held), and with the
+    orbit's record in the state (the augmented maps: their body block is the settable path's, and the record's
+    columns are zero, for it feeds nothing). The same dynamics, differenced from another start (the wings'
+    tracking error and the time differ by round-off)."""
     from dataclasses import replace
 
     from hawksim.backends import step_surrogate
     from hawksim.control.halfstroke import linearize_half_stroke
+    from hawksim.flight.orbit import fly_orbit
 
-    orbit = shipped_orbit(1.0, "surrogate")
+    silent, plain, orbit = silenced
+    key = str(shipped_path())
+    monkeypatch.setitem(step_surrogate._CACHE, key, plain)
     ref = linearize_half_stroke(orbit)
-    monkeypatch.setitem(step_surrogate._CACHE, str(shipped_path()), _with_silent_history(load(shipped_path())))
+    monkeypatch.setitem(step_surrogate._CACHE, key, silent)
     got = linearize_half_stroke(replace(orbit, warm_beats=1))
+    assert got.records == 0
     np.testing.assert_allclose(got.x_half, ref.x_half, rtol=0, atol=1e-5)
     for a, b in zip(got.A + got.B0 + got.B1, ref.A + ref.B0 + ref.B1):
         assert np.abs(a - b).max() < MULTIPLIER_TOL
+    rec = fly_orbit(orbit, 1).record  # the periodic beat's own calls: the orbit in the augmented state
+    aug = linearize_half_stroke(replace(orbit, record=rec, record_dt=orbit.kinematics.period / 40))
+    assert aug.records == 40 and aug.A[0].shape == (11 + 240, 11 + 240)
+    np.testing.assert_allclose(aug.x_half, ref.x_half, rtol=0, atol=1e-5)
+    for a, b in zip(aug.A + aug.B0 + aug.B1, ref.A + ref.B0 + ref.B1):
+        assert np.abs(a[:11, :b.shape[1]] - b).max() < MULTIPLIER_TOL  # the body rows and columns
+    for a in aug.A:
+        assert np.abs(a[:11, 11:]).max() < 1e-9  # the record feeds nothing
