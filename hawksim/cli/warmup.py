@@ -84,6 +84,9 @@ def cmd_warmup(args) -> dict:
     t0 = time.perf_counter()
     fly_named(1.0, 1, "quasi-steady", steps_per_cycle=MIN_STEPS_PER_CYCLE)
     stages["fly_quasi_steady_s"] = round(time.perf_counter() - t0, 3)
+    t0 = time.perf_counter()  # the per-step surrogate's kernels (the network, its record of calls) in the flight loop
+    fly_named(1.0, 1, "surrogate")
+    stages["fly_surrogate_s"] = round(time.perf_counter() - t0, 3)
     return {"compiled": counter.count, "cache_dir": os.environ.get("NUMBA_CACHE_DIR"), "stages": stages,
             "wall_time_s": round(time.perf_counter() - t_all, 3)}
 
