@@ -62,9 +62,18 @@ def cmd_stability(args) -> dict:
         if lin is None and args.aero != "uvlm":
             lin, source = linearize(orbit), "differenced here (hawksim.control.derivatives.linearize)"
         control = None if lin is None else {**lin.to_json(), "source": source}
-        out_orbit = {"orbit": orbit_json(orbit), "control_derivatives": control, "floquet": {
-            **floquet_json(fl), "chart": "level heading axes (u, v horizontal; the averaged A's eigenvectors are in "
-                                         "body-fixed stability axes: u_b = u - w_e theta, v_b = v + w_e phi)"}}
+        chart = ("level heading axes (u, v horizontal; the averaged A's eigenvectors are in body-fixed stability "
+                 "axes: u_b = u - w_e theta, v_b = v + w_e phi)")
+        out_orbit = {"orbit": orbit_json(orbit), "control_derivatives": control,
+                     "floquet": {**floquet_json(fl), "chart": chart}}
+        if orbit.record is not None:  # a history network: the flight's modes are the augmented map's
+            from hawksim.stability.history_floquet import history_monodromy
+            from hawksim.stability.report import history_floquet_json
+
+            out_orbit["floquet"] = {**history_floquet_json(history_monodromy(orbit)), "chart": chart}
+            out_orbit["floquet_record_held"] = {
+                **floquet_json(fl), "note": "the one-beat map with the network's record held at the orbit's (the "
+                                            "body block of the augmented map): not the flight's dynamics"}
     elif kin is None and args.aero == "quasi-steady":
         kin = shipped_trim(args.speed, "quasi-steady").kinematics
     if args.aero == "surrogate":  # the per-step surrogate: Floquet only (its averaged A is not implemented)

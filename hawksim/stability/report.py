@@ -69,6 +69,44 @@ def floquet_json(fl) -> dict:
     return out
 
 
+def history_floquet_json(hf, count: int = 4) -> dict:
+    """The ``floquet`` block (the keys of :func:`floquet_json`) of a history network's augmented monodromy
+    (:class:`hawksim.stability.history_floquet.HistoryFloquet`): per system its ``count`` largest body modes (the
+    eigenvalues whose eigenvectors put at least 5 % of their norm in the 4 body states,
+    :meth:`HistoryFloquet.body_modes`), each with its eigenvector's body-state magnitudes (normalized to 1) and
+    ``body_share``; every mode is a mode of the map (``resolved``, reach 1)."""
+    from hawksim.stability.system import classify
+
+    out = {}
+    for name, M in (("longitudinal", hf.long), ("lateral", hf.lat)):
+        w, V = np.linalg.eig(M)
+        order = np.argsort(-np.abs(w), kind="stable")
+        w, V = w[order], V[:, order]
+        share = np.linalg.norm(V[:4], axis=0) / np.linalg.norm(V, axis=0)
+        keep = [k for k in range(len(w)) if share[k] >= 0.05][:count]
+        mu = w[keep]
+        ex = np.log(mu.astype(complex))
+        modes = []
+        for k, m, e in zip(keep, mu, ex):
+            kind, _ = classify(e)
+            body = np.abs(V[:4, k])
+            modes.append({"multiplier": _pairs([m])[0], "exponent": _pairs([e])[0], "abs_multiplier": float(abs(m)),
+                          "kind": kind, "stable": bool(abs(m) < 1.0), "resolved": True, "reach": 1.0,
+                          "eigenvector_abs": (body / np.linalg.norm(body)).tolist(), "body_share": float(share[k])})
+        out[name] = {"multipliers": _pairs(mu), "exponents": _pairs(ex), "modes": modes,
+                     "states": list(("u", "w", "q", "theta") if name == "longitudinal" else ("v", "p", "r", "phi"))}
+    mx = max(abs(m["abs_multiplier"]) for s in ("longitudinal", "lateral") for m in out[s]["modes"])
+    out["resolution"] = (f"the monodromy on the augmented state: the body's 8 states and the {hf.records} records of "
+                         "the network's calls (hawksim.stability.history_floquet); the body modes, each a mode of the "
+                         "map")
+    out["coupling"] = float(hf.coupling)
+    out["max_abs_multiplier"] = out["max_abs_resolved_multiplier"] = float(mx)
+    out["records"] = int(hf.records)
+    out["residual"] = float(hf.residual)
+    out["wall_time_s"] = float(hf.wall_time_s)
+    return out
+
+
 def averaged_json(system) -> dict:
     """The contract's ``longitudinal`` / ``lateral`` blocks of an :class:`hawksim.stability.floquet.AveragedSystem`
     (cycle-averaged derivatives of one backend)."""

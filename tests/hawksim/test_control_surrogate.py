@@ -245,10 +245,10 @@ def half_1():
 
 
 def test_half_stroke_maps_of_the_surrogate_compose_to_its_beat_map(half_1):
-    """The surrogate is memoryless, so its state is settable at phase 0.5 and the half-stroke maps exist
-    (hawksim.control.halfstroke): their product is the one-beat monodromy up to the two half-beats' finite
-    differences (step 1e-3 through the float32 network: ~1e-3 per entry, measured 1.4e-4 at 1 m/s); the periodic
-    LQR closes the loop."""
+    """The half-stroke maps (hawksim.control.halfstroke; for the history network on the augmented state, branched
+    from the orbit's flight and its record): the body block of their product is the one-beat record-held monodromy
+    up to the two half-beats' finite differences (step 1e-3 through the float32 network: ~1e-3 per entry, measured
+    1.4e-4 at 1 m/s with the memoryless network); the periodic LQR closes the loop."""
     p = half_1.points[0]
     assert np.abs(p.half.monodromy - p.model.monodromy).max() < 2e-3
     assert p.long.spectral_radius < 0.99 and p.lat.spectral_radius < 0.99
@@ -361,11 +361,18 @@ def test_half_stroke_ascent_profile_without_overshoot(half):
 
 def test_stability_floquet_prints_the_surrogate_control_derivatives(capsys):
     """Issue 20 item 1 for the surrogate: `hawksim stability --floquet --json` prints the B matrices beside the
-    monodromy, the shipped control model's (about the shipped orbit)."""
+    monodromy, the shipped control model's (about the shipped orbit), and the flight's multipliers from the
+    augmented monodromy."""
     from hawksim.cli import main
 
     assert main(["stability", "--speed", "1", "--aero", "surrogate", "--floquet", "--json", "--no-progress"]) == 0
-    c = json.loads(capsys.readouterr().out)["control_derivatives"]
+    out = json.loads(capsys.readouterr().out)
+    # the history network's flight modes: the augmented monodromy's (1.422 at 1 m/s, results/surrogate/
+    # step_orbits.json), not the record-held map's (1.53)
+    assert out["floquet"]["records"] == 40
+    assert out["floquet"]["max_abs_multiplier"] == pytest.approx(1.422, abs=2e-3)
+    assert out["floquet_record_held"]["max_abs_multiplier"] == pytest.approx(1.53, abs=0.01)
+    c = out["control_derivatives"]
     ref = shipped_control_model(1.0, "surrogate")
     assert c["source"].startswith("shipped") and np.array_equal(np.array(c["B1"]), ref.B1)
     assert np.array(c["B0"]).shape == (11, 7)
