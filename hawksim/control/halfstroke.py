@@ -139,11 +139,46 @@ def linearize_half_stroke(orbit: Orbit, *, delta: float | None = None,
                           model: mujoco.MjModel | None = None) -> HalfStrokeModel:
     """:class:`HalfStrokeModel` about the quasi-steady or surrogate ``orbit`` by central differences (module
     docstring; the surrogate's through the Table 2 clip with step SURROGATE_FD_DELTA, as its one-beat model):
-    1 reference half-beat + 2 x 46 half-beat flights (~2-3 s)."""
+    1 reference half-beat + 2 x 46 half-beat flights (~2-3 s). An orbit with a record (a history network's:
+    2 x 526 half-beats, 3-4 s) is kept in the per-user cache of :mod:`hawksim.control.cache` and read from it
+    next time."""
     t0 = time.perf_counter()
     if delta is None:
         delta = SURROGATE_FD_DELTA if orbit.aero == "surrogate" else FD_DELTA
     model = model if model is not None else load_model()
+    key = None
+    if orbit.record is not None:
+        from hawksim.control import cache
+
+        key = cache.map_key("half-stroke", orbit, model, delta=delta, clip=orbit.aero in SATURATED_DERIVATIVES)
+        z = cache.load(key)
+        if z is not None:
+            return _from_arrays(orbit, z, delta, time.perf_counter() - t0)
+    h = _linearize_half_stroke(orbit, delta, model, t0)
+    if key is not None:
+        cache.store(key, _to_arrays(h))
+    return h
+
+
+def _to_arrays(h: HalfStrokeModel) -> dict[str, np.ndarray]:
+    out = {f"{name}{j}": getattr(h, name)[j] for name in ("A", "B0", "B1") for j in range(HALVES)}
+    out.update(x_half=h.x_half, pos_half=h.pos_half, scale=h.scale, coupling=np.array(h.coupling),
+               records=np.array(h.records))
+    if h.records:
+        out.update(record_ref0=h.record_ref[0], record_ref1=h.record_ref[1], record_scale=h.record_scale)
+    return out
+
+
+def _from_arrays(orbit: Orbit, z: dict, delta: float, wall: float) -> HalfStrokeModel:
+    n = int(z["records"])
+    return HalfStrokeModel(orbit=orbit, A=(z["A0"], z["A1"]), B0=(z["B00"], z["B01"]), B1=(z["B10"], z["B11"]),
+                           x_half=z["x_half"], pos_half=z["pos_half"], scale=z["scale"], coupling=float(z["coupling"]),
+                           delta=delta, wall_time_s=wall, records=n,
+                           record_ref=(z["record_ref0"], z["record_ref1"]) if n else None,
+                           record_scale=z["record_scale"] if n else None)
+
+
+def _linearize_half_stroke(orbit: Orbit, delta: float, model, t0: float) -> HalfStrokeModel:
     sc = xi_scale(orbit.kinematics)
     zero = np.zeros(len(INPUTS))
     snaps, recs = (None, None), None

@@ -376,3 +376,29 @@ def test_stability_floquet_prints_the_surrogate_control_derivatives(capsys):
     ref = shipped_control_model(1.0, "surrogate")
     assert c["source"].startswith("shipped") and np.array_equal(np.array(c["B1"]), ref.B1)
     assert np.array(c["B0"]).shape == (11, 7)
+
+
+def test_augmented_half_stroke_maps_are_cached_exactly(monkeypatch, tmp_path):
+    """The history network's half-stroke maps (seconds to difference) go to the per-user cache
+    (hawksim.control.cache): a second call reads the same arrays bit for bit, a corrupt file is recomputed, and
+    HAWKSIM_NO_CACHE turns it off."""
+    from hawksim.control import cache
+    from hawksim.control.halfstroke import linearize_half_stroke
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.delenv(cache.ENV_OFF, raising=False)
+    orbit = shipped_orbit(1.0, "surrogate")
+    first = linearize_half_stroke(orbit)
+    files = list(cache.cache_dir().glob("*.npz"))
+    assert len(files) == 1
+    again = linearize_half_stroke(orbit)
+    for a, b in zip(first.A + first.B0 + first.B1 + first.record_ref, again.A + again.B0 + again.B1 + again.record_ref):
+        assert np.array_equal(a, b)
+    assert np.array_equal(first.x_half, again.x_half) and again.records == first.records == 40
+    files[0].write_bytes(b"not a numpy archive")
+    fixed = linearize_half_stroke(orbit)
+    assert np.array_equal(fixed.A[0], first.A[0])
+    monkeypatch.setenv(cache.ENV_OFF, "1")
+    files[0].unlink()
+    linearize_half_stroke(orbit)
+    assert not files[0].exists()
