@@ -285,6 +285,15 @@ def ensemble_blocks(layers) -> tuple[tuple[np.ndarray, np.ndarray], ...] | None:
     return None
 
 
+def record_scale(kin: Kinematics) -> np.ndarray:
+    """(6,) SI per normalized unit of a record row's values, as the Floquet states are normalized
+    (:func:`hawksim.stability.floquet.state_scale`): velocities by U (Eq. 8, :func:`hawksim.insect.kinematics.
+    reference_speed`), angular velocities by 1 / T."""
+    from hawksim.insect.kinematics import reference_speed
+
+    return np.array([reference_speed(kin)] * 3 + [kin.f] * 3)
+
+
 def record_size(lags, calls: int) -> int:
     """Records of the calls before a beat's start that the beat's history inputs read: ceil(max lag x calls per
     beat) (0 without lags), the record part of a history network's state (:attr:`hawksim.flight.orbit.Orbit.record`,

@@ -246,7 +246,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     # the past commands the gains see: those flown (saturated), or for derivatives taken through the saturation
     # (hawksim.control.derivatives.SATURATED_DERIVATIVES) those sent, which is what that model's inputs are
     sent = any(p.model.clipped for p in schedule.points)
-    feeds = getattr(schedule, "feeds_record", False)  # a history network's gains read its record of calls
+    feeds = schedule.feeds_record  # a history network's gains read its record of calls
     rec0 = backend_record(sim.backend, sim.aero_every) if feeds else None
     if nseg == 1:
         sensed = [(x0, np.zeros(2), rec0)] * keep
@@ -274,8 +274,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                 pitch_refs.append(pitch_ref)
                 if control != "none":
                     x_s, pos_s, rec_s = sensed[-1 - lag]
-                    lp, rp = schedule.wings(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg,
-                                            **({"record": rec_s} if feeds else {}))
+                    lp, rp = schedule.wings(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg, record=rec_s)
                 else:
                     lp = rp = p_orbit
                 ls, rs = saturate(lp), saturate(rp)

@@ -43,7 +43,8 @@ from scipy.linalg import solve_discrete_are, solve_triangular
 from scipy.optimize import lsq_linear
 
 from hawksim.control.derivatives import (FD_DELTA, SURROGATE_FD_DELTA, XI_NAMES, Snapshot, central_jacobians,
-                                         normalized_xi, one_beat, record_jacobians, record_scale, xi_scale)
+                                         normalized_xi, one_beat, record_jacobians, xi_scale)
+from hawksim.backends.step_surrogate import record_scale
 from hawksim.control.lqr import U_MAX, X_MAX, augment
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import Orbit
@@ -183,7 +184,7 @@ def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float |
         x0 = orbit.initial_state.as_array()
         if A is not None and A.shape[0] > 11:  # the augmented state: the commands' effect on the record too
             _, B0, B1 = record_jacobians(lambda x, vp, v, r: snap.beat(x, vp, v, record=r, wings=wing_params), x0,
-                                         snap.record, sc, delta, 0, len(WING_INPUTS), states=False)
+                                         snap.record, orbit.kinematics, delta, 0, len(WING_INPUTS), states=False)
             return WingMapModel(orbit=orbit, A=np.array(A, float), B0=B0, B1=B1, delta=delta,
                                 wall_time_s=time.perf_counter() - t0, records=len(snap.record))
 
@@ -335,7 +336,7 @@ class ConstrainedSchedule(Schedule):
         rec_dev = None if record is None or not self.feeds_record else record - self.reference_record(v, phase)
         for w, pt in self.weights(v):
             sc = xi_scale(pt.orbit.kinematics)
-            parts = [xi / sc] if rec_dev is None else [xi / sc, (rec_dev / record_scale(sc)).ravel()]
+            parts = [xi / sc] if rec_dev is None else [xi / sc, (rec_dev / record_scale(pt.orbit.kinematics)).ravel()]
             z = np.concatenate(parts + past_v)
             vk, a = self.constrained[pt.speed].command(z, lb, ub)
             out += w * vk

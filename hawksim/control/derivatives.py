@@ -179,7 +179,7 @@ def _immutables(sim) -> dict:
     """A deepcopy memo that makes copies of ``sim`` share what no flight writes: the MjModel and a per-step
     surrogate's network (its weights, folded layers and the native callback's packed weight buffer). The copy's
     own state (MjData, the plant's blend, the backend's record of calls) is still copied. Measured: a branch of
-    the surrogate's snapshot 5.1 -> 2.6 ms (1 m/s, half-stroke)."""
+    the surrogate's snapshot 5.1 -> 2.7 ms (1 m/s, half-stroke)."""
     b = sim.backend
     if hasattr(sim, "_native_network"):
         sim._native_network()  # the callback's network made (and cached) once, so that the copies share it
@@ -308,12 +308,6 @@ def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
     return A, Bt - B1, B1
 
 
-def record_scale(sc: np.ndarray) -> np.ndarray:
-    """(6,) SI per normalized unit of a record's values (velocity relative to the air, angular velocity; body axes)
-    from the state scale ``sc`` (:func:`xi_scale`): U, 1 / T."""
-    return np.array([sc[0]] * 3 + [sc[3]] * 3)
-
-
 def record_index(which: str, records: int) -> list[int]:
     """Indices in the augmented state (the 11 of :data:`XI_NAMES`, then each record's 6 values, oldest first) of
     the records' longitudinal (v_x, v_z, omega_y) or lateral (v_y, omega_x, omega_z) values
@@ -322,18 +316,21 @@ def record_index(which: str, records: int) -> list[int]:
     return [11 + 6 * k + c for k in range(records) for c in comps]
 
 
-def record_jacobians(beat, x0: np.ndarray, rec0: np.ndarray, sc: np.ndarray, delta: float,
+def record_jacobians(beat, x0: np.ndarray, rec0: np.ndarray, kin: Kinematics, delta: float,
                      n_body: int, n_inputs: int = len(INPUTS), *,
                      states: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`central_jacobians` on the augmented state of a history network (the body state and horizontal
-    position, then the record's n x 6 values normalized by :func:`record_scale`): ``beat(x (9,), du_prev, du,
+    position, normalized by :func:`xi_scale` of the kinematics ``kin``, then the record's n x 6 values normalized
+    by :func:`hawksim.backends.step_surrogate.record_scale`): ``beat(x (9,), du_prev, du,
     record (n, 6)) -> (state (9,), displacement (2,), record (n, 6))`` branches from the orbit's flight with its
     record replaced; A's columns from the first ``n_body`` body states and every record value (psi's, when not
     among them, and X's, Y's identity). A (11 + 6 n) square, B0 and B1 (11 + 6 n, m). Each record value is one
     more pair of flights: 2 (n_body + 6 n) + 4 m in all. ``states`` False: B0 and B1 only (A the identity), 4 m
     flights; m = ``n_inputs`` channels."""
+    from hawksim.backends.step_surrogate import record_scale
+
     n = len(rec0)
-    rsc = record_scale(sc)
+    sc, rsc = xi_scale(kin), record_scale(kin)
 
     def xi(out):
         x, disp, rec = out
@@ -393,7 +390,7 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     rec0 = None
     if records and orbit.record is not None:
         rec0 = snap.record
-        A, B0, B1 = record_jacobians(lambda x, dp, d, r: snap.beat(x, dp, d, record=r), x0, rec0, sc, delta, 8)
+        A, B0, B1 = record_jacobians(lambda x, dp, d, r: snap.beat(x, dp, d, record=r), x0, rec0, kin, delta, 8)
     else:
         A, B0, B1 = central_jacobians(beat, normalized_xi(sc), x0, sc, delta, 8)
     # the neutral rows: psi and position do not feed back (identity columns set above); psi's own row from the map

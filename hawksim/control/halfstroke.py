@@ -35,9 +35,10 @@ import numpy as np
 
 from hawksim.control.derivatives import (FD_DELTA, LAT_X, LONG_X, SATURATED_DERIVATIVES, SURROGATE_FD_DELTA,
                                          Snapshot, central_jacobians, normalized_xi, record_index,
-                                         record_jacobians, record_scale, stability_position, xi_scale)
+                                         record_jacobians, stability_position, xi_scale)
 from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
                                    wing_kinematics)
+from hawksim.backends.step_surrogate import record_scale
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
@@ -208,11 +209,11 @@ def _linearize_half_stroke(orbit: Orbit, delta: float, model, t0: float) -> Half
             def beat(x, du_prev, du, rec, h=half):
                 return half_beat(orbit, x, du_prev, du, h, snapshot=snaps[h], record=rec)
 
-            mats.append(record_jacobians(beat, xs, recs[half], sc, delta, 9))
+            mats.append(record_jacobians(beat, xs, recs[half], orbit.kinematics, delta, 9))
     cross = max(np.abs(M[np.ix_(a, b)]).max() for A, B0, B1 in mats for M, (a, b) in
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
                  (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
     return HalfStrokeModel(orbit=orbit, A=(mats[0][0], mats[1][0]), B0=(mats[0][1], mats[1][1]),
                            B1=(mats[0][2], mats[1][2]), x_half=x_half, pos_half=pos_half, scale=sc,
                            coupling=float(cross), delta=delta, wall_time_s=time.perf_counter() - t0, records=n,
-                           record_ref=recs, record_scale=record_scale(sc) if n else None)
+                           record_ref=recs, record_scale=record_scale(orbit.kinematics) if n else None)

@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, record_scale, xi_scale
+from hawksim.backends.step_surrogate import record_scale
+from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, xi_scale
 from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_stroke
 from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gains
 from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, command_of, wing_kinematics
@@ -381,8 +382,7 @@ class Schedule:
             for g in pt.gains(phase):
                 parts = [dxi[list(g.states)]]
                 if g.record:
-                    rsc = record_scale(xi_scale(pt.orbit.kinematics))
-                    parts.append((rec_dev / rsc)[:, list(g.record)].ravel())
+                    parts.append((rec_dev / record_scale(pt.orbit.kinematics))[:, list(g.record)].ravel())
                 z = np.concatenate(parts + [d[list(g.inputs)] for d in past_du])
                 du[list(g.inputs)] += w * (-g.K @ z)
         return du

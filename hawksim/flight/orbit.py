@@ -436,7 +436,9 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     z, r, b, it = newton(z, 0)
     change = 0.0
     if delay:  # the record's fixed point: fly from the last periodic beat's own calls until they repeat
-        rec_scale = np.array([U] * 3 + [1 / T] * 3)
+        from hawksim.backends.step_surrogate import record_scale
+
+        rec_scale = record_scale(base)  # the normalization of the body state's U, T
         for _ in range(MAX_RECORD_ITER):
             change = float("inf") if rec is None else float(np.abs((b.record - rec) / rec_scale).max())
             if change <= RECORD_TOL:

@@ -26,7 +26,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hawksim.backends.step_surrogate import StepSurrogateBackend, history_rows, record_size, set_history_rows
+from hawksim.backends.step_surrogate import (StepSurrogateBackend, history_rows, record_scale, record_size,
+                                             set_history_rows)
 from hawksim.flight.orbit import (STEPS_PER_CYCLE, SURROGATE_FD_STEP, Orbit, make_orbit_backend, read_body_state,
                                   set_body_state)
 from hawksim.flight.simulator import Simulator, aero_every_for
@@ -132,7 +133,7 @@ def history_monodromy(orbit: Orbit, *, delta: float = SURROGATE_FD_STEP, model: 
     dm = _DelayMap(orbit, model, network)
     x0, r0, r_warm = dm.start()
     U_T = state_scale(orbit.kinematics)
-    rec_scale = np.array([U_T[0]] * 3 + [U_T[3]] * 3)
+    rec_scale = record_scale(orbit.kinematics)
     n = dm.records
 
     def pack(x, rows):
