@@ -141,3 +141,28 @@ def test_half_stroke_maps_branch_from_the_orbit_flight_and_its_record(silenced, 
         assert np.abs(a[:11, :b.shape[1]] - b).max() < MULTIPLIER_TOL  # the body rows and columns
     for a in aug.A:
         assert np.abs(a[:11, 11:]).max() < 1e-9  # the record feeds nothing
+
+
+@pytest.mark.skipif(not shipped_path().is_file(), reason="the shipped per-step network is not in this checkout")
+def test_an_orbit_with_a_record_starts_its_flights_with_it():
+    """The shipped 1 m/s orbit carries its record of calls (40 x 6), and a flight from it starts with that record
+    (Orbit.seed -> StepSurrogateBackend.reset): the ring holds exactly those rows before the first step, as calls
+    at t0 - 40 dt ... t0 - dt; one beat later the record repeats to RECORD_TOL (normalized; measured 6.8e-7)."""
+    from hawksim.backends.step_surrogate import HISTORY_ROW, StepSurrogateBackend, history_rows, record_scale
+    from hawksim.flight.orbit import RECORD_TOL, fly_orbit, shipped_orbit
+
+    orbit = shipped_orbit(1.0, "surrogate")
+    assert orbit.record is not None and orbit.record.shape == (40, 6) and orbit.warm_beats == 0
+    assert orbit.record_change <= RECORD_TOL
+    backend = StepSurrogateBackend(orbit.kinematics)
+    orbit.seed(backend)
+
+    class _State:
+        t = 0.0
+
+    backend.reset(_State())
+    np.testing.assert_array_equal(history_rows(backend.history, 40), orbit.record)
+    times = backend.history[3:3 + 40 * HISTORY_ROW:HISTORY_ROW]
+    np.testing.assert_allclose(times, -orbit.record_dt * np.arange(40, 0, -1), rtol=0, atol=1e-15)
+    after = fly_orbit(orbit, 1).record
+    assert np.abs((after - orbit.record) / record_scale(orbit.kinematics)).max() <= RECORD_TOL
