@@ -90,7 +90,8 @@ def cmd_stability(args) -> dict:
 
 
 def orbit_json(orbit) -> dict:
-    """The CLI contract's orbit keys (edge units: Hz, deg, deg/s, m/s)."""
+    """The CLI contract's orbit keys (edge units: Hz, deg, deg/s, m/s); a history network's orbit also says how many
+    calls its record holds and how much that record changes over the periodic beat (normalized)."""
     s = orbit.initial_state
     deg = 180 / math.pi
     return {"speed": orbit.speed, "aero": orbit.aero, "kinematics": orbit.kinematics.to_edge(),
@@ -101,7 +102,9 @@ def orbit_json(orbit) -> dict:
             "residual": orbit.residual, "residuals": list(map(float, orbit.residuals)),
             "mean_velocity": list(map(float, orbit.mean_velocity)), "mean_pitch_deg": orbit.mean_pitch * deg,
             "P_plus": orbit.P_plus, "iterations": orbit.iterations, "converged": orbit.converged,
-            "floor": orbit.floor, "warm_beats": orbit.warm_beats, "wall_time_s": orbit.wall_time_s}
+            "floor": orbit.floor, "warm_beats": orbit.warm_beats, "wall_time_s": orbit.wall_time_s} | (
+                {} if orbit.record is None else {"record_calls": int(len(orbit.record)),
+                                                 "record_change": orbit.record_change})
 
 
 def _preload(args) -> tuple[str, ...]:

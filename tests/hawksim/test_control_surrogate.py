@@ -402,3 +402,15 @@ def test_augmented_half_stroke_maps_are_cached_exactly(monkeypatch, tmp_path):
     files[0].unlink()
     linearize_half_stroke(orbit)
     assert not files[0].exists()
+
+
+def test_trim_free_flight_reports_the_orbit_record(capsys):
+    """`hawksim trim --free-flight --aero surrogate --json`: the shipped orbit, periodic in the body state and in the
+    history network's record of its 40 calls (record_change <= hawksim.flight.orbit.RECORD_TOL)."""
+    from hawksim.cli import main
+    from hawksim.flight.orbit import RECORD_TOL
+
+    assert main(["trim", "--speed", "1", "--free-flight", "--aero", "surrogate", "--json", "--no-progress"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["converged"] and out["warm_beats"] == 0
+    assert out["record_calls"] == 40 and out["record_change"] <= RECORD_TOL
