@@ -1,6 +1,10 @@
 """Issue 20's 0.5 m/s lateral gust (beats 5-6) flown with a per-step surrogate that has history inputs, under the
 half-stroke LQR designed two ways (docs/control.md, "A history network in the loop"; issue 21).
 
+A record of the trial of 2026-12-02 14:48 UTC, reproducible at commit 046f12e: since 15:30 the shipped network is
+the history network, its orbits carry their record and its gains feed the record back (docs/control.md, "The record
+in the state"), so on later commits this script's first design is not the record-held one it describes.
+
 A history network's control maps hold its record of past calls at the orbit's (a reduced model,
 :class:`hawksim.control.derivatives.Snapshot`). This study flies the gust with those gains and with the gains of
 another network's schedule (the shipped memoryless one's), read from a JSON file that this script writes in its
