@@ -365,8 +365,9 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     wake kept: the derivatives hold the wake at the orbit's (its memory of the perturbation is left out). ``clip``:
     difference the map with each wing saturated at Table 2 (default: for :data:`SATURATED_DERIVATIVES`).
     ``records``: for an orbit with a record (a history network's, :attr:`hawksim.flight.orbit.Orbit.record`), the
-    map on the augmented state (:func:`record_jacobians`, 2 (8 + 6 n) + 28 beats, ~2 s); without it the record is
-    held at the orbit's, which is that map's body block."""
+    map on the augmented state (:func:`record_jacobians`, 2 (8 + 6 n) + 28 beats, ~2 s; kept in the per-user cache
+    of :mod:`hawksim.control.cache` and read from it next time); without it the record is held at the orbit's,
+    which is that map's body block."""
     t0 = time.perf_counter()
     if clip is None:
         clip = orbit.aero in SATURATED_DERIVATIVES
@@ -388,7 +389,15 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
             return one_beat(orbit, x, du_prev, du, model=model, clip=clip)
 
     rec0 = None
-    if records and orbit.record is not None:
+    if records and orbit.record is not None:  # seconds: kept in the per-user cache (hawksim.control.cache)
+        from hawksim.control import cache
+
+        key = cache.map_key("beat", orbit, model, delta=delta, clip=bool(clip))
+        z = cache.load(key)
+        if z is not None:
+            return BeatMapModel(orbit=orbit, A=z["A"], B0=z["B0"], B1=z["B1"], scale=z["scale"],
+                                coupling=float(z["coupling"]), delta=delta, wall_time_s=time.perf_counter() - t0,
+                                clipped=bool(clip), records=len(z["record_ref"]), record_ref=z["record_ref"])
         rec0 = snap.record
         A, B0, B1 = record_jacobians(lambda x, dp, d, r: snap.beat(x, dp, d, record=r), x0, rec0, kin, delta, 8)
     else:
@@ -397,6 +406,10 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     cross = max(np.abs(M[np.ix_(a, b)]).max() for M, (a, b) in
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
                  (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
-    return BeatMapModel(orbit=orbit, A=A, B0=B0, B1=B1, scale=sc, coupling=float(cross), delta=delta,
-                        wall_time_s=time.perf_counter() - t0, clipped=bool(clip),
-                        records=0 if rec0 is None else len(rec0), record_ref=rec0)
+    out = BeatMapModel(orbit=orbit, A=A, B0=B0, B1=B1, scale=sc, coupling=float(cross), delta=delta,
+                       wall_time_s=time.perf_counter() - t0, clipped=bool(clip),
+                       records=0 if rec0 is None else len(rec0), record_ref=rec0)
+    if rec0 is not None:
+        cache.store(key, {"A": A, "B0": B0, "B1": B1, "scale": sc, "coupling": np.array(out.coupling),
+                          "record_ref": rec0})
+    return out

@@ -414,3 +414,19 @@ def test_trim_free_flight_reports_the_orbit_record(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["converged"] and out["warm_beats"] == 0
     assert out["record_calls"] == 40 and out["record_change"] <= RECORD_TOL
+
+
+def test_augmented_beat_map_is_cached_exactly(monkeypatch, tmp_path):
+    """The per-beat map on the augmented state (linearize(..., records=True), ~2 s) is cached too: the second call
+    reads the same matrices bit for bit."""
+    from hawksim.control import cache
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.delenv(cache.ENV_OFF, raising=False)
+    orbit = shipped_orbit(2.0, "surrogate")
+    first = linearize(orbit, records=True)
+    again = linearize(orbit, records=True)
+    assert first.records == again.records == 40 and len(list(cache.cache_dir().glob("*.npz"))) == 1
+    for a, b in ((first.A, again.A), (first.B0, again.B0), (first.B1, again.B1), (first.record_ref, again.record_ref)):
+        assert np.array_equal(a, b)
+    assert again.coupling == first.coupling and again.clipped == first.clipped
