@@ -189,13 +189,17 @@ def new_history(lags) -> np.ndarray:
     return h
 
 
-def history_rows(hist: np.ndarray, n: int) -> np.ndarray:
-    """The newest n records of the ring ``hist`` (:func:`new_history`) as (n, 6), oldest first."""
+def _newest(hist: np.ndarray, n: int) -> list[int]:
+    """Ring positions of the newest n records of ``hist``, oldest first."""
     cap, count, head = int(hist[0]), int(hist[1]), int(hist[2])
     if count < n:
         raise RuntimeError(f"the record holds {count} calls, fewer than the {n} asked for")
-    idx = [(head - n + 1 + k) % cap for k in range(n)]
-    return np.array([hist[3 + HISTORY_ROW * i + 1:3 + HISTORY_ROW * (i + 1)] for i in idx])
+    return [(head - n + 1 + k) % cap for k in range(n)]
+
+
+def history_rows(hist: np.ndarray, n: int) -> np.ndarray:
+    """The newest n records of the ring ``hist`` (:func:`new_history`) as (n, 6), oldest first."""
+    return np.array([hist[3 + HISTORY_ROW * i + 1:3 + HISTORY_ROW * (i + 1)] for i in _newest(hist, n)])
 
 
 def set_history_rows(hist: np.ndarray, rows: np.ndarray, t0: float, dt: float) -> None:
@@ -214,12 +218,7 @@ def set_history_rows(hist: np.ndarray, rows: np.ndarray, t0: float, dt: float) -
 def set_history_values(hist: np.ndarray, rows: np.ndarray) -> None:
     """Overwrite the values of the newest len(rows) records of the ring ``hist`` with ``rows`` (n, 6), oldest
     first, keeping their times (in place)."""
-    cap, count, head = int(hist[0]), int(hist[1]), int(hist[2])
-    n = len(rows)
-    if count < n:
-        raise RuntimeError(f"the record holds {count} calls, fewer than the {n} given")
-    for k in range(n):
-        i = (head - n + 1 + k) % cap
+    for k, i in enumerate(_newest(hist, len(rows))):
         hist[3 + HISTORY_ROW * i + 1:3 + HISTORY_ROW * (i + 1)] = rows[k]
 
 

@@ -131,8 +131,7 @@ class Snapshot:
         for a backend without one)."""
         from hawksim.flight.orbit import backend_record
 
-        return backend_record(self.sim.backend, self.sim.aero_every) if getattr(self.sim.backend, "lags", ()) \
-            else None
+        return backend_record(self.sim.backend, self.sim.aero_every)
 
     def beat(self, x0, du_prev, du, *, half: int | None = None, keep: bool = False, record=None,
              wings=wing_kinematics):

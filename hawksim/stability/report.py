@@ -39,24 +39,27 @@ def _pairs(z) -> list[list[float]]:
     return [[float(complex(v).real), float(complex(v).imag)] for v in z]
 
 
+def _mode(mu, ex, vec_abs, resolved: bool, reach: float) -> dict:
+    """One mode's entry of a ``floquet`` block: multiplier and exponent [re, im], |mu|, kind, stability, whether
+    it is a mode of the flight and how strongly it is reached, the eigenvector's magnitudes."""
+    from hawksim.stability.system import classify
+
+    kind, _ = classify(ex)
+    return {"multiplier": _pairs([mu])[0], "exponent": _pairs([ex])[0], "abs_multiplier": float(abs(mu)),
+            "kind": kind, "stable": bool(abs(mu) < 1.0), "resolved": bool(resolved), "reach": float(reach),
+            "eigenvector_abs": list(map(float, vec_abs))}
+
+
 def floquet_json(fl) -> dict:
     """The CLI contract's ``floquet`` block of a :class:`hawksim.stability.floquet.Floquet`: per system the
     multipliers mu and exponents ln(mu) per wingbeat (comparable with the nondimensional eigenvalues, t+ = t/T) as
     [re, im], and the modes (kind and stability of each exponent, |mu| and the eigenvector's magnitudes)."""
-    from hawksim.stability.system import classify
-
     out = {}
     for name, mu, ex, vec, ok, rch in (
             ("longitudinal", fl.multipliers_long, fl.exponents_long, fl.eigenvectors_long, fl.resolved_long,
              fl.reach_long),
             ("lateral", fl.multipliers_lat, fl.exponents_lat, fl.eigenvectors_lat, fl.resolved_lat, fl.reach_lat)):
-        modes = []
-        for k in range(len(mu)):
-            kind, stable = classify(ex[k])
-            modes.append({"multiplier": _pairs([mu[k]])[0], "exponent": _pairs([ex[k]])[0], "abs_multiplier":
-                          float(abs(mu[k])), "kind": kind, "stable": bool(abs(mu[k]) < 1.0),
-                          "resolved": bool(ok[k]), "reach": float(rch[k]),
-                          "eigenvector_abs": np.abs(vec[:, k]).tolist()})
+        modes = [_mode(mu[k], ex[k], np.abs(vec[:, k]), ok[k], rch[k]) for k in range(len(mu))]
         out[name] = {"multipliers": _pairs(mu), "exponents": _pairs(ex), "modes": modes,
                      "states": list(("u", "w", "q", "theta") if name == "longitudinal" else ("v", "p", "r", "phi"))}
     out["resolution"] = ("'reach': how strongly the launches reach the mode at the periodic beat (1 for a settable "
@@ -75,8 +78,6 @@ def history_floquet_json(hf, count: int = 4) -> dict:
     eigenvalues whose eigenvectors put at least 5 % of their norm in the 4 body states,
     :meth:`HistoryFloquet.body_modes`), each with its eigenvector's body-state magnitudes (normalized to 1) and
     ``body_share``; every mode is a mode of the map (``resolved``, reach 1)."""
-    from hawksim.stability.system import classify
-
     out = {}
     for name, M in (("longitudinal", hf.long), ("lateral", hf.lat)):
         w, V = np.linalg.eig(M)
@@ -88,11 +89,8 @@ def history_floquet_json(hf, count: int = 4) -> dict:
         ex = np.log(mu.astype(complex))
         modes = []
         for k, m, e in zip(keep, mu, ex):
-            kind, _ = classify(e)
             body = np.abs(V[:4, k])
-            modes.append({"multiplier": _pairs([m])[0], "exponent": _pairs([e])[0], "abs_multiplier": float(abs(m)),
-                          "kind": kind, "stable": bool(abs(m) < 1.0), "resolved": True, "reach": 1.0,
-                          "eigenvector_abs": (body / np.linalg.norm(body)).tolist(), "body_share": float(share[k])})
+            modes.append({**_mode(m, e, body / np.linalg.norm(body), True, 1.0), "body_share": float(share[k])})
         out[name] = {"multipliers": _pairs(mu), "exponents": _pairs(ex), "modes": modes,
                      "states": list(("u", "w", "q", "theta") if name == "longitudinal" else ("v", "p", "r", "phi"))}
     mx = max(abs(m["abs_multiplier"]) for s in ("longitudinal", "lateral") for m in out[s]["modes"])
