@@ -1,6 +1,7 @@
 """Issue 23's speed targets measured in one sitting: every benchmark one after the other, then ONE JSON summary.
 
-Stages (each a subprocess of the benchmark named, its JSON kept as ``OUT/<stage>.json``; a stage whose file is
+Stages (each a subprocess of the benchmark named, its JSON kept as ``OUT/<stage>.raw.json`` and, with the
+stage's command, times and load average, as ``OUT/<stage>.json``; a stage whose file is
 already there is not run again, so an interrupted sitting resumes, and ``--force`` reruns them all):
 
 * ``ptera``: scripts/benchmarks/bench_pterasoftware.py (PteraSoftware 5.1.0 on the reference case);
@@ -70,7 +71,7 @@ def _stages(out: str, py: str) -> dict:
     b = os.path.join(HERE, "")
     return {
         "ptera": [py, b + "bench_pterasoftware.py"],
-        "uvlm": [py, b + "bench_uvlm.py", "--ptera-json", os.path.join(out, "ptera.json")],
+        "uvlm": [py, b + "bench_uvlm.py", "--ptera-json", os.path.join(out, "ptera.raw.json")],
         "fly": [py, b + "bench_treecode.py", "--sections", "crossover", "fly", "roofline", "--cycles",
                 str(FLY_CYCLES)],
         "cold": [py, b + "bench_cold_start.py", "--variant", "new=HEAD", "--variant", "new_nowarmup=HEAD:nowarmup"],
@@ -98,6 +99,8 @@ def run_stage(name: str, cmd: list[str], out: str, force: bool) -> dict:
               "result": json.loads(last)}
     with open(path, "w") as f:
         json.dump(result, f, indent=1)
+    with open(os.path.join(out, f"{name}.raw.json"), "w") as f:  # the benchmark's own JSON, as it printed it
+        json.dump(result["result"], f, indent=1)
     return result
 
 
@@ -140,7 +143,9 @@ def summarise(res: dict) -> dict:
     vals, loads = {}, {}
     if "uvlm" in res:
         u = res["uvlm"]["result"]
-        vals["speedup_vs_ptera"] = u.get("speedup_vs_ptera")
+        ptera = res.get("ptera", {}).get("result", {}).get("ptera_wall_s")
+        vals["speedup_vs_ptera"] = round(ptera / u["reference_case_s"], 1) if ptera else None
+        vals["reference_case_s"], vals["ptera_wall_s"] = u["reference_case_s"], ptera
         vals["aero_warm_s"] = u.get("aero_warm_s")
         loads["speedup_vs_ptera"] = loads["aero_warm_s"] = [res["uvlm"]["stage"]["load_before"],
                                                             res["uvlm"]["stage"]["load_after"]]
@@ -169,7 +174,8 @@ def summarise(res: dict) -> dict:
                                          res["datasets"]["stage"]["load_after"]]
     targets = {k: {"value": vals.get(k), "target": f"{TARGETS[k][1]} {TARGETS[k][0]}", "met": _met(k, vals.get(k)),
                    "load_before_after": loads.get(k)} for k in TARGETS}
-    out = {"targets": targets}
+    out = {"targets": targets, "reference_case_s": vals.get("reference_case_s"),
+           "ptera_wall_s": vals.get("ptera_wall_s")}
     if "cold_first_aero_command_s_without_warmup" in vals:
         out["cold_first_aero_command_s_without_warmup"] = vals["cold_first_aero_command_s_without_warmup"]
     if "fly" in res:
