@@ -32,13 +32,12 @@ import os
 import subprocess
 import sys
 import time
-from datetime import datetime, timezone
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, REPO)
 
-from hawksim.jsonout import emit  # noqa: E402
+from hawksim.jsonout import emit, host_info  # noqa: E402
 
 FLY_STEPS_PER_BEAT = 40
 """UVLM steps per wingbeat of the fly backend (hawksim.backends: the fly lattice), as in bench_treecode's wakes."""
@@ -57,14 +56,11 @@ TARGETS = {
 
 
 def _load():
-    try:
-        return [float(v) for v in open("/proc/loadavg").read().split()[:3]]
-    except OSError:
-        return None
+    return host_info()["loadavg"]
 
 
 def _now():
-    return datetime.now(timezone.utc).isoformat(timespec="seconds")
+    return host_info()["date"]
 
 
 def _stages(out: str, py: str) -> dict:
