@@ -21,7 +21,7 @@ loads (:mod:`hawksim.backends.surrogate`); "none" (vacuum) is for tests."""
 
 def make_backend(name: str, *, resolution: Resolution | None = None, symmetric: bool = True, freestream=None,
                  keep_panels: bool = False, max_wake_rows: int | None = None, kinematics=None,
-                 wake_summation: str = "direct"):
+                 wake_summation: str = "direct", wake_precision: str = "float64"):
     """The backend called ``name`` (:data:`FLIGHT_BACKENDS` or "none"). ValueError for an unknown one.
 
     Args:
@@ -33,6 +33,8 @@ def make_backend(name: str, *, resolution: Resolution | None = None, symmetric: 
         kinematics: the flight's kinematics (the surrogate backends' network input).
         wake_summation: the UVLM's wake-on-wake summation ("direct", "tree", "auto":
             ``aero.uvlm.UVLMConfig.wake_summation``).
+        wake_precision: the UVLM's wake-on-wake pair evaluations ("float64", "mixed":
+            ``aero.uvlm.UVLMConfig.wake_precision``).
     """
     if name == "quasi-steady":
         from hawksim.backends.quasi_steady import QuasiSteadyBackend
@@ -47,7 +49,8 @@ def make_backend(name: str, *, resolution: Resolution | None = None, symmetric: 
 
         res = resolution if resolution is not None else DEFAULT
         return UVLMBackend(n_chord=res.n_chord, n_span=res.n_span, symmetric=symmetric, freestream=freestream,
-                           keep_panels=keep_panels, max_wake_rows=max_wake_rows, wake_summation=wake_summation)
+                           keep_panels=keep_panels, max_wake_rows=max_wake_rows, wake_summation=wake_summation,
+                           wake_precision=wake_precision)
     if name == "surrogate":
         from hawksim.backends.step_surrogate import StepSurrogateBackend
 
@@ -69,18 +72,21 @@ def backend_for(res: Resolution, *, symmetric: bool = True, freestream=None):
 
 
 def flight_backend(name: str, *, kinematics=None, symmetric: bool = True, keep_panels: bool = False,
-                   wake_cycles: int = FLY_WAKE_CYCLES, wake_summation: str = "auto"):
+                   wake_cycles: int = FLY_WAKE_CYCLES, wake_summation: str = "auto", wake_precision: str = "float64"):
     """The backend of `hawksim fly --aero NAME`: the UVLM at :data:`FLY_UVLM` keeping the last ``wake_cycles``
     wingbeats of wake (default :data:`FLY_WAKE_CYCLES`), its wake-on-wake velocities summed with
     ``wake_summation`` (default "auto": the direct sum below ``aero.uvlm.TREE_MIN_SEGMENTS`` wake segments, so
     that the default 3-beat wake, 3012 segments, is the direct sum bit for bit; above, the treecode where its plan
     says it is the faster, which a hawkmoth flight's stretched wake of up to 10 beats is not:
-    docs/performance.md, "Treecode")."""
+    docs/performance.md, "Treecode"), in ``wake_precision`` (default "float64"; "mixed" is opt-in: docs/uvlm.md;
+    the treecode is float64 only, so with "mixed" "auto" means the direct sum)."""
     if int(wake_cycles) != wake_cycles or wake_cycles < 1:
         raise ValueError(f"wake_cycles must be a positive integer, got {wake_cycles!r}")
+    if wake_precision != "float64" and wake_summation == "auto":
+        wake_summation = "direct"
     return make_backend(name, resolution=FLY_UVLM, symmetric=symmetric, keep_panels=keep_panels,
                         max_wake_rows=int(wake_cycles) * FLY_UVLM.steps_per_cycle, kinematics=kinematics,
-                        wake_summation=wake_summation)
+                        wake_summation=wake_summation, wake_precision=wake_precision)
 
 
 __all__ = ["FLIGHT_BACKENDS", "make_backend", "backend_for", "flight_backend", "Resolution", "DEFAULT"]

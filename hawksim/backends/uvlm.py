@@ -61,6 +61,8 @@ class UVLMBackend:
         max_wake_rows: truncate the wake to this many newest rows (long free flights; None: keep all).
         wake_summation: how the wake-on-wake velocities are summed (``aero.uvlm.UVLMConfig.wake_summation``:
             "direct", "tree" or "auto"); with ``config`` given, its own.
+        wake_precision: the pair evaluations of those velocities (``aero.uvlm.UVLMConfig.wake_precision``:
+            "float64" or the opt-in "mixed"); with ``config`` given, its own.
     """
 
     name = "uvlm"
@@ -68,12 +70,13 @@ class UVLMBackend:
     def __init__(self, morph: Morphology = HAWKMOTH, n_chord: int = DEFAULT.n_chord, n_span: int = DEFAULT.n_span, *,
                  symmetric: bool = True, freestream: FreeStream | None = None,
                  config: UVLMConfig | None = None, keep_panels: bool = False, max_wake_rows: int | None = None,
-                 wake_summation: str = "direct"):
+                 wake_summation: str = "direct", wake_precision: str = "float64"):
         self.meshes = hawkmoth_meshes(morph, n_chord, n_span)
         self.symmetric = symmetric
         self.freestream = freestream if freestream is not None else FreeStream()
         self.config = config if config is not None else UVLMConfig(rho=RHO_AIR, max_wake_rows=max_wake_rows,
-                                                                    wake_summation=wake_summation)
+                                                                    wake_summation=wake_summation,
+                                                                    wake_precision=wake_precision)
         self.keep_panels = keep_panels
         self.solver: UVLM | None = None
 

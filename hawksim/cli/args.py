@@ -152,6 +152,16 @@ def seed_arg(text: str) -> int:
     return v
 
 
+def wake_precision_arg(text: str) -> str:
+    """--wake-precision: one of ``aero.biot_savart.PRECISIONS`` (imported only when the option is given: it imports
+    numba)."""
+    from aero.biot_savart import PRECISIONS
+
+    if text not in PRECISIONS:
+        raise argparse.ArgumentTypeError(f"--wake-precision {text!r}: choose {', '.join(PRECISIONS)}")
+    return text
+
+
 def seconds_arg(text: str) -> float:
     v = _number("time-limit", text, float, "a number of seconds")
     if not math.isfinite(v) or v <= 0:

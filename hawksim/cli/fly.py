@@ -7,7 +7,8 @@ from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE as STEPS_PER_CYCLE
 from hawksim.backends.resolution import FLY_WAKE_CYCLES
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli.args import (KINEMATICS_HELP, MAX_FLY_STEPS, MAX_STEPS_PER_CYCLE, UsageError, cycles_arg,
-                              parse_kinematics, perturbation_arg, positive_int_arg, speed_arg, writable_file)
+                              parse_kinematics, perturbation_arg, positive_int_arg, speed_arg, wake_precision_arg,
+                              writable_file)
 from hawksim.cli.progress import progress_for
 
 
@@ -23,13 +24,13 @@ calibration wingbeat (where no orbit is available, or on request)."""
 def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinematics=None, perturb=None,
               model_path=None, steps_per_cycle: int = STEPS_PER_CYCLE, keep_extras_every: int = 0,
               start: str | None = None, log=None, wake_cycles: int | None = None, wake_summation: str = "auto",
-              **kw):
+              wake_precision: str = "float64", **kw):
     """`hawksim fly`'s flight: from the free body's periodic orbit (``start='orbit'``, the default where one is
     available: no given kinematics, the orbit solver's 200 steps per beat, and a shipped orbit of ``aero`` at
     ``speed`` or the quasi-steady backend, whose orbit is solved in ~1 s) or from the shipped held-body trim of
     ``aero`` at ``speed`` (or ``kinematics``) with a calibration beat (``start='trim'``), with the backend of that
     name, then :func:`hawksim.flight.fly.fly`. wake_cycles: wingbeats of UVLM wake kept (default
-    :data:`hawksim.backends.resolution.FLY_WAKE_CYCLES`); wake_summation: the UVLM's
+    :data:`hawksim.backends.resolution.FLY_WAKE_CYCLES`); wake_summation, wake_precision: the UVLM's
     (:func:`hawksim.backends.flight_backend`)."""
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
@@ -74,6 +75,7 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
                 else shipped_trim(speed, aero))
     backend = flight_backend(aero, kinematics=trim.kinematics, symmetric=not is_lateral(perturb),
                              keep_panels=keep_extras_every > 0, wake_summation=wake_summation,
+                             wake_precision=wake_precision,
                              **({} if wake_cycles is None else {"wake_cycles": wake_cycles}))
     if start_state is not None:
         orbit.seed(backend)  # a history network's orbit: the flight starts with its record
@@ -91,9 +93,13 @@ def cmd_fly(args) -> dict:
         raise UsageError(f"--perturb gives {', '.join(twice)} more than once")
     if getattr(args, "wake_cycles", None) is not None and args.aero != "uvlm":
         raise UsageError("--wake-cycles applies to --aero uvlm only")
+    if getattr(args, "wake_precision", None) is not None and args.aero != "uvlm":
+        raise UsageError("--wake-precision applies to --aero uvlm only")
     control = _control_of(args)  # issue 20: --control lqr (default for quasi-steady from the orbit), --gust
-    if control is not None and getattr(args, "wake_cycles", None) is not None:
-        raise UsageError("--wake-cycles applies to open-loop flights only (no --control, --gust or --ascent-profile)")
+    for opt in ("wake_cycles", "wake_precision"):
+        if control is not None and getattr(args, opt, None) is not None:
+            raise UsageError(f"--{opt.replace('_', '-')} applies to open-loop flights only (no --control, --gust or "
+                             "--ascent-profile)")
     progress = progress_for(args, "fly") if control is None else progress_for(args, "fly", "beat")
     guard = None
     if args.rrd:  # Ctrl-C / SIGTERM: write the recording of the steps flown (hawksim.flight.recording.InterruptGuard)
@@ -122,6 +128,7 @@ def _fly_open_loop(args, progress, guard) -> dict:
                        keep_extras_every=(aero_every_for(SimpleNamespace(name="uvlm"), args.steps_per_cycle)
                                           if args.rrd and args.aero == "uvlm" else 0),
                        progress=progress, start=args.start, wake_cycles=getattr(args, "wake_cycles", None),
+                       wake_precision=getattr(args, "wake_precision", None) or "float64",
                        **({"partial_on_interrupt": True} if args.rrd else {}))
     interrupted = len(result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
     rrd = _write_recording(args, result, guard, interrupted) if args.rrd else None  # first: a failure says one line
@@ -260,6 +267,9 @@ def register(sub) -> None:
     f.add_argument("--wake-cycles", type=positive_int_arg("wake-cycles", MAX_WAKE_CYCLES), default=None,
                    help=f"--aero uvlm, open loop: wingbeats of free wake kept (default {FLY_WAKE_CYCLES}; its cost "
                         "grows with its length squared: docs/performance.md, 'Treecode')")
+    f.add_argument("--wake-precision", type=wake_precision_arg, default=None,
+                   help="--aero uvlm, open loop: the wake-on-wake pair evaluations (default float64; mixed: float32 "
+                        "pair evaluations summed in float64, opt-in: docs/uvlm.md, 'Speed')")
     f.add_argument("--start", choices=START_CHOICES, default=None,
                    help="orbit: the free body's periodic orbit (the default where there is one: quasi-steady and "
                         "surrogate at any speed, the shipped UVLM orbits); trim: the held-body trim with a "

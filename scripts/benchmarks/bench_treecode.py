@@ -14,12 +14,15 @@ Sections (``--sections``, default all):
   1 mm apart, the geometry of bench_uvlm.py's lattice kernel case) of 50 to 3200 rows; wake segments (edges with
   circulation), the tree's maximum velocity error relative to the largest velocity, time ratio.
 * ``fly``: `hawksim fly --aero uvlm --speed 1 --cycles N --wake-cycles 10` (default N = 20) with the wake-on-wake
-  sum "direct", "tree" and "auto" (the fly backend's default), one after the other in this process, and the
-  default 3-beat wake beside them: loop wall time and wingbeats per wall second (issue 23's target: >= 1 with the
-  10-beat wake), and the last beat's mean vertical speed (auto that keeps the direct sum gives its bits).
+  sum "direct", "tree" and "auto" (the fly backend's default), and "direct" with the opt-in mixed precision
+  (``--wake-precision mixed``), one after the other in this process, and the default 3-beat wake beside them:
+  loop wall time and wingbeats per wall second (issue 23's target: >= 1 with the 10-beat wake), and the last
+  beat's mean vertical speed (auto that keeps the direct sum gives its bits; mixed differs from direct by it).
 * ``roofline``: peak FMA throughput of this CPU on all cores with 256- and 512-bit vectors (a C microbenchmark of
   12 independent FMA chains per thread, compiled here with the system C compiler; null without one), the lattice
-  kernel's rate (bench_uvlm.py's case; the 512-bit figure in a child process with HAWKSIM_VECTOR_WIDTH=512),
+  kernel's rate (bench_uvlm.py's case; the 512-bit figure in a child process with HAWKSIM_VECTOR_WIDTH=512, which
+  checks that numba did compile for 512 bits: before 2026-12-03 bench_uvlm imported numba before aero, so that
+  child ran the 256-bit code),
   its FP lane-operations per edge-target pair (:data:`LANE_OPS_PER_PAIR`, counted from its source), and the
   kernel's fraction of the roofline = achieved lane-ops/s / (FMA instructions/s x lanes).
 
@@ -227,18 +230,23 @@ def fly(cycles: int) -> dict:
 
     fly_named(1.0, 1, "uvlm", wake_cycles=10, wake_summation="tree")  # warm-up: numba cache, model
     out = {"speed_m_s": 1.0, "cycles": cycles, "threads": _threads(), "runs": {}}
-    settings = (("wake_10_direct", 10, "direct"), ("wake_10_tree", 10, "tree"), ("wake_10_auto", 10, "auto"),
-                ("wake_3_default", 3, "auto"))
-    for name, wake, summation in settings:
+    settings = (("wake_10_direct", 10, "direct", "float64"), ("wake_10_tree", 10, "tree", "float64"),
+                ("wake_10_auto", 10, "auto", "float64"), ("wake_10_mixed", 10, "direct", "mixed"),
+                ("wake_3_default", 3, "auto", "float64"))
+    for name, wake, summation, precision in settings:
         load = _load()
-        r = fly_named(1.0, cycles, "uvlm", wake_cycles=wake, wake_summation=summation)
+        r = fly_named(1.0, cycles, "uvlm", wake_cycles=wake, wake_summation=summation, wake_precision=precision)
         beats = r.summary()["beats"]
-        out["runs"][name] = {"wake_cycles": wake, "wake_summation": summation, "loop_wall_s": round(r.wall_time_s, 2),
+        out["runs"][name] = {"wake_cycles": wake, "wake_summation": summation, "wake_precision": precision,
+                             "loop_wall_s": round(r.wall_time_s, 2),
                              "wingbeats_per_s": round(cycles / r.wall_time_s, 3), "load_before": load,
                              "load_after": _load(), "mean_vertical_speed_last_beat": beats[-1]["mean_vertical_speed"]}
     runs = out["runs"]
     direct, tree = runs["wake_10_direct"]["loop_wall_s"], runs["wake_10_tree"]["loop_wall_s"]
     out["tree_speedup_10_beat_wake"] = round(direct / tree, 3)
+    out["mixed_speedup_10_beat_wake"] = round(direct / runs["wake_10_mixed"]["loop_wall_s"], 3)
+    w = [runs[k]["mean_vertical_speed_last_beat"] for k in ("wake_10_mixed", "wake_10_direct")]
+    out["mixed_last_beat_vertical_speed_difference_m_s"] = abs(w[0] - w[1])
     out["target_wingbeats_per_s"] = 1.0
     return out
 
@@ -299,12 +307,16 @@ def roofline() -> dict:
     out["peak"] = peaks or None
     rates = {str(vector_bits()): _kernel_rates()}
     other = "512" if vector_bits() == 256 else "256"
-    code = ("import json, sys; sys.path.insert(0, %r); from bench_treecode import _kernel_rates; "
-            "print(json.dumps(_kernel_rates()))" % os.path.dirname(os.path.abspath(__file__)))
+    here = os.path.dirname(os.path.abspath(__file__))
+    code = ("import json, sys; sys.path.insert(0, %r); from bench_treecode import _kernel_rates, vector_bits; "
+            "print(json.dumps({'bits': vector_bits(), **_kernel_rates()}))" % here)
     env = dict(os.environ, HAWKSIM_VECTOR_WIDTH=other)
     env.pop("NUMBA_CPU_FEATURES", None)
     proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-    rates[other] = json.loads(proc.stdout.strip().splitlines()[-1])
+    child = json.loads(proc.stdout.strip().splitlines()[-1])
+    if child.pop("bits") != int(other):  # numba imported before aero, or a host without AVX-512F
+        raise SystemExit(f"bench_treecode: the {other}-bit child process compiled for another vector width")
+    rates[other] = child
     out["lattice_kernel_g_pairs_s"] = {b: {k: round(v, 3) for k, v in r.items()} for b, r in rates.items()}
     out["achieved_lane_ops_g_s"] = {b: {k: round(v * LANE_OPS_PER_PAIR, 2) for k, v in r.items()}
                                     for b, r in rates.items()}

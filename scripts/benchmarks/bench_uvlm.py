@@ -30,6 +30,7 @@ import subprocess
 import sys
 import time
 
+import aero  # noqa: F401, I001  (before numba: importing aero applies HAWKSIM_VECTOR_WIDTH, which numba reads once)
 import numpy as np
 from numba import njit, prange
 
@@ -38,7 +39,7 @@ from aero.lattice import lattice_velocity, ring_lattice
 from aero.mesh import wing_mesh
 from aero.uvlm import UVLMConfig, run_prescribed
 from aero.uvlm_kinematics import two_wing_motion
-from aero.vector_width import vector_bits  # noqa: I001  (first: importing aero applies HAWKSIM_VECTOR_WIDTH before numba)
+from aero.vector_width import vector_bits
 from hawksim.backends.held import run
 from hawksim.backends.resolution import DEFAULT
 from hawksim.insect.kinematics import TABLE3_DEG, table3_kinematics

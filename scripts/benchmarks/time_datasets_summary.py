@@ -1,5 +1,5 @@
 """The JSON summary of a `scripts/benchmarks/time_datasets.sh` log: per resolution and speed the samples, the
-wall time and the load average at its start; the totals; the first start and the last end.
+wall time and the load average at its start; the totals; the first start and the last end, as one line of JSON.
 
     python scripts/benchmarks/time_datasets_summary.py OUT/run.log
 """
@@ -32,7 +32,7 @@ def main(path):
         t["samples"] += r["new"]
         t["wall_time_s"] += r["wall_time_s"]
     print(json.dumps({"log": path, "rows": rows, "totals": totals, "first_start": rows[0]["started"], "end": end,
-                      "elapsed_min": (t1 - t0).total_seconds() / 60, "target_min": 120.0}, indent=1))
+                      "elapsed_min": round((t1 - t0).total_seconds() / 60, 2), "target_min": 120.0}))
 
 
 if __name__ == "__main__":

@@ -184,6 +184,9 @@ def test_the_default_fly_wake_stays_below_the_auto_floor():
     backend = flight_backend("uvlm")
     assert backend.config.wake_summation == "auto" and backend.config.max_wake_rows == rows
     assert flight_backend("uvlm", wake_cycles=10).config.max_wake_rows == 10 * FLY_UVLM.steps_per_cycle
+    assert backend.config.wake_precision == "float64"  # `--wake-precision mixed` is opt-in
+    mixed = flight_backend("uvlm", wake_precision="mixed").config  # the treecode is float64 only: auto -> direct
+    assert mixed.wake_precision == "mixed" and mixed.wake_summation == "direct"
 
 
 @pytest.mark.slow

@@ -19,6 +19,8 @@ USER_ERRORS = [
     (["fly", "--speed", "1", "--cycles", "1", "--perturb", "u=1", "--perturb", "u=2"], "--perturb"),
     (["fly", "--speed", "1", "--cycles", "1", "--rrd", ""], "--rrd"),
     (["fly", "--speed", "1", "--cycles", "1", "--perturb", "x=1"], "--perturb"),
+    (["fly", "--speed", "1", "--cycles", "1", "--aero", "uvlm", "--wake-precision", "half"], "--wake-precision"),
+    (["fly", "--speed", "1", "--cycles", "1", "--wake-precision", "mixed"], "--wake-precision"),
     (["aero", "--speed", "0", "--kinematics", KIN, "--cycles", "1000000000"], "--cycles"),
     (["aero", "--speed", "0", "--kinematics", KIN, "--n-chord", "1000000"], "--n-chord"),
     (["aero", "--speed", "0", "--kinematics", KIN.replace("f=26.1", "f=nan")], "--kinematics"),
