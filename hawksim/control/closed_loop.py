@@ -99,10 +99,9 @@ class ControlledFlightResult(FlightResult):
         att = np.rad2deg(self.attitude())
         out = []
         for k in range(N // n):
-            a, b = k * n, min((k + 1) * n, N - 1)
-            dt = self.t[b] - self.t[a] if b > a else 1.0
-            vz = (self.body_pos[b, 2] - self.body_pos[a, 2]) / dt
-            vh = np.hypot(*((self.body_pos[b, :2] - self.body_pos[a, :2]) / dt))
+            a = k * n
+            vel = self.mean_velocity(a, (k + 1) * n)
+            vz, vh = vel[2], np.hypot(*vel[:2])
             m = att[a:a + n].mean(0)
             out.append({"mean_vertical_speed": float(vz), "horizontal_speed": float(vh), "pitch_deg": float(m[0]),
                         "roll_deg": float(m[1]), "yaw_deg": float(m[2])})
@@ -126,8 +125,7 @@ class ControlledFlightResult(FlightResult):
     def summary(self) -> dict:
         out = super().summary()
         n = self.steps_per_cycle
-        a = len(self.t) - n
-        out["mean_vertical_speed"] = float((self.body_pos[-1, 2] - self.body_pos[a, 2]) / (self.t[-1] - self.t[a]))
+        out["mean_vertical_speed"] = float(self.mean_velocity(len(self.t) - n, len(self.t))[2])
         return out
 
 
@@ -318,7 +316,9 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                 out[-1]["commands_half_stroke"] = applied[1]
             if progress is not None:  # after the beat is complete (an interrupt raised here keeps it)
                 progress(k, beats)
+        end_t, end_pos = float(sim.d.time), sim.body_com()
     except KeyboardInterrupt:
+        end_t = end_pos = None
         done = min(len(v) for v in rec.values())  # the segments completed
         if not (partial_on_interrupt and record and done > 0):
             raise
@@ -332,6 +332,6 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
             wing_R=a["wR"], wing_origin=a["wo"], force=a["F"], moment=a["M"], power_aero=a["Pa"],
             power_joint=a["Pj"], wall_time_s=time.perf_counter() - t_start,
             trim_source=f"periodic orbit of the free body, {control} control", beat_steps=n,
-            speed_commands=np.array(refs))
+            speed_commands=np.array(refs), end_t=end_t, end_pos=end_pos)
     return ClosedLoop(beats=out, schedule=schedule, result=result, wall_time_s=time.perf_counter() - t_start,
                       control=control, delay=int(delay), gusts=gusts, speed_rate=speed_rate)

@@ -89,7 +89,9 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
                                          "non-finite state")
             if progress is not None:
                 progress(done, n)
+        end_t, end_pos = float(sim.d.time), sim.body_com()
     except KeyboardInterrupt as exc:
+        end_t = end_pos = None
         part = getattr(exc, "partial", None)
         if part is not None and len(part):
             batches.append(part)
@@ -106,5 +108,5 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
         steps_per_cycle=steps_per_cycle, t=a["t"], body_pos=a["body_pos"], body_quat=quat_from_matrices(a["body_R"]),
         body_v=a["body_v"], body_omega=a["body_omega"], wing_R=a["wing_R"], wing_origin=a["wing_origin"],
         force=a["force"], moment=a["moment"], power_aero=a["power_aero"], power_joint=a["power_joint"],
-        wall_time_s=wall, extras=extras, trim_source=trim.source,
+        wall_time_s=wall, extras=extras, trim_source=trim.source, end_t=end_t, end_pos=end_pos,
     )

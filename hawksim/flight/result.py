@@ -24,7 +24,9 @@ class FlightResult:
     Shapes: n steps. t (n,) [s]; body_pos (n, 3) [m]; body_quat (n, 4) (w, x, y, z); body_v (n, 3) [m/s];
     body_omega (n, 3) [rad/s] world; wing_R (n, 2, 3, 3); wing_origin (n, 2, 3) [m]; force (n, 2, 3) [N] per
     wing; moment (n, 3) total aerodynamic moment about the body centre of mass [N m]; power_aero (n,) [W];
-    power_joint (n,) [W] (aerodynamic + inertial power of the wings, relative to the body).
+    power_joint (n,) [W] (aerodynamic + inertial power of the wings, relative to the body). end_t [s] and end_pos
+    (3,) [m]: time and body centre of mass after the last step (None where the flight was interrupted), so that
+    the last wingbeat's mean speed spans the whole beat like the others.
     """
 
     speed_target: float
@@ -46,6 +48,8 @@ class FlightResult:
     wall_time_s: float
     trim_source: str = "given"
     extras: list = field(default_factory=list, repr=False)
+    end_t: float | None = None
+    end_pos: np.ndarray | None = None
     """Backend extras (e.g. UVLM pressure and wake) for the steps where they were kept, as (step, dict)."""
 
     @property
@@ -79,17 +83,25 @@ class FlightResult:
         """One object per wingbeat (CLI contract): cycle means of the vertical speed (up positive) and horizontal
         speed of the centre of mass [m/s], and of pitch, roll, yaw [deg] (:meth:`attitude`)."""
         n, N = self.steps_per_cycle, len(self.t)
-        dt = self.t[1] - self.t[0]
         att = np.rad2deg(self.attitude())
         out = []
         for k in range(N // n):
-            a, b = k * n, min((k + 1) * n, N - 1)
-            vz = (self.body_pos[b, 2] - self.body_pos[a, 2]) / ((b - a) * dt)
-            vh = np.hypot(*((self.body_pos[b, :2] - self.body_pos[a, :2]) / ((b - a) * dt)))
+            a = k * n
+            vel = self.mean_velocity(a, (k + 1) * n)
+            vz, vh = vel[2], np.hypot(*vel[:2])
             m = att[a:a + n].mean(0)
             out.append({"mean_vertical_speed": float(vz), "horizontal_speed": float(vh), "pitch_deg": float(m[0]),
                         "roll_deg": float(m[1]), "yaw_deg": float(m[2])})
         return out
+
+    def mean_velocity(self, a: int, b: int) -> np.ndarray:
+        """Mean velocity (3,) [m/s] of the body centre of mass from the start of step a to the start of step b
+        (b = n: the end of the flight, from end_pos; without it, the start of the last step)."""
+        if b >= len(self.t):
+            if self.end_pos is not None:
+                return (np.asarray(self.end_pos) - self.body_pos[a]) / (self.end_t - self.t[a])
+            b = len(self.t) - 1
+        return (self.body_pos[b] - self.body_pos[a]) / (self.t[b] - self.t[a] if b > a else 1.0)
 
     def departed_at_beat(self, beats: list[dict] | None = None) -> int | None:
         """First wingbeat (1-based) whose cycle mean is more than :data:`DEPARTURE_SPEED` from the target speed
@@ -108,8 +120,7 @@ class FlightResult:
         """The CLI contract's `fly` keys plus cycle-averaged coefficients of the last cycle."""
         n = self.steps_per_cycle
         first, last = slice(0, n), slice(len(self.t) - n, len(self.t))
-        T = n * (self.t[1] - self.t[0])
-        vz = (self.body_pos[-1, 2] - self.body_pos[-n, 2]) / (T * (n - 1) / n)
+        vz = self.mean_velocity(len(self.t) - n, len(self.t))[2]
         att = self.attitude()
         pitch = att[:, 0]
         beats = self.beats()

@@ -564,6 +564,15 @@ class Simulator:
         """Current (6,) wing joint angles [rad]."""
         return self.d.qpos[self.wing_qpos].copy()
 
+    def body_com(self) -> np.ndarray:
+        """The body's centre of mass (3,) [m] world at the current qpos (its kinematics computed on a scratch
+        copy, so that the data's own derived quantities are left as the last step left them): the position a
+        next step's record would start from."""
+        scratch = mujoco.MjData(self.m)
+        scratch.qpos[:] = self.d.qpos
+        mujoco.mj_kinematics(self.m, scratch)
+        return scratch.xipos[self.body_id].copy()
+
     def momentum(self) -> tuple[np.ndarray, np.ndarray]:
         """Total linear momentum [kg m/s] and angular momentum about the system's centre of mass [kg m^2/s],
         world frame."""

@@ -169,3 +169,17 @@ def test_symmetric_flapping_stays_in_the_sagittal_plane():
     assert np.abs(side).max() < SIDE_FORCE_TOL * scale
     assert abs(sim.d.qpos[1]) < LATERAL_DRIFT_TOL_M  # no lateral drift
     assert np.abs(sim.d.qvel[[3, 5]]).max() < ROLL_YAW_RATE_TOL  # no roll or yaw rate (body frame)
+
+
+def test_the_last_beat_spans_the_whole_beat():
+    """The CLI contract's per-beat mean vertical speed of the LAST beat is measured over the whole beat (to the body
+    position after the last step, FlightResult.end_pos), as every other beat is: a 3-beat flight's third beat equals
+    the third beat of the same flight flown to 4 beats (deterministic, so to round-off). Before 2026-12-03 it ended
+    at the start of the last step, which moved it by 1e-5 m/s here and 4e-5 m/s in the README's controlled
+    surrogate flight (beat 20: 0.99996 against 1.0000004 for beats 1-19)."""
+    from hawksim.cli.fly import fly_named
+
+    short, long = (fly_named(1.0, c, "quasi-steady").summary() for c in (3, 4))
+    for key in ("mean_vertical_speed", "horizontal_speed"):
+        assert short["beats"][2][key] == pytest.approx(long["beats"][2][key], abs=1e-12)
+    assert short["mean_vertical_speed"] == short["beats"][2]["mean_vertical_speed"]
