@@ -84,28 +84,15 @@ def profile_speeds(profile: list[tuple[float, int]] | None, speed: float, beats:
 
 
 class ControlledFlightResult(FlightResult):
-    """A :class:`FlightResult` whose wingbeats may differ in length (f changes): per-beat means over each beat's
-    own time span, the departure test against each beat's speed reference (the rate-limited command): a beat's
-    mean vertical speed departs when it is more than DEPARTURE_SPEED outside the range of this beat's and the
-    previous beat's reference (a reference change reaches the flight one beat late: the new kinematics blend in
-    over the beat)."""
+    """A :class:`FlightResult` whose wingbeats may differ in length (f changes; the per-beat means of
+    :meth:`FlightResult.beats` are over each beat's own time span), with the departure test against each beat's
+    speed reference (the rate-limited command): a beat's mean vertical speed departs when it is more than
+    DEPARTURE_SPEED outside the range of this beat's and the previous beat's reference (a reference change reaches
+    the flight one beat late: the new kinematics blend in over the beat)."""
 
     def __init__(self, *args, beat_steps: int, speed_commands: np.ndarray, **kw):
         super().__init__(*args, **kw)
         object.__setattr__(self, "_speed_commands", np.asarray(speed_commands, float))
-
-    def beats(self) -> list[dict]:
-        n, N = self.steps_per_cycle, len(self.t)
-        att = np.rad2deg(self.attitude())
-        out = []
-        for k in range(N // n):
-            a = k * n
-            vel = self.mean_velocity(a, (k + 1) * n)
-            vz, vh = vel[2], np.hypot(*vel[:2])
-            m = att[a:a + n].mean(0)
-            out.append({"mean_vertical_speed": float(vz), "horizontal_speed": float(vh), "pitch_deg": float(m[0]),
-                        "roll_deg": float(m[1]), "yaw_deg": float(m[2])})
-        return out
 
     def departed_at_beat(self, beats=None):
         from hawksim.flight.result import DEPARTURE_ANGLE_DEG, DEPARTURE_SPEED
@@ -121,12 +108,6 @@ class ControlledFlightResult(FlightResult):
                     or any(abs(b[a] - ref[a]) > DEPARTURE_ANGLE_DEG for a in ("pitch_deg", "roll_deg", "yaw_deg"))):
                 return k
         return None
-
-    def summary(self) -> dict:
-        out = super().summary()
-        n = self.steps_per_cycle
-        out["mean_vertical_speed"] = float(self.mean_velocity(len(self.t) - n, len(self.t))[2])
-        return out
 
 
 @dataclass
