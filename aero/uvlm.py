@@ -361,15 +361,17 @@ class UVLM:
         # 3. influence matrix of the bound rings (+ images), LU solve
         corners = np.concatenate([
             np.stack([G[:-1, :-1], G[:-1, 1:], G[1:, 1:], G[1:, :-1]], axis=2).reshape(-1, 4, 3) for G in rings])
-        A = np.empty((X.shape[0], corners.shape[0]))
-        ring_influence(np.ascontiguousarray(X), np.ascontiguousarray(N), np.ascontiguousarray(corners),
-                       self.rb * self.rb, A)
-        if mirror is not None:
-            A_img = np.empty_like(A)
-            ring_influence(np.ascontiguousarray(_reflect_points(X, *mirror)),
-                           np.ascontiguousarray(_reflect_vectors(N, mirror[1])), np.ascontiguousarray(corners),
-                           self.rb * self.rb, A_img)
-            A += A_img
+        if mirror is None:
+            A = np.empty((X.shape[0], corners.shape[0]))
+            ring_influence(np.ascontiguousarray(X), np.ascontiguousarray(N), np.ascontiguousarray(corners),
+                           self.rb * self.rb, A)
+        else:  # the collocation points and their images in one kernel call: rows n.. are the images' influence
+            n = X.shape[0]
+            AA = np.empty((2 * n, corners.shape[0]))
+            ring_influence(np.concatenate([X, _reflect_points(X, *mirror)]),
+                           np.concatenate([N, _reflect_vectors(N, mirror[1])]), np.ascontiguousarray(corners),
+                           self.rb * self.rb, AA)
+            A = AA[:n] + AA[n:]
         gamma_all = scipy.linalg.lu_solve(scipy.linalg.lu_factor(A, check_finite=False), rhs, check_finite=False)
         if not np.all(np.isfinite(gamma_all)):
             raise FloatingPointError(f"UVLM blow-up at step {k}: non-finite circulation (singular influence "
