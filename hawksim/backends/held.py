@@ -98,11 +98,12 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
         d.time = t
         d.qpos[:3] = 0.0
         d.qpos[3:7] = quat
-        d.qpos[qadr] = np.tile(kin.angles(t), 2)
+        q = kin.motion(t)  # both wings move alike
+        d.qpos[qadr] = np.concatenate((q[0], q[0]))
         d.qvel[:] = 0.0
-        d.qvel[vadr] = np.tile(kin.rates(t), 2)
+        d.qvel[vadr] = np.concatenate((q[1], q[1]))
         d.qacc[:] = 0.0
-        d.qacc[vadr] = np.tile(kin.accelerations(t), 2)
+        d.qacc[vadr] = np.concatenate((q[2], q[2]))
         mujoco.mj_inverse(m, d)  # also brings kinematics and com velocities up to date
         st = replace(read_state(m, d, body, wings, dt), air_v=air)
         if i == 0 and start_cycle == 0:

@@ -159,6 +159,13 @@ class Kinematics:
         out = self.eq1(np.cos(wt), np.sin(wt))[order]
         return np.stack([np.broadcast_to(np.asarray(v, dtype=float), t.shape) for v in out])
 
+    def motion(self, t: float) -> np.ndarray:
+        """(angles, rates, accelerations) of (phi, theta, alpha) at one time t [s]: shape (3, 3), rows in
+        [rad, rad/s, rad/s^2]; :meth:`angles`, :meth:`rates` and :meth:`accelerations` at t, bit for bit, from one
+        cosine and one sine (the held-body loop's per-step call)."""
+        wt = 2 * math.pi * self.f * np.asarray(t, dtype=float)
+        return np.array(self.eq1(np.cos(wt), np.sin(wt)), dtype=float)
+
     def angles(self, t: np.ndarray) -> np.ndarray:
         """(phi, theta, alpha) [rad] at times t [s]: array of shape (3, *t.shape)."""
         return self._eq1_array(t, 0)

@@ -80,6 +80,18 @@ def test_rates_and_accelerations_are_derivatives():
                                atol=ACCEL_FD_ATOL)
 
 
+def test_motion_is_angles_rates_and_accelerations_bit_for_bit():
+    """Kinematics.motion (the held-body loop's one call per step) equals the three array methods exactly, so the
+    shipped held-body results do not change; a wrong row or sign fails it."""
+    kin = table3_kinematics(1.0)
+    for t in np.linspace(0.0, 3 * kin.period, 241):
+        m = kin.motion(t)
+        assert m.shape == (3, 3)
+        assert np.array_equal(m[0], kin.angles(t))
+        assert np.array_equal(m[1], kin.rates(t))
+        assert np.array_equal(m[2], kin.accelerations(t))
+
+
 def test_body_angle_and_stroke_plane():
     assert np.degrees(KIN.chi) == pytest.approx(58.5)  # Table 3: chi = 58.5 deg at beta = 1.5 deg
     # with the body pitched nose-up by chi, the stroke plane normal is tilted forward by beta
