@@ -144,10 +144,17 @@ def sample_kinematics(seed: int, speed: float, i: int) -> Kinematics:
 
 def evaluate_sample(seed: int, speed: float, i: int, resolution: Resolution) -> Sample:
     """Evaluate sample i by the UVLM (body held at ascent speed ``speed``). Runs on a worker."""
+    return evaluate_kinematics(sample_kinematics(seed, speed, i), speed, resolution, seed, i)
+
+
+def evaluate_kinematics(kin: Kinematics, speed: float, resolution: Resolution, seed: int = 0, i: int = 0
+                        ) -> Sample:
+    """A data-set sample's evaluation of any kinematics: its labels, peak force coefficient and the averages one
+    wingbeat earlier, so that :attr:`Sample.status` applies the data set's rule to it (seed, i: the sample's
+    identifiers, recorded only)."""
     from hawksim.backends.held import run
     from hawksim.insect.morphology import HAWKMOTH, RHO_AIR
 
-    kin = sample_kinematics(seed, speed, i)
     t0 = time.perf_counter()
     peak = prev = None
     try:
