@@ -11,14 +11,28 @@ from hawksim.cli.progress import progress_for
 
 
 def cmd_aero(args) -> dict:
+    """The run's averages with the data set's verdict on them (:func:`hawksim.surrogate.dataset.label_status`):
+    ``status`` 'ok' or 'unsettled' (the averaged wingbeat differs from the one before by more than SETTLE_TOL:
+    the loads are not periodic yet) and ``peak_force_coefficient``; a run whose peak force is above
+    PEAK_FORCE_CEILING (a wake vortex crossing the lattice: loads of 5-2000 times a revolving wing's) is a
+    numerical failure (FloatingPointError: exit 3), not a result."""
     from hawksim.backends.held import run
+    from hawksim.surrogate.dataset import PEAK_FORCE_CEILING, held_labels, label_status
 
     res = replace(resolution_from(args, DEFAULT), aero=args.aero)
     progress = progress_for(args, "aero")
     r = run(args.kinematics, args.speed, res, progress=progress)
     a = r.averages
+    y, _, peak, prev = held_labels(r, res.average_cycles)
+    status = label_status(y, peak, prev)
+    if status == "diverged":
+        raise FloatingPointError(
+            f"the {res.aero} run's peak force coefficient is {peak:.3g}, above the credible {PEAK_FORCE_CEILING:g} "
+            "(a wake vortex crossing the lattice): its loads are not physical; try another --n-chord, --n-span "
+            "or --steps-per-cycle" if peak is not None else f"the {res.aero} run's loads are not finite")
     return {
         "L_plus": a.L_plus, "D_plus": a.D_plus, "M_plus": a.M_plus, "P_plus": a.P_plus, "power_W": a.power_W,
+        "status": status, "peak_force_coefficient": peak,
         "wall_time_s": r.wall_time_s,
         "speed": args.speed, "kinematics": args.kinematics.to_edge(), "chi_deg": math.degrees(args.kinematics.chi),
         "resolution": res.to_dict(),

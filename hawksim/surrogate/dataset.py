@@ -116,12 +116,8 @@ class Sample:
 
     @property
     def status(self) -> str:
-        """'diverged', 'unsettled' or 'ok' (module docstring)."""
-        if self.y is None or self.peak_cf is None or self.peak_cf > PEAK_FORCE_CEILING:
-            return "diverged"
-        if self.y_prev is not None and max(abs(a - b) for a, b in zip(self.y, self.y_prev)) > SETTLE_TOL:
-            return "unsettled"
-        return "ok"
+        """'diverged', 'unsettled' or 'ok' (:func:`label_status`)."""
+        return label_status(self.y, self.peak_cf, self.y_prev)
 
     @property
     def ok(self) -> bool:
@@ -153,27 +149,46 @@ def evaluate_kinematics(kin: Kinematics, speed: float, resolution: Resolution, s
     wingbeat earlier, so that :attr:`Sample.status` applies the data set's rule to it (seed, i: the sample's
     identifiers, recorded only)."""
     from hawksim.backends.held import run
-    from hawksim.insect.morphology import HAWKMOTH, RHO_AIR
 
     t0 = time.perf_counter()
     peak = prev = None
     try:
-        r = run(kin, speed, resolution)
-        a = r.averages
-        y = (a.L_plus, a.D_plus, a.M_plus, a.P_plus)
-        k = resolution.average_cycles
-        if len(r.per_cycle) > k:  # the averaged window moved back by one wingbeat (equal-length beats: mean)
-            prev = tuple(float(np.mean([getattr(c, n) for c in r.per_cycle[-k - 1:-1]])) for n in OUTPUTS)
-        power = a.power_W
-        u_tip = 2.0 * math.pi * kin.f * kin.phi_a * HAWKMOTH.R
-        peak = float(np.linalg.norm(r.force_world, axis=1).max()
-                     / (0.5 * RHO_AIR * u_tip**2 * 2.0 * HAWKMOTH.wing_area))
-        if not all(math.isfinite(v) for v in (*y, power, peak, *(prev or ()))):
-            y, power, peak, prev = None, None, None, None
+        y, power, peak, prev = held_labels(run(kin, speed, resolution), resolution.average_cycles)
     except FloatingPointError:
         y, power = None, None
     return Sample(float(speed), int(seed), int(i), tuple(float(v) for v in kin.as_array()), y, power,
                   time.perf_counter() - t0, peak, prev)
+
+
+def held_labels(r, average_cycles: int) -> tuple:
+    """What a data set records of a held-body run r (:class:`hawksim.backends.held.HeldResult`) averaged over its
+    last ``average_cycles`` wingbeats: (y = (L+, D+, M+, P+), power_W [W], the peak force coefficient (see
+    :data:`PEAK_FORCE_CEILING`), the averages one wingbeat earlier or None when the run has no earlier window);
+    all None when any of them is not finite. :func:`label_status` turns them into the data set's status."""
+    from hawksim.insect.morphology import HAWKMOTH, RHO_AIR
+
+    a, kin, k = r.averages, r.kinematics, average_cycles
+    y = (a.L_plus, a.D_plus, a.M_plus, a.P_plus)
+    prev = None
+    if len(r.per_cycle) > k:  # the averaged window moved back by one wingbeat (equal-length beats: mean)
+        prev = tuple(float(np.mean([getattr(c, n) for c in r.per_cycle[-k - 1:-1]])) for n in OUTPUTS)
+    u_tip = 2.0 * math.pi * kin.f * kin.phi_a * HAWKMOTH.R
+    peak = float(np.linalg.norm(r.force_world, axis=1).max()
+                 / (0.5 * RHO_AIR * u_tip**2 * 2.0 * HAWKMOTH.wing_area))
+    if not all(math.isfinite(v) for v in (*y, a.power_W, peak, *(prev or ()))):
+        return None, None, None, None
+    return y, a.power_W, peak, prev
+
+
+def label_status(y, peak_cf, y_prev) -> str:
+    """The data set's status of a label (module docstring): 'diverged' (no finite label, or a peak force
+    coefficient above :data:`PEAK_FORCE_CEILING`), 'unsettled' (it differs from the averages one wingbeat earlier
+    by more than :data:`SETTLE_TOL`) or 'ok'."""
+    if y is None or peak_cf is None or peak_cf > PEAK_FORCE_CEILING:
+        return "diverged"
+    if y_prev is not None and max(abs(a - b) for a, b in zip(y, y_prev)) > SETTLE_TOL:
+        return "unsettled"
+    return "ok"
 
 
 # --------------------------------------------------------------------------------------------- the file

@@ -109,8 +109,42 @@ def test_aero_cli_contract(capsys):
     for k in ("L_plus", "D_plus", "M_plus", "P_plus", "power_W", "wall_time_s"):
         assert np.isfinite(out[k])
     assert out["power_W"] == pytest.approx(out["P_plus"] * 84.2e-3)
+    # a healthy run's verdict: periodic, and its peak force coefficient where a revolving wing's lies (0.6-2.9
+    # across 100 hover samples, hawksim.surrogate.dataset.PEAK_FORCE_CEILING)
+    assert out["status"] == "ok" and 0.3 < out["peak_force_coefficient"] < 3.0
     assert main(["aero", "--speed", "1", "--kinematics", kin.replace("f=29.4", "f=inf"), "--json"]) == 2
     assert "f" in capsys.readouterr().err
+
+
+SPIKE_KIN = "f=31.7254,beta=19.8123,phi0=18.288,theta0=-12.5012,alpha0=2.45871,phi_a=40.2715,alpha_a=68.2367"
+"""Kinematics inside Table 2 at which the default lattice's run blows up without going non-finite (a wake vortex
+crossing the lattice): per-beat L+ -685, -233, -5.0, peak force coefficient 1.2e4 (2026-12-03; found 5 % of the
+ranges from a held-out sample by scripts/studies/reference_label_roughness.py). Before, `hawksim aero` printed
+L+ -5.0 as a result."""
+
+
+def test_aero_refuses_a_blown_up_run(capsys):
+    """A run whose peak force coefficient is above the data set's ceiling is a numerical failure (exit 3, one line
+    naming the peak and the ceiling, nothing on stdout), as a data set would store it as 'diverged'."""
+    code = main(["aero", "--speed", "1.5", "--kinematics", SPIKE_KIN, "--json", "--no-progress"])
+    cap = capsys.readouterr()
+    err = cap.err.strip().splitlines()
+    assert code == 3 and cap.out == "" and len(err) == 1
+    assert "peak force coefficient" in err[0] and "above the credible 4" in err[0]
+
+
+def test_label_status_rule():
+    """The data set's verdict (hawksim.surrogate.dataset.label_status): diverged above the peak ceiling or without
+    a label, unsettled past SETTLE_TOL from the wingbeat before, else ok; each boundary crossed once."""
+    from hawksim.surrogate.dataset import PEAK_FORCE_CEILING, SETTLE_TOL, label_status
+
+    y = (1.0, 0.1, 0.1, 1.0)
+    assert label_status(y, 1.0, None) == "ok"
+    assert label_status(None, None, None) == "diverged"
+    assert label_status(y, PEAK_FORCE_CEILING * 1.01, None) == "diverged"
+    assert label_status(y, PEAK_FORCE_CEILING * 0.99, None) == "ok"
+    assert label_status(y, 1.0, (1.0 + 1.01 * SETTLE_TOL, 0.1, 0.1, 1.0)) == "unsettled"
+    assert label_status(y, 1.0, (1.0 + 0.99 * SETTLE_TOL, 0.1, 0.1, 1.0)) == "ok"
 
 
 def test_uvlm_flight_stays_symmetric():
