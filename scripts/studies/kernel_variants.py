@@ -1,0 +1,168 @@
+"""What bounds the lattice kernel? Two rewrites of its edge loop timed against it, side by side (issue 23).
+
+The lattice kernel (:func:`aero.biot_savart._lattice_chunks`) evaluates, per target and edge, K = (r1 - r2) .
+(r1/|r1| - r2/|r2|) and c = r1 x r2 from the target's corner vectors. Variants, each in the kernel's own structure
+(blocks of :data:`aero.biot_savart.LATTICE_BLOCK` corners, the corner pass :func:`aero.biot_savart.corner_vectors`
+unchanged, one thread):
+
+* ``base``: the shipped kernel;
+* ``edge_vector``: r1 - r2 is the edge's own vector d (target-independent), precomputed per edge, and c = d x r1:
+  three lane-operations fewer per edge (36.3 -> 33.3 per pair); the same velocities to round-off (not the same
+  bits, so the shipped results would move: the free wake at hover amplifies round-off, docs/surrogate.md);
+* ``no_division``: ``edge_vector`` with the division by the denominator replaced by a multiplication, a
+  diagnostic (wrong velocities): how much of the time the divider takes.
+
+Rates in G edge-target pairs/s on bench_uvlm.py's lattice (601 x 17 corners, 4000 targets), best of 5, twice
+interleaved; with ``--widths 256 512`` the 512-bit figures come from a child process with HAWKSIM_VECTOR_WIDTH=512
+(the vector width is fixed per process). Prints ONE JSON object.
+
+    python scripts/studies/kernel_variants.py [--widths 256 512] [--out FILE]
+"""
+
+from __future__ import annotations
+
+import aero  # noqa: F401, I001  (before numba: importing aero applies HAWKSIM_VECTOR_WIDTH)
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+from numba import njit
+
+from aero.biot_savart import FOUR_PI, LATTICE_BLOCK, TINY, _lattice_chunks, corner_vectors
+from aero.lattice import ring_lattice, stacked_lattices
+from aero.vector_width import vector_bits
+
+
+def _make(divide: bool):
+    @njit(fastmath=True, error_model="numpy", inline="always")
+    def edge_sum(m, x1, y1, z1, e1, f1, g1, e2, f2, g2, dx, dy, dz, gamma, rr, ux, uy, uz):
+        for k in range(m):
+            ax, ay, az = x1[k], y1[k], z1[k]
+            px, py, pz = dx[k], dy[k], dz[k]
+            cx = py * az - pz * ay
+            cy = pz * ax - px * az
+            cz = px * ay - py * ax
+            K = px * (e1[k] - e2[k]) + py * (f1[k] - f2[k]) + pz * (g1[k] - g2[k])
+            den = cx * cx + cy * cy + cz * cz + rr[k] + TINY
+            f = gamma[k] * K / den if divide else gamma[k] * K * den
+            ux += f * cx
+            uy += f * cy
+            uz += f * cz
+        return ux, uy, uz
+
+    @njit(nogil=True, fastmath=True, error_model="numpy")
+    def kernel(targets, vx, vy, vz, stride, sdx, sdy, sdz, cdx, cdy, cdz, sg_all, sr_all, cg_all, cr_all, out):
+        n, nc = targets.shape[0], vx.shape[0]
+        block = LATTICE_BLOCK
+        nb = (nc + block - 1) // block
+        scale = 1.0 / FOUR_PI
+        size = block + stride + 1
+        rx, ry, rz = np.empty(size), np.empty(size), np.empty(size)
+        ex, ey, ez = np.empty(size), np.empty(size), np.empty(size)
+        for b in range(nb):
+            c0 = b * block
+            c1 = min(c0 + block, nc)
+            m = min(c1 + stride, nc) - c0
+            ms = min(c1, nc - 1) - c0
+            mc = min(c1, nc - stride) - c0
+            bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
+            sg, sr, cg, cr = sg_all[c0:], sr_all[c0:], cg_all[c0:], cr_all[c0:]
+            a1, a2, a3, b1, b2, b3 = sdx[c0:], sdy[c0:], sdz[c0:], cdx[c0:], cdy[c0:], cdz[c0:]
+            for i in range(n):
+                corner_vectors(targets[i, 0], targets[i, 1], targets[i, 2], bx, by, bz, m, rx, ry, rz, ex, ey, ez)
+                ux, uy, uz = edge_sum(ms, rx, ry, rz, ex, ey, ez, ex[1:], ey[1:], ez[1:], a1, a2, a3, sg, sr,
+                                      0.0, 0.0, 0.0)
+                if mc > 0:
+                    ux, uy, uz = edge_sum(mc, rx, ry, rz, ex, ey, ez, ex[stride:], ey[stride:], ez[stride:],
+                                          b1, b2, b3, cg, cr, ux, uy, uz)
+                out[i, 0] += ux * scale
+                out[i, 1] += uy * scale
+                out[i, 2] += uz * scale
+
+    return kernel
+
+
+def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
+    """Rates [G pairs/s] of the three variants in this process (its vector width) and the edge_vector variant's
+    largest velocity difference from base, relative to the largest velocity."""
+    rng = np.random.default_rng(0)
+    G = np.zeros((rows + 1, ns + 1, 3))
+    G[..., 0] = -1e-3 * np.arange(rows + 1)[:, None]
+    G[..., 1] = 3e-3 * np.arange(ns + 1)[None, :]
+    G += 2e-4 * rng.normal(size=G.shape)
+    lat = ring_lattice(G, 1e-3 * rng.normal(size=(rows, ns)), 1e-8, 1e-8)
+    p = np.ascontiguousarray(np.stack([-0.6 * rng.random(nt), 0.05 * rng.random(nt), 0.01 * rng.normal(size=nt)],
+                                      axis=1))
+    (stride, arrays), = stacked_lattices([lat]).items()
+    vx, vy, vz, sg, sr, cg, cr = (np.ascontiguousarray(a) for a in arrays)
+
+    def diff(v, s):
+        d = np.zeros_like(v)
+        d[:-s] = v[s:] - v[:-s]
+        return d
+
+    d = [diff(v, 1) for v in (vx, vy, vz)] + [diff(v, stride) for v in (vx, vy, vz)]
+    counter = np.zeros(1, np.int64)
+    with_div, without_div = _make(True), _make(False)
+
+    def base(out):
+        counter[0] = 0
+        _lattice_chunks(p, vx, vy, vz, stride, sg, sr, cg, cr, out, counter, 1)
+
+    variants = {"base": base,
+                "edge_vector": lambda out: with_div(p, vx, vy, vz, stride, *d, sg, sr, cg, cr, out),
+                "no_division": lambda out: without_div(p, vx, vy, vz, stride, *d, sg, sr, cg, cr, out)}
+    outs = {}
+    for name, f in variants.items():
+        outs[name] = np.zeros((nt, 3))
+        f(outs[name])
+    pairs = (sg.size + cg.size) * nt
+    got = {name: [] for name in variants}
+    for _ in range(rounds):
+        for name, f in variants.items():
+            best = np.inf
+            for _ in range(reps):
+                o = np.zeros((nt, 3))
+                t0 = time.perf_counter()
+                f(o)
+                best = min(best, time.perf_counter() - t0)
+            got[name].append(round(pairs / best / 1e9, 3))
+    rel = float(np.abs(outs["edge_vector"] - outs["base"]).max() / np.abs(outs["base"]).max())
+    return {"g_pairs_s": got, "best_ratio_to_base": {k: round(max(v) / max(got["base"]), 3) for k, v in got.items()},
+            "edge_vector_max_rel_difference": rel}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--widths", nargs="+", default=["256", "512"], choices=["256", "512"])
+    ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--out")
+    a = ap.parse_args()
+    if a.child:
+        print(json.dumps({"bits": vector_bits(), **rates()}))
+        return
+    from hawksim.jsonout import emit, host_info
+
+    began = host_info()
+    out = {}
+    for w in a.widths:
+        env = dict(os.environ, HAWKSIM_VECTOR_WIDTH=w)
+        env.pop("NUMBA_CPU_FEATURES", None)
+        proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--child"], env=env, capture_output=True,
+                              text=True, check=True)
+        r = json.loads(proc.stdout.strip().splitlines()[-1])
+        if r.pop("bits") != int(w):
+            sys.exit(f"error: the {w}-bit child compiled for another width (no AVX-512F here?)")
+        out[w] = r
+    command = " ".join(["python", "scripts/studies/kernel_variants.py", *sys.argv[1:]])
+    emit({"command": command, "began": began["date"], "ended": host_info()["date"], "host": began,
+          "loadavg_after": host_info()["loadavg"], "threads": 1, "widths": out}, a.out)
+
+
+if __name__ == "__main__":
+    main()
