@@ -79,7 +79,9 @@ def kernel_rate(ns=20000, nt=4000, reps=5):
     return ns * nt / best / 1e9
 
 
-def lattice_kernel_rate(rows=600, ns=16, nt=4000, reps=5):
+def kernel_lattice(rows=600, ns=16, nt=4000):
+    """The lattice-kernel benchmark's case (seed 0): a wake-like lattice of rows x ns rings (a stretched, jittered
+    sheet, 1 mm x 3 mm rings) and nt targets around it: (Lattice, targets (nt, 3))."""
     rng = np.random.default_rng(0)
     G = np.zeros((rows + 1, ns + 1, 3))
     G[..., 0] = -1e-3 * np.arange(rows + 1)[:, None]
@@ -87,6 +89,11 @@ def lattice_kernel_rate(rows=600, ns=16, nt=4000, reps=5):
     G += 2e-4 * rng.normal(size=G.shape)
     lat = ring_lattice(G, 1e-3 * rng.normal(size=(rows, ns)), 1e-8, 1e-8)
     p = np.stack([-0.6 * rng.random(nt), 0.05 * rng.random(nt), 0.01 * rng.normal(size=nt)], axis=1)
+    return lat, p
+
+
+def lattice_kernel_rate(rows=600, ns=16, nt=4000, reps=5):
+    lat, p = kernel_lattice(rows, ns, nt)
     lattice_velocity(p[:8], [lat])
     best = np.inf
     for _ in range(reps):

@@ -12,6 +12,8 @@ unchanged, one thread):
 * ``no_division``: ``edge_vector`` with the division by the denominator replaced by a multiplication, a
   diagnostic (wrong velocities): how much of the time the divider takes.
 
+The variants repeat the kernel's block loop on purpose (a measurement of alternatives, not a second kernel).
+
 Rates in G edge-target pairs/s on bench_uvlm.py's lattice (601 x 17 corners, 4000 targets), best of 5, twice
 interleaved; with ``--widths 256 512`` the 512-bit figures come from a child process with HAWKSIM_VECTOR_WIDTH=512
 (the vector width is fixed per process). Prints ONE JSON object.
@@ -34,8 +36,11 @@ import numpy as np
 from numba import njit
 
 from aero.biot_savart import FOUR_PI, LATTICE_BLOCK, TINY, _lattice_chunks, corner_vectors
-from aero.lattice import ring_lattice, stacked_lattices
+from aero.lattice import stacked_lattices
 from aero.vector_width import vector_bits
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks"))
+from bench_uvlm import kernel_lattice  # noqa: E402
 
 
 def _make(divide: bool):
@@ -90,14 +95,8 @@ def _make(divide: bool):
 def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
     """Rates [G pairs/s] of the three variants in this process (its vector width) and the edge_vector variant's
     largest velocity difference from base, relative to the largest velocity."""
-    rng = np.random.default_rng(0)
-    G = np.zeros((rows + 1, ns + 1, 3))
-    G[..., 0] = -1e-3 * np.arange(rows + 1)[:, None]
-    G[..., 1] = 3e-3 * np.arange(ns + 1)[None, :]
-    G += 2e-4 * rng.normal(size=G.shape)
-    lat = ring_lattice(G, 1e-3 * rng.normal(size=(rows, ns)), 1e-8, 1e-8)
-    p = np.ascontiguousarray(np.stack([-0.6 * rng.random(nt), 0.05 * rng.random(nt), 0.01 * rng.normal(size=nt)],
-                                      axis=1))
+    lat, p = kernel_lattice(rows, ns, nt)
+    p = np.ascontiguousarray(p)
     (stride, arrays), = stacked_lattices([lat]).items()
     vx, vy, vz, sg, sr, cg, cr = (np.ascontiguousarray(a) for a in arrays)
 
