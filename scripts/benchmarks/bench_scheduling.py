@@ -1,12 +1,15 @@
 """Benchmark of aero.scheduling's two tuned constants, in one process, settings interleaved; prints ONE JSON object.
 
 * handoff_us: the cost of splitting one kernel call over 2 threads (the pool hand-off), measured as the time of
-  a call too small to matter (8 targets x one 2 x 2 lattice) with 2 threads minus with 1, per call [us];
+  a call too small to matter (8 targets x one 2 x 2 lattice) with 2 threads minus with 1, per call [us], calls
+  back to back; handoff_after_gap_us: the same with ``GAP_S`` of numpy work between the calls (not timed), as
+  between a UVLM step's kernel calls, where the pool's idle thread has gone to sleep (median over the calls);
 * reference case (bench_uvlm.py's: 8 x 16 panels, ``--steps`` steps, free wake) and ``hawksim aero``'s solve
   (Table 3 hover, default resolution) under each setting of CHUNKS_PER_THREAD and MIN_PARALLEL_WORK given,
   ``--repeats`` rounds, with the load average at each run. All with numba's thread count (NUMBA_NUM_THREADS).
 
     python scripts/benchmarks/bench_scheduling.py [--chunks 4,16] [--min-work 0,100000] [--repeats 2]
+        [--handoff-only]
 """
 
 from __future__ import annotations
@@ -38,7 +41,19 @@ def _loadavg():
         return None
 
 
-def handoff_us(calls: int = 2000) -> float:
+GAP_S = 2e-4
+"""Numpy work between two timed calls in handoff_us(gap=True) [s]: the order of the Python work between a UVLM
+step's kernel calls at the default lattice (~0.1-0.5 ms)."""
+
+
+def _gap(seconds: float) -> None:
+    t_end = time.perf_counter() + seconds
+    x = np.ones(4096)
+    while time.perf_counter() < t_end:
+        x = x * 1.0000001
+
+
+def handoff_us(calls: int = 2000, gap: bool = False) -> float:
     rng = np.random.default_rng(0)
     lat = ring_lattice(rng.normal(size=(3, 3, 3)), rng.normal(size=(2, 2)), 1e-6, 1e-6)
     p = rng.normal(size=(8, 3))
@@ -52,10 +67,20 @@ def handoff_us(calls: int = 2000) -> float:
                 scheduling.thread_count = lambda t=threads: t
                 try:
                     lattice_velocity(p, [lat])
-                    t0 = time.perf_counter()
-                    for _ in range(calls):
-                        lattice_velocity(p, [lat])
-                    best[threads] = min(best.get(threads, np.inf), (time.perf_counter() - t0) / calls)
+                    if gap:
+                        times = []
+                        for _ in range(calls // 4):
+                            _gap(GAP_S)
+                            t0 = time.perf_counter()
+                            lattice_velocity(p, [lat])
+                            times.append(time.perf_counter() - t0)
+                        per_call = statistics.median(times)
+                    else:
+                        t0 = time.perf_counter()
+                        for _ in range(calls):
+                            lattice_velocity(p, [lat])
+                        per_call = (time.perf_counter() - t0) / calls
+                    best[threads] = min(best.get(threads, np.inf), per_call)
                 finally:
                     scheduling.thread_count = numba_threads
     finally:
@@ -69,13 +94,19 @@ def main() -> None:
     ap.add_argument("--min-work", default="0,100000", help="MIN_PARALLEL_WORK values (comma list)")
     ap.add_argument("--steps", type=int, default=220)
     ap.add_argument("--repeats", type=int, default=2)
+    ap.add_argument("--handoff-only", action="store_true", help="only the two hand-off figures")
     ap.add_argument("--out")
     args = ap.parse_args()
     settings = [(int(c), int(w)) for c in args.chunks.split(",") for w in args.min_work.split(",")]
+    out = {"command": " ".join(["python", *sys.argv]), "threads": scheduling.thread_count(), "loadavg_1min_before":
+           _loadavg(), "handoff_us": round(handoff_us(), 1), "handoff_after_gap_us": round(handoff_us(gap=True), 1),
+           "gap_s": GAP_S, "settings": {}}
+    if args.handoff_only:
+        out["loadavg_1min_after"] = _loadavg()
+        emit(out, args.out, host=True)
+        return
     run_case(steps=4, cycles=4 / 220 * 3)
     run(table3_kinematics(0.0), 0.0, DEFAULT)
-    out = {"command": " ".join(["python", *sys.argv]),
-           "threads": scheduling.thread_count(), "handoff_us": round(handoff_us(), 1), "settings": {}}
     rows = {s: {"reference_s": [], "aero_s": [], "loadavg": [], "hash": set()} for s in settings}
     for _ in range(args.repeats):
         for s in settings:
