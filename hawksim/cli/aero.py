@@ -17,14 +17,13 @@ def cmd_aero(args) -> dict:
     PEAK_FORCE_CEILING (a wake vortex crossing the lattice: loads of 5-2000 times a revolving wing's) is a
     numerical failure (FloatingPointError: exit 3), not a result."""
     from hawksim.backends.held import run
-    from hawksim.surrogate.dataset import PEAK_FORCE_CEILING, held_labels, label_status
+    from hawksim.surrogate.dataset import PEAK_FORCE_CEILING, held_status
 
     res = replace(resolution_from(args, DEFAULT), aero=args.aero)
     progress = progress_for(args, "aero")
     r = run(args.kinematics, args.speed, res, progress=progress)
     a = r.averages
-    y, _, peak, prev = held_labels(r, res.average_cycles)
-    status = label_status(y, peak, prev)
+    status, peak = held_status(r, res.average_cycles)
     if status == "diverged":
         raise FloatingPointError(
             f"the {res.aero} run's peak force coefficient is {peak:.3g}, above the credible {PEAK_FORCE_CEILING:g} "

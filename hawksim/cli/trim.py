@@ -45,12 +45,16 @@ def cmd_trim(args) -> dict:
            "nm_evaluations": r.evaluations, "wall_time_s": r.wall_time_s,
            "model": sur.meta.get("command", args.model or args.network)}
     if args.verify:
-        from hawksim.backends.held import evaluate
+        from hawksim.backends.held import run
         from hawksim.backends.resolution import DEFAULT
+        from hawksim.surrogate.dataset import held_status
 
-        a = evaluate(r.kinematics, args.speed, DEFAULT)
+        run_ = run(r.kinematics, args.speed, DEFAULT)
+        a = run_.averages
+        status, peak = held_status(run_, DEFAULT.average_cycles)  # 'diverged': the UVLM's check is not a result
         out["uvlm"] = {"L_plus": a.L_plus, "D_plus": a.D_plus, "M_plus": a.M_plus, "P_plus": a.P_plus,
-                       "power_W": a.power_W, "resolution": DEFAULT.to_dict()}
+                       "power_W": a.power_W, "status": status, "peak_force_coefficient": peak,
+                       "resolution": DEFAULT.to_dict()}
     if args.balance:
         from hawksim.trim.balance import balance_on_uvlm
 

@@ -180,6 +180,13 @@ def held_labels(r, average_cycles: int) -> tuple:
     return y, a.power_W, peak, prev
 
 
+def held_status(r, average_cycles: int) -> tuple[str, float | None]:
+    """The data set's status of a held-body run r (:func:`label_status` of :func:`held_labels`) and its peak force
+    coefficient (None when not finite): the verdict `hawksim aero` and `hawksim trim --verify` print."""
+    y, _, peak, prev = held_labels(r, average_cycles)
+    return label_status(y, peak, prev), peak
+
+
 def label_status(y, peak_cf, y_prev) -> str:
     """The data set's status of a label (module docstring): 'diverged' (no finite label, or a peak force
     coefficient above :data:`PEAK_FORCE_CEILING`), 'unsettled' (it differs from the averages one wingbeat earlier

@@ -142,3 +142,14 @@ def test_trim_cli_and_bad_input(tmp_path, capsys):
         assert main(["trim", *args, "--no-progress", "--json"]) == 2
         cap = capsys.readouterr()
         assert cap.out == "" and len(cap.err.strip().splitlines()) == 1 and needle in cap.err
+
+
+def test_trim_verify_reports_the_uvlm_check_and_its_verdict(capsys):
+    """`trim --verify` runs the UVLM at the trim and says whether that run is a result: the data set's status and
+    peak force coefficient (hawksim.surrogate.dataset.held_status). At the shipped 1 m/s network's trim (a small
+    GA, seed 0) the check is healthy: lift within 0.15 of the surrogate's balance (the training lattice sits ~8 %
+    from the default one, docs/surrogate.md), peak force coefficient 0.58 measured, below the ceiling 4."""
+    assert main(["trim", "--speed", "1", "--population", "500", "--verify", "--no-progress", "--json"]) == 0
+    u = json.loads(capsys.readouterr().out)["uvlm"]
+    assert u["status"] == "ok" and 0.3 < u["peak_force_coefficient"] < 3.0
+    assert abs(u["L_plus"] - 1.0) < 0.15
