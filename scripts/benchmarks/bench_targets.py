@@ -10,6 +10,9 @@ already there is not run again, so an interrupted sitting resumes, and ``--force
 * ``fly``: scripts/benchmarks/bench_treecode.py --sections crossover fly roofline (a 20-wingbeat
   `hawksim fly --aero uvlm` with a 10-wingbeat wake, direct, tree and auto; the wake sizes of a held-body flight
   after 1-10 beats; the FMA roofline of this CPU and the lattice kernel's fraction of it);
+* ``uvlm512``, ``fly512``: the ``uvlm`` stage and the ``fly`` stage's flights (``--sections fly``) again with the
+  opt-in 512-bit vectors (``HAWKSIM_VECTOR_WIDTH=512``, aero.vector_width), reported beside the default's
+  (``opt_in_512_bit``); on a host without AVX-512F they run the 256-bit code and say so (``vector_bits``);
 * ``cold``: scripts/benchmarks/bench_cold_start.py --variant new=HEAD (the first `hawksim aero` after an install,
   with the README's `hawksim warmup` step, and without it);
 * ``contention``: scripts/benchmarks/bench_contention.py (1 and 2 threads, idle and with one core busy);
@@ -20,7 +23,9 @@ The summary (``OUT/summary.json`` and stdout) has, per target, the measured valu
 and the stage's load average before and after; the host and the sitting's first and last time. For the 10-beat
 wake it also gives the pair rate the target needs, from the measured wake sizes, against the most this CPU's FMA
 pipes can deliver at the lattice kernel's lane-operations per pair (the roofline section): where the first
-exceeds the second the direct sum cannot meet the target on this machine at any efficiency.
+exceeds the second the direct sum cannot meet the target on this machine at any efficiency. For the reference
+case likewise (``reference_case_floor``): its counted pair evaluations at the lattice kernel's measured rate and
+at the FMA ceiling, the speed-ups over PteraSoftware they allow, and the pair rate 50x needs.
 
     python scripts/benchmarks/bench_targets.py --out-dir results/targets_2026-12-02 [--skip-datasets] [--force]
 """
@@ -70,18 +75,24 @@ def _stages(out: str, py: str) -> dict:
         "uvlm": [py, b + "bench_uvlm.py", "--ptera-json", os.path.join(out, "ptera.raw.json")],
         "fly": [py, b + "bench_treecode.py", "--sections", "crossover", "fly", "roofline", "--cycles",
                 str(FLY_CYCLES)],
+        "uvlm512": [py, b + "bench_uvlm.py", "--ptera-json", os.path.join(out, "ptera.raw.json")],
+        "fly512": [py, b + "bench_treecode.py", "--sections", "fly", "--cycles", str(FLY_CYCLES)],
         "cold": [py, b + "bench_cold_start.py", "--variant", "new=HEAD", "--variant", "new_nowarmup=HEAD:nowarmup"],
         "contention": [py, b + "bench_contention.py", "--repeats", "2"],
         "datasets": ["bash", b + "time_datasets.sh", os.path.join(out, "datasets")],
     }
 
 
+STAGE_ENV = {"uvlm512": {"HAWKSIM_VECTOR_WIDTH": "512"}, "fly512": {"HAWKSIM_VECTOR_WIDTH": "512"}}
+"""Environment of the stages that measure an opt-in setting."""
+
+
 def run_stage(name: str, cmd: list[str], out: str, force: bool) -> dict:
     path = os.path.join(out, f"{name}.json")
     if os.path.exists(path) and not force:
         return json.load(open(path))
-    env = dict(os.environ)
-    if name in ("fly", "uvlm", "ptera"):
+    env = dict(os.environ, **STAGE_ENV.get(name, {}))
+    if name in ("fly", "uvlm", "ptera", "uvlm512", "fly512"):
         env.setdefault("NUMBA_NUM_THREADS", "2")
     began, load0, t0 = _now(), _load(), time.perf_counter()
     print(f"{began} {name}: {' '.join(cmd)}", file=sys.stderr, flush=True)
@@ -169,6 +180,31 @@ def fly_floor(fly: dict) -> dict:
     return out
 
 
+def reference_floor(uvlm: dict, fly: dict | None, ptera_s: float | None) -> dict | None:
+    """The reference case's kernel work against what 50x PteraSoftware needs: its counted edge-target pairs
+    (bench_uvlm.reference_pairs), the time they take at the lattice kernel's measured rate (the uvlm stage's
+    benchmark case, all threads) and at the FMA ceiling (all threads' FMA lane-operations/s at the stage's vector
+    width / the kernel's lane-operations per pair), the speed-ups over PteraSoftware those times allow (the case's
+    other work, ~10 % of it, not counted: upper bounds), and the pair rate a 50x run would need for the pairs
+    alone."""
+    pairs = uvlm.get("reference_case_pairs")
+    if not pairs or not ptera_s:
+        return None
+    rate = uvlm["lattice_kernel_geval_s"]
+    target = TARGETS["speedup_vs_ptera"][0]
+    out = {"vector_bits": uvlm.get("vector_bits"), "pairs": pairs, "kernel_g_pairs_s": rate,
+           "kernel_only_s": round(pairs / rate / 1e9, 2),
+           "speedup_bound_at_kernel_rate": round(ptera_s / (pairs / rate / 1e9), 1),
+           "needed_g_pairs_s_for_target": round(pairs / (ptera_s / target) / 1e9, 2)}
+    roof = (fly or {}).get("roofline") or {}
+    if roof.get("peak"):
+        bits = str(uvlm.get("vector_bits", 256))
+        ceiling = roof["peak"][bits]["all"]["lane_ops_g_s"] / roof["lane_ops_per_pair"]
+        out.update({"fma_ceiling_g_pairs_s": round(ceiling, 2),
+                    "speedup_bound_at_fma_ceiling": round(ptera_s / (pairs / ceiling / 1e9), 1)})
+    return out
+
+
 def summarise(res: dict) -> dict:
     vals, loads = {}, {}
     if "uvlm" in res:
@@ -214,6 +250,31 @@ def summarise(res: dict) -> dict:
             out["fly_10_beat_wake_wingbeats_per_s_mixed"] = mixed["wingbeats_per_s"]
         out["fly_10_beat_wake_floor"] = fly_floor(res["fly"]["result"])
         out["fraction_of_fma_roofline"] = res["fly"]["result"]["roofline"].get("fraction_of_fma_roofline")
+    ptera = out["ptera_wall_s"]
+    fly = res.get("fly", {}).get("result")
+    if "uvlm" in res:
+        out["reference_case_floor"] = reference_floor(res["uvlm"]["result"], fly, ptera)
+    if "uvlm512" in res or "fly512" in res:
+        wide = {}
+        if "uvlm512" in res:
+            u = res["uvlm512"]["result"]
+            wide.update({"vector_bits": u.get("vector_bits"), "reference_case_s": u["reference_case_s"],
+                         "speedup_vs_ptera": round(ptera / u["reference_case_s"], 1) if ptera else None,
+                         "aero_warm_s": u.get("aero_warm_s"), "lattice_kernel_g_pairs_s": u["lattice_kernel_geval_s"],
+                         "reference_case_floor": reference_floor(u, fly, ptera),
+                         "load_before_after": [res["uvlm512"]["stage"]["load_before"],
+                                               res["uvlm512"]["stage"]["load_after"]]})
+        if "fly512" in res:
+            runs = res["fly512"]["result"]["fly"]["runs"]
+            wide.update({"fly_vector_bits": res["fly512"]["result"]["fly"].get("vector_bits"),
+                         "fly_10_beat_wake_wingbeats_per_s": max(runs[k]["wingbeats_per_s"] for k in
+                                                                 ("wake_10_direct", "wake_10_tree", "wake_10_auto")),
+                         "fly_10_beat_wake_wingbeats_per_s_mixed": runs["wake_10_mixed"]["wingbeats_per_s"],
+                         "fly_load_before_after": [res["fly512"]["stage"]["load_before"],
+                                                   res["fly512"]["stage"]["load_after"]]})
+        wide["met"] = {k: _met(k, wide.get(k)) for k in ("speedup_vs_ptera", "aero_warm_s",
+                                                          "fly_10_beat_wake_wingbeats_per_s")}
+        out["opt_in_512_bit"] = wide
     stages = [r["stage"] for r in res.values()]
     out["sitting"] = {"first": min(s["began"] for s in stages), "last": max(s["ended"] for s in stages),
                       "stages": {k: r["stage"] for k, r in res.items()}}

@@ -229,7 +229,7 @@ def fly(cycles: int) -> dict:
     from hawksim.cli.fly import fly_named
 
     fly_named(1.0, 1, "uvlm", wake_cycles=10, wake_summation="tree")  # warm-up: numba cache, model
-    out = {"speed_m_s": 1.0, "cycles": cycles, "threads": _threads(), "runs": {}}
+    out = {"speed_m_s": 1.0, "cycles": cycles, "threads": _threads(), "vector_bits": vector_bits(), "runs": {}}
     settings = (("wake_10_direct", 10, "direct", "float64"), ("wake_10_tree", 10, "tree", "float64"),
                 ("wake_10_auto", 10, "auto", "float64"), ("wake_10_mixed", 10, "direct", "mixed"),
                 ("wake_3_default", 3, "auto", "float64"))

@@ -7,6 +7,11 @@
   4k points; evaluations counted per real edge.
 * reference case: two flapping wings (8 x 16 panels each, mirror images), 3 wingbeats at 25 Hz, 220 steps,
   free wake, no truncation, core growth and leading-edge suction on; wall time excluding compilation.
+* reference_case_pairs, reference_case_kernel_calls: the edge-target pairs the reference case evaluates in the
+  lattice kernel and the kernel's calls (:func:`reference_pairs`, one extra run); reference_case_kernel_share:
+  pairs / lattice_kernel_geval_s / the case's wall time, the share of the run the kernel would take at the
+  benchmark's rate (an estimate: the case's calls are smaller than the benchmark's; by cProfile on 2026-12-04
+  the kernel ran at 0.92 x the benchmark's rate there and took 88 % of the run at 512 bits).
 * compile_s: first-call time of a tiny run (numba compilation or cache load).
 * sqrt_g_s, div_g_s: this machine's float64 square-root and division throughput (G/s, all cores, vectorised
   numba loops), and kernel_bound_geval_s = 1 / (2 / sqrt_g_s + 1 / div_g_s): the per-segment kernel's
@@ -62,6 +67,32 @@ def run_case(steps, cycles=3.0, freq=25.0):
     plane = (np.zeros(3), np.array([0.0, 1.0, 0.0]))
     return run_prescribed([reference_wing()], UVLMConfig(), t, R[:, :1], o[:, :1], v[:, :1],
                           w[:, :1], mirror_plane=plane)
+
+
+def reference_pairs(steps: int = 220) -> dict:
+    """Edge-target pairs the reference case evaluates in the lattice kernel (every call of
+    ``aero.uvlm.lattice_velocity`` in one run: the wake at the collocation points, the loads' edge midpoints and
+    the wake's own corners, mirror images included): targets x lattice edges summed over the calls, counted by
+    wrapping that function for one extra run (the sizes alone set it, so the count is exact and the same every
+    run). Divided by the lattice kernel's measured rate it is the time the kernel alone needs; the rest of a run
+    is the influence matrix, the solve and the step's numpy work."""
+    import aero.uvlm as uvlm_module
+
+    plain = uvlm_module.lattice_velocity
+    count = {"calls": 0, "pairs": 0}
+
+    def counted(targets, lattices, precision="float64"):
+        count["calls"] += 1
+        count["pairs"] += np.asarray(targets).reshape(-1, 3).shape[0] * sum(
+            lat.span_gamma.size + lat.chord_gamma.size for lat in lattices)
+        return plain(targets, lattices, precision)
+
+    uvlm_module.lattice_velocity = counted
+    try:
+        run_case(steps)
+    finally:
+        uvlm_module.lattice_velocity = plain
+    return count
 
 
 def kernel_rate(ns=20000, nt=4000, reps=5):
@@ -169,6 +200,9 @@ def main():
            "vector_bits": vector_bits(),
            "mean_lift_last_cycle_N": float(2 * res.force[-n:, 0, 2].mean()),
            "mean_power_last_cycle_W": float(2 * res.power[-n:].mean())}
+    pairs = reference_pairs(args.steps)
+    out.update({"reference_case_pairs": pairs["pairs"], "reference_case_kernel_calls": pairs["calls"],
+                "reference_case_kernel_share": round(pairs["pairs"] / (lattice_rate * 1e9) / wall, 3)})
     out.update(aero_timings())
     if args.ptera_json:
         with open(args.ptera_json) as f:
