@@ -11,6 +11,11 @@ unchanged, one thread):
   bits, so the shipped results would move: the free wake at hover amplifies round-off, docs/surrogate.md);
 * ``no_division``: ``edge_vector`` with the division by the denominator replaced by a multiplication, a
   diagnostic (wrong velocities): how much of the time the divider takes.
+* ``corners_only``, ``edges_only``: the shipped kernel's two passes apart, diagnostics (wrong velocities): the
+  corner pass alone for every block and target (no edge sums), and the edge sums alone (the corner pass run once
+  per block, for the first target, then the edge sums of every target over those same scratch arrays); their
+  times add up to about the kernel's, and ``split`` gives each pass's FP lane-operations per second (22 per
+  corner, 25 per edge: bench_treecode.LANE_OPS_PER_PAIR's count), to set against the FMA peak at that width.
 
 The variants repeat the kernel's block loop on purpose (a measurement of alternatives, not a second kernel).
 
@@ -35,7 +40,7 @@ import time
 import numpy as np
 from numba import njit
 
-from aero.biot_savart import FOUR_PI, LATTICE_BLOCK, TINY, _lattice_chunks, corner_vectors
+from aero.biot_savart import FOUR_PI, LATTICE_BLOCK, TINY, _edge_sum, _lattice_chunks, corner_vectors
 from aero.lattice import stacked_lattices
 from aero.vector_width import vector_bits
 
@@ -92,6 +97,45 @@ def _make(divide: bool):
     return kernel
 
 
+def _make_split(corners: bool, edges: bool):
+    """The shipped kernel's block loop with only its corner pass (corners) or, after one corner pass per block,
+    only its edge sums (edges) per target."""
+    @njit(nogil=True, fastmath=True, error_model="numpy")
+    def kernel(targets, vx, vy, vz, stride, sg_all, sr_all, cg_all, cr_all, out):
+        n, nc = targets.shape[0], vx.shape[0]
+        block = LATTICE_BLOCK
+        nb = (nc + block - 1) // block
+        size = block + stride + 1
+        rx, ry, rz = np.empty(size), np.empty(size), np.empty(size)
+        ex, ey, ez = np.empty(size), np.empty(size), np.empty(size)
+        for b in range(nb):
+            c0 = b * block
+            c1 = min(c0 + block, nc)
+            m = min(c1 + stride, nc) - c0
+            ms = min(c1, nc - 1) - c0
+            mc = min(c1, nc - stride) - c0
+            bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
+            sg, sr, cg, cr = sg_all[c0:], sr_all[c0:], cg_all[c0:], cr_all[c0:]
+            if not corners:
+                corner_vectors(targets[0, 0], targets[0, 1], targets[0, 2], bx, by, bz, m, rx, ry, rz, ex, ey, ez)
+            for i in range(n):
+                if corners:
+                    corner_vectors(targets[i, 0], targets[i, 1], targets[i, 2], bx, by, bz, m, rx, ry, rz, ex, ey,
+                                   ez)
+                    out[i, 0] += ex[m - 1] + ey[0]  # keeps the pass's results alive
+                if edges:
+                    ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
+                                           ez[1:], sg, sr, 0.0, 0.0, 0.0)
+                    if mc > 0:
+                        ux, uy, uz = _edge_sum(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:], rz[stride:],
+                                               ex[stride:], ey[stride:], ez[stride:], cg, cr, ux, uy, uz)
+                    out[i, 0] += ux
+                    out[i, 1] += uy
+                    out[i, 2] += uz
+
+    return kernel
+
+
 def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
     """Rates [G pairs/s] of the three variants in this process (its vector width) and the edge_vector variant's
     largest velocity difference from base, relative to the largest velocity."""
@@ -108,6 +152,7 @@ def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
     d = [diff(v, 1) for v in (vx, vy, vz)] + [diff(v, stride) for v in (vx, vy, vz)]
     counter = np.zeros(1, np.int64)
     with_div, without_div = _make(True), _make(False)
+    corners_only, edges_only = _make_split(True, False), _make_split(False, True)
 
     def base(out):
         counter[0] = 0
@@ -115,7 +160,9 @@ def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
 
     variants = {"base": base,
                 "edge_vector": lambda out: with_div(p, vx, vy, vz, stride, *d, sg, sr, cg, cr, out),
-                "no_division": lambda out: without_div(p, vx, vy, vz, stride, *d, sg, sr, cg, cr, out)}
+                "no_division": lambda out: without_div(p, vx, vy, vz, stride, *d, sg, sr, cg, cr, out),
+                "corners_only": lambda out: corners_only(p, vx, vy, vz, stride, sg, sr, cg, cr, out),
+                "edges_only": lambda out: edges_only(p, vx, vy, vz, stride, sg, sr, cg, cr, out)}
     outs = {}
     for name, f in variants.items():
         outs[name] = np.zeros((nt, 3))
@@ -132,8 +179,15 @@ def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
                 best = min(best, time.perf_counter() - t0)
             got[name].append(round(pairs / best / 1e9, 3))
     rel = float(np.abs(outs["edge_vector"] - outs["base"]).max() / np.abs(outs["base"]).max())
+    edges, corners = sg.size + cg.size, vx.size
+    ns_pair = {k: 1.0 / max(v) for k, v in got.items()}  # ns per pair, best round
+    split = {"corner_pass_ns_per_pair": round(ns_pair["corners_only"], 4),
+             "edge_pass_ns_per_pair": round(ns_pair["edges_only"], 4),
+             "sum_over_kernel": round((ns_pair["corners_only"] + ns_pair["edges_only"]) / ns_pair["base"], 3),
+             "corner_pass_g_lane_ops_s": round(22 * corners / edges / ns_pair["corners_only"], 2),
+             "edge_pass_g_lane_ops_s": round(25 / ns_pair["edges_only"], 2)}
     return {"g_pairs_s": got, "best_ratio_to_base": {k: round(max(v) / max(got["base"]), 3) for k, v in got.items()},
-            "edge_vector_max_rel_difference": rel}
+            "edge_vector_max_rel_difference": rel, "split": split}
 
 
 def main():
