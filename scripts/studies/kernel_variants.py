@@ -48,6 +48,15 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 from bench_uvlm import kernel_lattice  # noqa: E402
 
 
+@njit(inline="always")
+def _block(b, nc, stride):
+    """Block b's first corner, corners used (with the next row's), spanwise and chordwise edges, as in
+    :func:`aero.biot_savart._lattice_chunks`."""
+    c0 = b * LATTICE_BLOCK
+    c1 = min(c0 + LATTICE_BLOCK, nc)
+    return c0, min(c1 + stride, nc) - c0, min(c1, nc - 1) - c0, min(c1, nc - stride) - c0
+
+
 def _make(divide: bool):
     @njit(fastmath=True, error_model="numpy", inline="always")
     def edge_sum(m, x1, y1, z1, e1, f1, g1, e2, f2, g2, dx, dy, dz, gamma, rr, ux, uy, uz):
@@ -75,11 +84,7 @@ def _make(divide: bool):
         rx, ry, rz = np.empty(size), np.empty(size), np.empty(size)
         ex, ey, ez = np.empty(size), np.empty(size), np.empty(size)
         for b in range(nb):
-            c0 = b * block
-            c1 = min(c0 + block, nc)
-            m = min(c1 + stride, nc) - c0
-            ms = min(c1, nc - 1) - c0
-            mc = min(c1, nc - stride) - c0
+            c0, m, ms, mc = _block(b, nc, stride)
             bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
             sg, sr, cg, cr = sg_all[c0:], sr_all[c0:], cg_all[c0:], cr_all[c0:]
             a1, a2, a3, b1, b2, b3 = sdx[c0:], sdy[c0:], sdz[c0:], cdx[c0:], cdy[c0:], cdz[c0:]
@@ -109,11 +114,7 @@ def _make_split(corners: bool, edges: bool):
         rx, ry, rz = np.empty(size), np.empty(size), np.empty(size)
         ex, ey, ez = np.empty(size), np.empty(size), np.empty(size)
         for b in range(nb):
-            c0 = b * block
-            c1 = min(c0 + block, nc)
-            m = min(c1 + stride, nc) - c0
-            ms = min(c1, nc - 1) - c0
-            mc = min(c1, nc - stride) - c0
+            c0, m, ms, mc = _block(b, nc, stride)
             bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
             sg, sr, cg, cr = sg_all[c0:], sr_all[c0:], cg_all[c0:], cr_all[c0:]
             if not corners:
