@@ -274,6 +274,9 @@ def summarise(res: dict) -> dict:
                                                    res["fly512"]["stage"]["load_after"]]})
         wide["met"] = {k: _met(k, wide.get(k)) for k in ("speedup_vs_ptera", "aero_warm_s",
                                                           "fly_10_beat_wake_wingbeats_per_s")}
+        if 256 in (wide.get("vector_bits"), wide.get("fly_vector_bits")):  # no AVX-512F: the default's code again
+            wide = {"available": False, "vector_bits": wide.get("vector_bits"),
+                    "fly_vector_bits": wide.get("fly_vector_bits")}
         out["opt_in_512_bit"] = wide
     stages = [r["stage"] for r in res.values()]
     out["sitting"] = {"first": min(s["began"] for s in stages), "last": max(s["ended"] for s in stages),
