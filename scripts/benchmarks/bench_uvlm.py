@@ -11,7 +11,7 @@
   lattice kernel and the kernel's calls (:func:`reference_pairs`, one extra run); reference_case_kernel_share:
   pairs / lattice_kernel_geval_s / the case's wall time, the share of the run the kernel would take at the
   benchmark's rate (an estimate: the case's calls are smaller than the benchmark's; by cProfile on 2026-12-04
-  the kernel ran at 0.92 x the benchmark's rate there and took 88 % of the run at 512 bits).
+  the kernel ran at 0.92 x the benchmark's rate there and took 2.73 s of the profiled 3.23 s run at 512 bits).
 * compile_s: first-call time of a tiny run (numba compilation or cache load).
 * sqrt_g_s, div_g_s: this machine's float64 square-root and division throughput (G/s, all cores, vectorised
   numba loops), and kernel_bound_geval_s = 1 / (2 / sqrt_g_s + 1 / div_g_s): the per-segment kernel's
