@@ -185,8 +185,8 @@ def reference_floor(uvlm: dict, fly: dict | None, ptera_s: float | None) -> dict
     (bench_uvlm.reference_pairs), the time they take at the lattice kernel's measured rate (the uvlm stage's
     benchmark case, all threads) and at the FMA ceiling (all threads' FMA lane-operations/s at the stage's vector
     width / the kernel's lane-operations per pair), the speed-ups over PteraSoftware those times allow (the case's
-    other work, ~10 % of it, not counted: upper bounds), and the pair rate a 50x run would need for the pairs
-    alone."""
+    other work, 12-19 % of it on 2026-12-04, not counted: upper bounds), and the pair rate a 50x run would need
+    for the pairs alone."""
     pairs = uvlm.get("reference_case_pairs")
     if not pairs or not ptera_s:
         return None
