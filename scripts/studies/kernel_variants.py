@@ -57,6 +57,13 @@ def _block(b, nc, stride):
     return c0, min(c1 + stride, nc) - c0, min(c1, nc - 1) - c0, min(c1, nc - stride) - c0
 
 
+@njit(inline="always")
+def _scratch(stride):
+    """A target's corner vectors r and unit vectors e for one block, as in :func:`aero.biot_savart._lattice_chunks`."""
+    size = LATTICE_BLOCK + stride + 1
+    return np.empty(size), np.empty(size), np.empty(size), np.empty(size), np.empty(size), np.empty(size)
+
+
 def _make(divide: bool):
     @njit(fastmath=True, error_model="numpy", inline="always")
     def edge_sum(m, x1, y1, z1, e1, f1, g1, e2, f2, g2, dx, dy, dz, gamma, rr, ux, uy, uz):
@@ -77,12 +84,9 @@ def _make(divide: bool):
     @njit(nogil=True, fastmath=True, error_model="numpy")
     def kernel(targets, vx, vy, vz, stride, sdx, sdy, sdz, cdx, cdy, cdz, sg_all, sr_all, cg_all, cr_all, out):
         n, nc = targets.shape[0], vx.shape[0]
-        block = LATTICE_BLOCK
-        nb = (nc + block - 1) // block
+        nb = (nc + LATTICE_BLOCK - 1) // LATTICE_BLOCK
         scale = 1.0 / FOUR_PI
-        size = block + stride + 1
-        rx, ry, rz = np.empty(size), np.empty(size), np.empty(size)
-        ex, ey, ez = np.empty(size), np.empty(size), np.empty(size)
+        rx, ry, rz, ex, ey, ez = _scratch(stride)
         for b in range(nb):
             c0, m, ms, mc = _block(b, nc, stride)
             bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
@@ -108,11 +112,8 @@ def _make_split(corners: bool, edges: bool):
     @njit(nogil=True, fastmath=True, error_model="numpy")
     def kernel(targets, vx, vy, vz, stride, sg_all, sr_all, cg_all, cr_all, out):
         n, nc = targets.shape[0], vx.shape[0]
-        block = LATTICE_BLOCK
-        nb = (nc + block - 1) // block
-        size = block + stride + 1
-        rx, ry, rz = np.empty(size), np.empty(size), np.empty(size)
-        ex, ey, ez = np.empty(size), np.empty(size), np.empty(size)
+        nb = (nc + LATTICE_BLOCK - 1) // LATTICE_BLOCK
+        rx, ry, rz, ex, ey, ez = _scratch(stride)
         for b in range(nb):
             c0, m, ms, mc = _block(b, nc, stride)
             bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
