@@ -1,61 +1,79 @@
-"""Opt-in 512-bit vectors for the numba kernels (process-wide): ``HAWKSIM_VECTOR_WIDTH=512``.
+"""The vector width of the numba kernels (process-wide): ``HAWKSIM_VECTOR_WIDTH=256`` or ``512``.
 
-LLVM, and so numba, vectorises for 256-bit registers on every AVX-512 CPU by default (the tuning flag
-``prefer-256-bit``), because the first AVX-512 server CPUs (Skylake-SP, Cascade Lake) lower their clock while
-512-bit instructions run. Later CPUs (Intel Ice Lake-SP and newer Xeons, AMD Zen 4 and 5) do not, and there the
-lattice Biot-Savart kernel, whose corner loop is bound by the latency of its 1/sqrt refinement, runs 1.2-1.35x
-faster with 512-bit vectors (measured on an Emerald Rapids KVM guest with 2 cores: docs/uvlm.md, "Speed").
+LLVM, and so numba, picks the width of the vectors it compiles loops for by the host CPU's tuning. On the first
+AVX-512 server CPUs (Intel Skylake-SP, Cascade Lake) and the Xeons after them it prefers 256-bit registers (the
+tuning flag ``prefer-256-bit``), because those CPUs lower their clock while 512-bit instructions run; on AMD Zen 5
+(``znver5``: an EPYC KVM guest here, 2026-12-04) it uses 512-bit registers already by default (the compiled
+kernels hold zmm registers). The default width therefore depends on the host, and so do the last bits of every
+result (~1e-15 relative per kernel call, ~1e-12 on a 220-step UVLM run's mean lift).
 
-numba fixes its code-generation target once per process (``NUMBA_CPU_FEATURES``, read when numba is imported), so
-the width cannot be chosen per function. It is therefore opt-in: with ``HAWKSIM_VECTOR_WIDTH=512`` in the
-environment, importing :mod:`aero` (before numba) sets ``NUMBA_CPU_FEATURES`` to the host's features with 512-bit
-vectors preferred, for this process and its children (dask workers). Results differ from the default 256-bit
-code only in the rounding of reassociated sums (~1e-15 relative per kernel call, ~1e-12 on a 220-step UVLM run's
-mean lift), so a data set is bit-reproducible only with the same setting.
+On an Intel Xeon the 512-bit code ran the UVLM 1.19-1.28x faster (an Emerald Rapids KVM guest with 2 cores:
+docs/uvlm.md, "Speed"). numba fixes its code-generation target once per process (``NUMBA_CPU_FEATURES``, read
+when numba is imported), so the width cannot be chosen per function. With ``HAWKSIM_VECTOR_WIDTH`` in the
+environment, importing :mod:`aero` (before numba) sets ``NUMBA_CPU_FEATURES`` to the host's features with the
+256-bit preference turned on (256) or off (512), for this process and its children (dask workers); on a host
+without AVX-512F both give the 256-bit code. Unset, numba's own choice stands. A data set is bit-reproducible only
+with the same width on the same kind of CPU; :func:`vector_bits` says which width a process compiles for.
 """
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 
 ENV = "HAWKSIM_VECTOR_WIDTH"
-"""Environment variable: 512 asks for 512-bit vectors; unset or 256 keeps numba's default."""
+"""Environment variable: 256 or 512 asks for that vector width; unset keeps numba's (the host's) default."""
+
+WIDTHS = ("256", "512")
 
 
-def wide_vector_features(features: str) -> str | None:
-    """``NUMBA_CPU_FEATURES`` for 512-bit vectors given the host's flattened LLVM feature string (such as
-    ``"+avx512f,+fma,..."``), or None when the host lacks AVX-512F."""
+def vector_features(features: str, bits: int = 512) -> str | None:
+    """``NUMBA_CPU_FEATURES`` for ``bits``-bit vectors (256 or 512) given the host's flattened LLVM feature string
+    (such as ``"+avx512f,+fma,..."``), or None when the host lacks AVX-512F (its code is 256-bit either way)."""
     if "+avx512f" not in features.split(","):
         return None
-    return features + ",-prefer-256-bit"
+    return features + (",-prefer-256-bit" if bits == 512 else ",+prefer-256-bit")
 
 
 def apply_vector_width(environ=None, strict: bool = False) -> bool:
-    """Set ``NUMBA_CPU_FEATURES`` for 512-bit vectors when ``HAWKSIM_VECTOR_WIDTH=512`` asks for them.
+    """Set ``NUMBA_CPU_FEATURES`` for the vector width ``HAWKSIM_VECTOR_WIDTH`` asks for.
 
     Does nothing (returns False) without that request, when numba is already imported (its target is then
     fixed), when the user set ``NUMBA_CPU_FEATURES`` already, or on a host without AVX-512F. environ: the
-    environment to read and set (default ``os.environ``). Returns whether 512-bit vectors were set. A value other
+    environment to read and set (default ``os.environ``). Returns whether the features were set. A value other
     than 256 or 512 is ignored, or with strict=True raises ValueError (the ``hawksim`` command reports it)."""
     env = os.environ if environ is None else environ
     want = env.get(ENV, "").strip()
-    if want not in ("", "256", "512"):
+    if want not in ("", *WIDTHS):
         if strict:
             raise ValueError(f"{ENV} must be 256 or 512, got {want!r}")
         return False
-    if want != "512" or "numba" in sys.modules or "NUMBA_CPU_FEATURES" in env:
+    if not want or "numba" in sys.modules or "NUMBA_CPU_FEATURES" in env:
         return False
     import llvmlite.binding as llb
 
-    value = wide_vector_features(llb.get_host_cpu_features().flatten())
+    value = vector_features(llb.get_host_cpu_features().flatten(), int(want))
     if value is None:
         return False
     env["NUMBA_CPU_FEATURES"] = value
     return True
 
 
+@functools.cache
 def vector_bits() -> int:
-    """The vector width [bits] numba compiles for in this process: 512 when ``NUMBA_CPU_FEATURES`` turns off the
-    256-bit preference, else 256."""
-    return 512 if "-prefer-256-bit" in os.environ.get("NUMBA_CPU_FEATURES", "").split(",") else 256
+    """The vector width [bits] numba compiles loops for in this process, read off compiled code: a small loop
+    compiled here (~0.1 s, once per process) and the widest registers in its machine code (512 for zmm, 256 for
+    ymm, else 128). Unlike ``NUMBA_CPU_FEATURES`` this also tells the host's default width."""
+    import numpy as np
+    from numba import njit
+
+    @njit(fastmath=True, error_model="numpy")
+    def axpy(a, x, y):
+        for i in range(x.shape[0]):
+            y[i] += a * x[i]
+
+    x = np.ones(64)
+    axpy(2.0, x, x.copy())
+    asm = axpy.inspect_asm(axpy.signatures[0])
+    return 512 if "zmm" in asm else 256 if "ymm" in asm else 128

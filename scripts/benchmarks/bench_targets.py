@@ -10,9 +10,12 @@ already there is not run again, so an interrupted sitting resumes, and ``--force
 * ``fly``: scripts/benchmarks/bench_treecode.py --sections crossover fly roofline (a 20-wingbeat
   `hawksim fly --aero uvlm` with a 10-wingbeat wake, direct, tree and auto; the wake sizes of a held-body flight
   after 1-10 beats; the FMA roofline of this CPU and the lattice kernel's fraction of it);
-* ``uvlm512``, ``fly512``: the ``uvlm`` stage and the ``fly`` stage's flights (``--sections fly``) again with the
-  opt-in 512-bit vectors (``HAWKSIM_VECTOR_WIDTH=512``, aero.vector_width), reported beside the default's
-  (``opt_in_512_bit``); on a host without AVX-512F they run the 256-bit code and say so (``vector_bits``);
+* ``uvlm<W>``, ``fly<W>``: the ``uvlm`` stage and the ``fly`` stage's flights (``--sections fly``) again at the
+  other vector width W (``HAWKSIM_VECTOR_WIDTH=W``, aero.vector_width): 512 where the host's default is 256 (Intel
+  Xeons), 256 where it is 512 (AMD Zen 5), reported beside the default's (``other_vector_width``); every stage says
+  the width it ran (``vector_bits``, read off the compiled code); on a host without AVX-512F both widths run the
+  256-bit code and the summary says so (``available``); the default stages run with HAWKSIM_VECTOR_WIDTH and
+  NUMBA_CPU_FEATURES removed from their environment;
 * ``cold``: scripts/benchmarks/bench_cold_start.py --variant new=HEAD (the first `hawksim aero` after an install,
   with the README's `hawksim warmup` step, and without it);
 * ``contention``: scripts/benchmarks/bench_contention.py (1 and 2 threads, idle and with one core busy);
@@ -68,32 +71,59 @@ def _now():
     return host_info()["date"]
 
 
-def _stages(out: str, py: str) -> dict:
+WIDTH_VARS = ("HAWKSIM_VECTOR_WIDTH", "NUMBA_CPU_FEATURES")
+"""Environment variables that set the kernels' vector width (aero.vector_width): removed for the default stages."""
+
+
+def default_vector_bits(py: str) -> int:
+    """The vector width [bits] numba compiles for on this host by default (aero.vector_bits in a fresh process
+    without :data:`WIDTH_VARS`)."""
+    env = {k: v for k, v in os.environ.items() if k not in WIDTH_VARS}
+    code = "import aero; from aero.vector_width import vector_bits; print(vector_bits())"
+    proc = subprocess.run([py, "-c", code], cwd=REPO, env=env, capture_output=True, text=True, check=True)
+    return int(proc.stdout.split()[-1])
+
+
+def other_width(default_bits: int) -> int:
+    """The vector width measured beside the default's: 256 where the default is 512, else 512."""
+    return 256 if default_bits == 512 else 512
+
+
+def _stages(out: str, py: str, other: int = 512) -> dict:
     b = os.path.join(HERE, "")
     return {
         "ptera": [py, b + "bench_pterasoftware.py"],
         "uvlm": [py, b + "bench_uvlm.py", "--ptera-json", os.path.join(out, "ptera.raw.json")],
         "fly": [py, b + "bench_treecode.py", "--sections", "crossover", "fly", "roofline", "--cycles",
                 str(FLY_CYCLES)],
-        "uvlm512": [py, b + "bench_uvlm.py", "--ptera-json", os.path.join(out, "ptera.raw.json")],
-        "fly512": [py, b + "bench_treecode.py", "--sections", "fly", "--cycles", str(FLY_CYCLES)],
+        f"uvlm{other}": [py, b + "bench_uvlm.py", "--ptera-json", os.path.join(out, "ptera.raw.json")],
+        f"fly{other}": [py, b + "bench_treecode.py", "--sections", "fly", "--cycles", str(FLY_CYCLES)],
         "cold": [py, b + "bench_cold_start.py", "--variant", "new=HEAD", "--variant", "new_nowarmup=HEAD:nowarmup"],
         "contention": [py, b + "bench_contention.py", "--repeats", "2"],
         "datasets": ["bash", b + "time_datasets.sh", os.path.join(out, "datasets")],
     }
 
 
-STAGE_ENV = {"uvlm512": {"HAWKSIM_VECTOR_WIDTH": "512"}, "fly512": {"HAWKSIM_VECTOR_WIDTH": "512"}}
-"""Environment of the stages that measure an opt-in setting."""
+OTHER_WIDTH_STAGES = ("uvlm256", "fly256", "uvlm512", "fly512")
+"""Stage names of the other vector width (:func:`_stages`); their width is the name's."""
+
+
+def stage_env(name: str) -> dict:
+    """A stage's environment: the default stages without :data:`WIDTH_VARS`, the other-width stages with
+    HAWKSIM_VECTOR_WIDTH from their name, the kernels' stages on 2 threads unless NUMBA_NUM_THREADS says."""
+    env = {k: v for k, v in os.environ.items() if k not in WIDTH_VARS}
+    if name in OTHER_WIDTH_STAGES:
+        env["HAWKSIM_VECTOR_WIDTH"] = name[-3:]
+    if name in ("fly", "uvlm", "ptera", *OTHER_WIDTH_STAGES):
+        env.setdefault("NUMBA_NUM_THREADS", "2")
+    return env
 
 
 def run_stage(name: str, cmd: list[str], out: str, force: bool) -> dict:
     path = os.path.join(out, f"{name}.json")
     if os.path.exists(path) and not force:
         return json.load(open(path))
-    env = dict(os.environ, **STAGE_ENV.get(name, {}))
-    if name in ("fly", "uvlm", "ptera", "uvlm512", "fly512"):
-        env.setdefault("NUMBA_NUM_THREADS", "2")
+    env = stage_env(name)
     began, load0, t0 = _now(), _load(), time.perf_counter()
     print(f"{began} {name}: {' '.join(cmd)}", file=sys.stderr, flush=True)
     proc = subprocess.run(cmd, cwd=REPO, env=env, capture_output=True, text=True)
@@ -152,6 +182,18 @@ def _met(name: str, value) -> bool | None:
     return bool(value >= target) if sense == ">=" else bool(value <= target)
 
 
+def lane_peak(roof: dict, bits: str) -> float | None:
+    """All threads' FP lane-operations/s at a vector width: the larger of the FMA-only peak and the peak of FMAs
+    and additions interleaved (bench_treecode's ``peak`` and ``fp_peak``; the second is higher where additions
+    have pipes of their own, as on AMD Zen 5). None without the roofline's peaks."""
+    if not roof.get("peak"):
+        return None
+    peaks = [roof["peak"][bits]["all"]["lane_ops_g_s"]]
+    if roof.get("fp_peak"):
+        peaks.append(roof["fp_peak"][bits]["all"]["lane_ops_g_s"])
+    return max(peaks)
+
+
 def fly_floor(fly: dict) -> dict:
     """The pair rate a 20-beat flight with a 10-beat wake needs at 1 wingbeat/s, against the FMA ceiling.
 
@@ -159,8 +201,9 @@ def fly_floor(fly: dict) -> dict:
     crossover section at b = 10 and scaled as b^2 below it (wake sizes grow linearly in b; the measured b = 1-7
     figures follow this to a few per cent). Over the flight, beat k has a wake of min(k, 10) beats, each beat
     FLY_STEPS_PER_BEAT convection calls. This counts the wake-on-wake sum alone (the solve and the wings' share
-    come on top), so the rate is a lower bound. Ceiling: all threads' FMA lane-operations/s (the wider of the
-    256- and 512-bit peaks) / the kernel's lane-operations per pair, i.e. the kernel at 100 % of the roofline."""
+    come on top), so the rate is a lower bound. Ceiling: all threads' FP lane-operations/s (:func:`lane_peak`, the
+    wider of the 256- and 512-bit peaks) / the kernel's lane-operations per pair, i.e. the kernel at 100 % of the
+    roofline."""
     wakes = {w["beats"]: w for w in fly["crossover"]["uvlm_wakes_1ms"]}
     w10 = wakes[FLY_WAKE_CYCLES]
     pairs10 = w10["wake_segments"] * w10["targets"]
@@ -171,10 +214,9 @@ def fly_floor(fly: dict) -> dict:
     out = {"pairs_per_call_10_beat_wake": pairs10, "direct_call_s_10_beat_wake": w10["direct_s"],
            "wake_on_wake_pairs_per_flight": total_pairs, "needed_g_pairs_s_at_1_beat_per_s": round(need / 1e9, 2)}
     if roof.get("peak"):
-        lane_peak = max(roof["peak"][b]["all"]["lane_ops_g_s"] for b in ("256", "512"))
-        ceiling = lane_peak / roof["lane_ops_per_pair"]
+        ceiling = max(lane_peak(roof, b) for b in ("256", "512")) / roof["lane_ops_per_pair"]
         achieved = max(v["all"] for v in roof["lattice_kernel_g_pairs_s"].values())
-        out.update({"fma_ceiling_g_pairs_s": round(ceiling, 2), "kernel_g_pairs_s": achieved,
+        out.update({"fp_ceiling_g_pairs_s": round(ceiling, 2), "kernel_g_pairs_s": achieved,
                     "needed_over_ceiling": round(need / 1e9 / ceiling, 2),
                     "needed_over_kernel": round(need / 1e9 / achieved, 2)})
     return out
@@ -187,10 +229,10 @@ FLOAT64_FLIGHTS = ("wake_10_direct", "wake_10_tree", "wake_10_auto")
 def reference_floor(uvlm: dict, fly: dict | None, ptera_s: float | None) -> dict | None:
     """The reference case's kernel work against what 50x PteraSoftware needs: its counted edge-target pairs
     (bench_uvlm.reference_pairs), the time they take at the lattice kernel's measured rate (the uvlm stage's
-    benchmark case, all threads) and at the FMA ceiling (all threads' FMA lane-operations/s at the stage's vector
-    width / the kernel's lane-operations per pair), the speed-ups over PteraSoftware those times allow (the case's
-    other work, 12-19 % of it on 2026-12-04, not counted: upper bounds), and the pair rate a 50x run would need
-    for the pairs alone."""
+    benchmark case, all threads) and at the FP ceiling (all threads' FP lane-operations/s at the stage's vector
+    width, :func:`lane_peak`, / the kernel's lane-operations per pair), the speed-ups over PteraSoftware those
+    times allow (the case's other work, 12-19 % of it on 2026-12-04, not counted: upper bounds), and the pair rate
+    a 50x run would need for the pairs alone."""
     pairs = uvlm.get("reference_case_pairs")
     if not pairs or not ptera_s:
         return None
@@ -202,10 +244,9 @@ def reference_floor(uvlm: dict, fly: dict | None, ptera_s: float | None) -> dict
            "needed_g_pairs_s_for_target": round(pairs / (ptera_s / target) / 1e9, 2)}
     roof = (fly or {}).get("roofline") or {}
     if roof.get("peak"):
-        bits = str(uvlm.get("vector_bits", 256))
-        ceiling = roof["peak"][bits]["all"]["lane_ops_g_s"] / roof["lane_ops_per_pair"]
-        out.update({"fma_ceiling_g_pairs_s": round(ceiling, 2),
-                    "speedup_bound_at_fma_ceiling": round(ptera_s / (pairs / ceiling / 1e9), 1)})
+        ceiling = lane_peak(roof, str(uvlm.get("vector_bits", 256))) / roof["lane_ops_per_pair"]
+        out.update({"fp_ceiling_g_pairs_s": round(ceiling, 2),
+                    "speedup_bound_at_fp_ceiling": round(ptera_s / (pairs / ceiling / 1e9), 1)})
     return out
 
 
@@ -253,34 +294,39 @@ def summarise(res: dict) -> dict:
         if mixed is not None:  # the opt-in --wake-precision mixed (the target's value is float64's)
             out["fly_10_beat_wake_wingbeats_per_s_mixed"] = mixed["wingbeats_per_s"]
         out["fly_10_beat_wake_floor"] = fly_floor(res["fly"]["result"])
-        out["fraction_of_fma_roofline"] = res["fly"]["result"]["roofline"].get("fraction_of_fma_roofline")
+        roof = res["fly"]["result"]["roofline"]
+        out["fraction_of_fma_roofline"] = roof.get("fraction_of_fma_roofline")
+        out["fraction_of_fp_roofline"] = roof.get("fraction_of_fp_roofline")
     ptera = out["ptera_wall_s"]
     fly = res.get("fly", {}).get("result")
     if "uvlm" in res:
         out["reference_case_floor"] = reference_floor(res["uvlm"]["result"], fly, ptera)
-    if "uvlm512" in res or "fly512" in res:
-        wide = {}
-        if "uvlm512" in res:
-            u = res["uvlm512"]["result"]
+    other = next((n[-3:] for n in OTHER_WIDTH_STAGES if n in res), None)
+    if other is not None:
+        wide = {"vector_bits_asked": int(other)}
+        if f"uvlm{other}" in res:
+            st, u = res[f"uvlm{other}"]["stage"], res[f"uvlm{other}"]["result"]
             wide.update({"vector_bits": u.get("vector_bits"), "reference_case_s": u["reference_case_s"],
                          "speedup_vs_ptera": round(ptera / u["reference_case_s"], 1) if ptera else None,
                          "aero_warm_s": u.get("aero_warm_s"), "lattice_kernel_g_pairs_s": u["lattice_kernel_geval_s"],
                          "reference_case_floor": reference_floor(u, fly, ptera),
-                         "load_before_after": [res["uvlm512"]["stage"]["load_before"],
-                                               res["uvlm512"]["stage"]["load_after"]]})
-        if "fly512" in res:
-            runs = res["fly512"]["result"]["fly"]["runs"]
-            wide.update({"fly_vector_bits": res["fly512"]["result"]["fly"].get("vector_bits"),
+                         "load_before_after": [st["load_before"], st["load_after"]]})
+        if f"fly{other}" in res:
+            st, f = res[f"fly{other}"]["stage"], res[f"fly{other}"]["result"]
+            runs = f["fly"]["runs"]
+            wide.update({"fly_vector_bits": f["fly"].get("vector_bits"),
                          "fly_10_beat_wake_wingbeats_per_s": max(runs[k]["wingbeats_per_s"] for k in FLOAT64_FLIGHTS),
                          "fly_10_beat_wake_wingbeats_per_s_mixed": runs["wake_10_mixed"]["wingbeats_per_s"],
-                         "fly_load_before_after": [res["fly512"]["stage"]["load_before"],
-                                                   res["fly512"]["stage"]["load_after"]]})
+                         "fly_load_before_after": [st["load_before"], st["load_after"]]})
         wide["met"] = {k: _met(k, wide.get(k)) for k in ("speedup_vs_ptera", "aero_warm_s",
                                                           "fly_10_beat_wake_wingbeats_per_s")}
-        if 256 in (wide.get("vector_bits"), wide.get("fly_vector_bits")):  # no AVX-512F: the default's code again
-            wide = {"available": False, "vector_bits": wide.get("vector_bits"),
-                    "fly_vector_bits": wide.get("fly_vector_bits")}
-        out["opt_in_512_bit"] = wide
+        default_bits = res.get("uvlm", {}).get("result", {}).get("vector_bits")
+        if default_bits is not None and default_bits in (wide.get("vector_bits"), wide.get("fly_vector_bits")):
+            wide = {"available": False, "note": "no AVX-512F: both widths ran the default's code",
+                    "vector_bits": wide.get("vector_bits"), "fly_vector_bits": wide.get("fly_vector_bits")}
+        out["other_vector_width"] = wide
+    if "uvlm" in res:
+        out["default_vector_bits"] = res["uvlm"]["result"].get("vector_bits")
     stages = [r["stage"] for r in res.values()]
     out["sitting"] = {"first": min(s["began"] for s in stages), "last": max(s["ended"] for s in stages),
                       "stages": {k: r["stage"] for k, r in res.items()}}
@@ -295,7 +341,7 @@ def main() -> None:
     ap.add_argument("--force", action="store_true", help="rerun stages whose JSON is already there")
     a = ap.parse_args()
     os.makedirs(a.out_dir, exist_ok=True)
-    stages = _stages(a.out_dir, sys.executable)
+    stages = _stages(a.out_dir, sys.executable, other_width(default_vector_bits(sys.executable)))
     if a.skip_datasets:
         stages.pop("datasets")
     res = {}
