@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from aero.biot_savart import FOUR_PI, RSQRT_MIN, _edge_sum, claim, corner_vectors, rsqrt
+from aero.biot_savart import FOUR_PI, RSQRT_MIN, _edge_sum, aligned_scratch, claim, corner_vectors, rsqrt
 from aero.lattice import stacked_lattices
 from aero.scheduling import run_chunked
 
@@ -371,12 +371,7 @@ def _tree_chunks(x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_righ
     ux = np.empty(width)
     uy = np.empty(width)
     uz = np.empty(width)
-    rx = np.empty(size + 1)
-    ry = np.empty(size + 1)
-    rz = np.empty(size + 1)
-    ex = np.empty(size + 1)
-    ey = np.empty(size + 1)
-    ez = np.empty(size + 1)
+    rx, ry, rz, ex, ey, ez = aligned_scratch(size + 1)
     bx = np.empty(size)
     by = np.empty(size)
     bz = np.empty(size)
