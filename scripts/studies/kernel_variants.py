@@ -16,6 +16,9 @@ unchanged, one thread):
   per block, for the first target, then the edge sums of every target over those same scratch arrays); their
   times add up to about the kernel's, and ``split`` gives each pass's FP lane-operations per second (22 per
   corner, 25 per edge: bench_treecode.LANE_OPS_PER_PAIR's count), to set against the FMA peak at that width.
+* ``edges_shifted``, ``edges_aligned``: diagnostics (wrong velocities) of whether the edge sums' loads bound them:
+  ``edges_only`` over 64-byte aligned scratch, the second corners read from the first corners' arrays shifted (as
+  in the kernel: at 512 bits each such load straddles two cache lines) or from aligned copies made once per block.
 
 The variants repeat the kernel's block loop on purpose (a measurement of alternatives, not a second kernel).
 
@@ -138,6 +141,53 @@ def _make_split(corners: bool, edges: bool):
     return kernel
 
 
+def _make_edges(aligned: bool):
+    """The edge sums alone (as ``edges_only``) over scratch arrays the caller allocates 64-byte aligned: with
+    aligned=False the second corners are the first corners' arrays shifted by 1 (spanwise) and by the stride
+    (chordwise), as in the shipped kernel, so that every 512-bit load of them straddles two cache lines; with
+    aligned=True they are copies, made once per block, in arrays of their own (64-byte aligned)."""
+    @njit(nogil=True, fastmath=True, error_model="numpy")
+    def kernel(targets, vx, vy, vz, stride, sg_all, sr_all, cg_all, cr_all, out, sc, s2, c2):
+        n, nc = targets.shape[0], vx.shape[0]
+        nb = (nc + LATTICE_BLOCK - 1) // LATTICE_BLOCK
+        rx, ry, rz, ex, ey, ez = sc[0], sc[1], sc[2], sc[3], sc[4], sc[5]
+        for b in range(nb):
+            c0, m, ms, mc = _block(b, nc, stride)
+            bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
+            sg, sr, cg, cr = sg_all[c0:], sr_all[c0:], cg_all[c0:], cr_all[c0:]
+            corner_vectors(targets[0, 0], targets[0, 1], targets[0, 2], bx, by, bz, m, rx, ry, rz, ex, ey, ez)
+            if aligned:
+                for j in range(6):
+                    for k in range(ms):
+                        s2[j, k] = sc[j, k + 1]
+                    for k in range(max(mc, 0)):
+                        c2[j, k] = sc[j, k + stride]
+                span = (s2[0], s2[1], s2[2], s2[3], s2[4], s2[5])
+                chord = (c2[0], c2[1], c2[2], c2[3], c2[4], c2[5])
+            else:
+                span = (rx[1:], ry[1:], rz[1:], ex[1:], ey[1:], ez[1:])
+                chord = (rx[stride:], ry[stride:], rz[stride:], ex[stride:], ey[stride:], ez[stride:])
+            for i in range(n):
+                ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, span[0], span[1], span[2], span[3], span[4],
+                                       span[5], sg, sr, 0.0, 0.0, 0.0)
+                if mc > 0:
+                    ux, uy, uz = _edge_sum(mc, rx, ry, rz, ex, ey, ez, chord[0], chord[1], chord[2], chord[3],
+                                           chord[4], chord[5], cg, cr, ux, uy, uz)
+                out[i, 0] += ux
+                out[i, 1] += uy
+                out[i, 2] += uz
+
+    return kernel
+
+
+def _aligned(rows: int, cols: int) -> np.ndarray:
+    """A (rows, cols) float64 array whose rows start on 64-byte boundaries (cols rounded up to 8)."""
+    cols8 = -(-cols // 8) * 8
+    raw = np.zeros(rows * cols8 + 8)
+    off = (-raw.ctypes.data % 64) // 8
+    return raw[off:off + rows * cols8].reshape(rows, cols8)
+
+
 def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
     """Rates [G pairs/s] of the three variants in this process (its vector width) and the edge_vector variant's
     largest velocity difference from base, relative to the largest velocity."""
@@ -155,6 +205,9 @@ def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
     counter = np.zeros(1, np.int64)
     with_div, without_div = _make(True), _make(False)
     corners_only, edges_only = _make_split(True, False), _make_split(False, True)
+    edges_shifted, edges_aligned = _make_edges(False), _make_edges(True)
+    size = LATTICE_BLOCK + stride + 1
+    sc, s2, c2 = _aligned(6, size), _aligned(6, size), _aligned(6, size)
 
     def base(out):
         counter[0] = 0
@@ -164,7 +217,9 @@ def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
                 "edge_vector": lambda out: with_div(p, vx, vy, vz, stride, *d, sg, sr, cg, cr, out),
                 "no_division": lambda out: without_div(p, vx, vy, vz, stride, *d, sg, sr, cg, cr, out),
                 "corners_only": lambda out: corners_only(p, vx, vy, vz, stride, sg, sr, cg, cr, out),
-                "edges_only": lambda out: edges_only(p, vx, vy, vz, stride, sg, sr, cg, cr, out)}
+                "edges_only": lambda out: edges_only(p, vx, vy, vz, stride, sg, sr, cg, cr, out),
+                "edges_shifted": lambda out: edges_shifted(p, vx, vy, vz, stride, sg, sr, cg, cr, out, sc, s2, c2),
+                "edges_aligned": lambda out: edges_aligned(p, vx, vy, vz, stride, sg, sr, cg, cr, out, sc, s2, c2)}
     outs = {}
     for name, f in variants.items():
         outs[name] = np.zeros((nt, 3))

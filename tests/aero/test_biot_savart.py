@@ -2,8 +2,9 @@
 (Katz & Plotkin 2001, Eq. 10.115) and the core model's far-field limit."""
 
 import numpy as np
+import pytest
 
-from aero.biot_savart import ring_influence, segment_velocity
+from aero.biot_savart import aligned_scratch, ring_influence, segment_velocity
 
 CLASSICAL_RTOL = 1e-11
 """Singular kernel vs the direct numpy evaluation of K&P Eq. 10.115, relative per component (dimensionless). Two
@@ -97,3 +98,15 @@ def test_ring_influence_consistent_with_kernel():
         a, b = corners[l], np.roll(corners[l], -1, axis=0)
         v = segment_velocity(p, a, b, np.ones(4), 1e-4)
         assert np.allclose(A[:, l], (v * n).sum(1), rtol=RING_RTOL, atol=RING_ATOL)
+
+
+@pytest.mark.parametrize("size", [1, 7, 8, 209])
+def test_aligned_scratch_is_six_disjoint_cache_line_aligned_arrays(size):
+    arrays = aligned_scratch(size)
+    assert len(arrays) == 6
+    for j, a in enumerate(arrays):
+        assert a.shape == (size,) and a.dtype == np.float64
+        assert a.ctypes.data % 64 == 0  # 64-byte boundaries (docstring: 512-bit loads within one cache line)
+        a[:] = j
+    for j, a in enumerate(arrays):  # no array overwrote another
+        assert np.all(a == j)
