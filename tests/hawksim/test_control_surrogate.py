@@ -77,8 +77,8 @@ def test_shipped_control_models_are_about_the_shipped_orbits():
     """hawksim/data/control_models_surrogate.json: made by its reproduce step for this network, one row per schedule
     speed about exactly the shipped orbit, differenced through the Table 2 saturation; a fresh linearization at 1 m/s
     gives the same matrices (deterministic within a vector width and CPU kind; the bound allows other float32 sums:
-    another BLAS's moved them by < 5e-6, and the 512-bit code AMD Zen 5 compiles by default by 4.5e-5 against the
-    table's 256-bit rows, 2026-12-04: aero/vector_width.py)."""
+    another BLAS's moved them by < 5e-6, and the 512-bit code AMD Zen 5 compiles by default by 4.5e-5 to 1.7e-4
+    (1.2e-4 of the largest entry) against the table's 256-bit rows, 2026-12-04: aero/vector_width.py)."""
     from hawksim.backends.step_network import network_sha256
 
     table = json.loads((resources.files("hawksim") / "data" / "control_models_surrogate.json").read_text())
@@ -90,11 +90,12 @@ def test_shipped_control_models_are_about_the_shipped_orbits():
     m1 = shipped_control_model(1.0, "surrogate")
     fresh = linearize(m1.orbit)
     for a, b in ((fresh.A, m1.A), (fresh.B0, m1.B0), (fresh.B1, m1.B1)):
-        assert np.abs(a - b).max() < CONTROL_MODEL_ATOL
+        assert np.abs(a - b).max() < CONTROL_MODEL_RTOL * np.abs(b).max()
 
 
-CONTROL_MODEL_ATOL = 1e-4
-"""Largest difference allowed between a fresh linearization and the shipped one (test above)."""
+CONTROL_MODEL_RTOL = 1e-3
+"""Largest difference allowed between a fresh linearization and the shipped one, relative to the matrix's
+largest entry (test above)."""
 
 
 def test_monodromy_agrees_with_the_orbit_table_floquet():
