@@ -27,7 +27,8 @@ Sections (``--sections``, default all):
   kernel's fraction of the roofline = achieved lane-ops/s / (FMA instructions/s x lanes)
   (``fraction_of_fma_roofline``: right where every FP operation needs the FMA ports, as on Intel Xeons), and
   against the larger of that and the peak of FMAs and additions interleaved (``fp_peak``,
-  ``fraction_of_fp_roofline``: on AMD Zen 5, whose additions have pipes of their own, the 256-bit kernel ran
+  ``fraction_of_fp_roofline``, roofline.roofline_fractions: on AMD Zen 5, whose additions have pipes of their own,
+  the 256-bit kernel ran
   1.06-1.09x the FMA-only peak on 2026-12-04). The 512-bit child checks that numba did compile for the width asked
   for (aero.vector_bits reads it off the compiled code; before 2026-12-04 it read the setting, and on Zen 5, whose
   default is 512-bit, the "256-bit" figures were the 512-bit code's).
@@ -55,6 +56,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_uvlm import lattice_kernel_rate, reference_wing  # noqa: E402, I001  (imports aero first)
+from roofline import roofline_fractions  # noqa: E402
 
 import aero.uvlm as uvlm_module  # noqa: E402
 from aero.lattice import lattice_velocity, ring_lattice  # noqa: E402
@@ -362,11 +364,7 @@ def roofline() -> dict:
         out["fraction_of_fma_roofline"] = {
             b: {k: round(rates[b][k] * LANE_OPS_PER_PAIR / peaks[b][k]["lane_ops_g_s"], 3) for k in ("one", "all")}
             for b in ("256", "512")}
-        out["fraction_of_fp_roofline"] = {
-            b: {k: round(rates[b][k] * LANE_OPS_PER_PAIR
-                         / max(peaks[b][k]["lane_ops_g_s"], fp_peaks[b][k]["lane_ops_g_s"]), 3)
-                for k in ("one", "all")}
-            for b in ("256", "512")}
+        out["fraction_of_fp_roofline"] = roofline_fractions(out)
     out["load_after"] = _load()
     return out
 

@@ -43,7 +43,8 @@ import time
 import numpy as np
 from numba import njit
 
-from aero.biot_savart import FOUR_PI, LATTICE_BLOCK, TINY, _edge_sum, _lattice_chunks, corner_vectors
+from aero.biot_savart import (FOUR_PI, LATTICE_BLOCK, TINY, _edge_sum, _lattice_chunks, aligned_scratch,
+                               corner_vectors)
 from aero.lattice import stacked_lattices
 from aero.vector_width import vector_bits
 
@@ -142,7 +143,8 @@ def _make_split(corners: bool, edges: bool):
 
 
 def _make_edges(aligned: bool):
-    """The edge sums alone (as ``edges_only``) over scratch arrays the caller allocates 64-byte aligned: with
+    """The edge sums alone (as ``edges_only``) over scratch the caller allocates 64-byte aligned
+    (:func:`aero.biot_savart.aligned_scratch`, a tuple of six arrays for each of sc, s2, c2): with
     aligned=False the second corners are the first corners' arrays shifted by 1 (spanwise) and by the stride
     (chordwise), as in the shipped kernel, so that every 512-bit load of them straddles two cache lines; with
     aligned=True they are copies, made once per block, in arrays of their own (64-byte aligned)."""
@@ -150,7 +152,7 @@ def _make_edges(aligned: bool):
     def kernel(targets, vx, vy, vz, stride, sg_all, sr_all, cg_all, cr_all, out, sc, s2, c2):
         n, nc = targets.shape[0], vx.shape[0]
         nb = (nc + LATTICE_BLOCK - 1) // LATTICE_BLOCK
-        rx, ry, rz, ex, ey, ez = sc[0], sc[1], sc[2], sc[3], sc[4], sc[5]
+        rx, ry, rz, ex, ey, ez = sc
         for b in range(nb):
             c0, m, ms, mc = _block(b, nc, stride)
             bx, by, bz = vx[c0:c0 + m], vy[c0:c0 + m], vz[c0:c0 + m]
@@ -158,12 +160,9 @@ def _make_edges(aligned: bool):
             corner_vectors(targets[0, 0], targets[0, 1], targets[0, 2], bx, by, bz, m, rx, ry, rz, ex, ey, ez)
             if aligned:
                 for j in range(6):
-                    for k in range(ms):
-                        s2[j, k] = sc[j, k + 1]
-                    for k in range(max(mc, 0)):
-                        c2[j, k] = sc[j, k + stride]
-                span = (s2[0], s2[1], s2[2], s2[3], s2[4], s2[5])
-                chord = (c2[0], c2[1], c2[2], c2[3], c2[4], c2[5])
+                    s2[j][:ms] = sc[j][1:ms + 1]
+                    c2[j][:max(mc, 0)] = sc[j][stride:stride + max(mc, 0)]
+                span, chord = s2, c2
             else:
                 span = (rx[1:], ry[1:], rz[1:], ex[1:], ey[1:], ez[1:])
                 chord = (rx[stride:], ry[stride:], rz[stride:], ex[stride:], ey[stride:], ez[stride:])
@@ -178,14 +177,6 @@ def _make_edges(aligned: bool):
                 out[i, 2] += uz
 
     return kernel
-
-
-def _aligned(rows: int, cols: int) -> np.ndarray:
-    """A (rows, cols) float64 array whose rows start on 64-byte boundaries (cols rounded up to 8)."""
-    cols8 = -(-cols // 8) * 8
-    raw = np.zeros(rows * cols8 + 8)
-    off = (-raw.ctypes.data % 64) // 8
-    return raw[off:off + rows * cols8].reshape(rows, cols8)
 
 
 def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
@@ -207,7 +198,7 @@ def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
     corners_only, edges_only = _make_split(True, False), _make_split(False, True)
     edges_shifted, edges_aligned = _make_edges(False), _make_edges(True)
     size = LATTICE_BLOCK + stride + 1
-    sc, s2, c2 = _aligned(6, size), _aligned(6, size), _aligned(6, size)
+    sc, s2, c2 = aligned_scratch(size), aligned_scratch(size), aligned_scratch(size)
 
     def base(out):
         counter[0] = 0
