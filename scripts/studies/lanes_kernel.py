@@ -18,7 +18,8 @@ third-order float64 step (:func:`aero.biot_savart.rsqrt`), portable; ``lanes_rsq
 
 Rates in G edge-target pairs/s, one thread, on bench_uvlm.py's lattice (600 rows x ns rings, 4000 targets) for
 ns = 16 (stride 17, the reference case's) and ns = 8 (stride 9, the flight wake's), best of 5, twice
-interleaved; the 256-bit figures from a child process with HAWKSIM_VECTOR_WIDTH=256. Prints ONE JSON object.
+interleaved, and for ns = 8 also on 2 threads (:func:`aero.biot_savart`'s chunked scheduling, ``ns8_two_threads``);
+the 256-bit figures from a child process with HAWKSIM_VECTOR_WIDTH=256. Prints ONE JSON object.
 
     python scripts/studies/lanes_kernel.py [--widths 512 256] [--out FILE]
 """
@@ -43,6 +44,7 @@ from numba.extending import intrinsic
 
 from aero.biot_savart import FOUR_PI, RSQRT_MIN, TINY, _lattice_chunks, claim
 from aero.lattice import stacked_lattices
+from aero.scheduling import run_chunked
 from aero.vector_width import vector_bits
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks"))
@@ -251,7 +253,7 @@ def transpose_targets(p):
     return T
 
 
-def rates(ns: int, rounds=2, reps=5) -> dict:
+def rates(ns: int, rounds=2, reps=5, threads=1) -> dict:
     lat, p = kernel_lattice(600, ns, 4000)
     p = np.ascontiguousarray(p)
     (stride, arrays), = stacked_lattices([lat]).items()
@@ -262,6 +264,9 @@ def rates(ns: int, rounds=2, reps=5) -> dict:
     nt = p.shape[0]
 
     def base(o):
+        if threads > 1:
+            run_chunked(_lattice_chunks, (p, vx, vy, vz, stride, sg, sr, cg, cr, o), nt, pairs, threads)
+            return
         counter[0] = 0
         _lattice_chunks(p, vx, vy, vz, stride, sg, sr, cg, cr, o, counter, 1)
 
@@ -273,6 +278,9 @@ def rates(ns: int, rounds=2, reps=5) -> dict:
         k = make_kernel(r14)
 
         def run(o, k=k):
+            if threads > 1:
+                run_chunked(k, (T, nt, vx, vy, vz, stride, sg, sr, cg, cr, o), T.shape[1] // LANES, pairs, threads)
+                return
             counter[0] = 0
             k(T, nt, vx, vy, vz, stride, sg, sr, cg, cr, o, counter, 1)
         variants[name] = run
@@ -303,7 +311,8 @@ def main():
     ap.add_argument("--out")
     a = ap.parse_args()
     if a.child:
-        print(json.dumps({"bits": vector_bits(), "ns16": rates(16), "ns8": rates(8)}))
+        print(json.dumps({"bits": vector_bits(), "ns16": rates(16), "ns8": rates(8),
+                          "ns8_two_threads": rates(8, threads=2)}))
         return
     from hawksim.jsonout import emit, host_info
 
