@@ -238,31 +238,38 @@ def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
             "edge_vector_max_rel_difference": rel, "split": split}
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--widths", nargs="+", default=["256", "512"], choices=["256", "512"])
+def width_study_main(script: str, doc: str, child, default_widths, child_env=None) -> None:
+    """The command line of a per-width kernel study (this one, lanes_kernel.py): each width in --widths runs in a child
+    process of ``script`` with HAWKSIM_VECTOR_WIDTH set (and ``child_env``), which prints {"bits": ..., **child()};
+    the parent checks the width and emits ONE JSON object (host, dates, load) to stdout or --out."""
+    ap = argparse.ArgumentParser(description=doc.split("\n")[0])
+    ap.add_argument("--widths", nargs="+", default=default_widths, choices=["256", "512"])
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--out")
     a = ap.parse_args()
     if a.child:
-        print(json.dumps({"bits": vector_bits(), **rates()}))
+        print(json.dumps({"bits": vector_bits(), **child()}))
         return
     from hawksim.jsonout import emit, host_info
 
     began = host_info()
     out = {}
     for w in a.widths:
-        env = dict(os.environ, HAWKSIM_VECTOR_WIDTH=w)
+        env = dict(os.environ, HAWKSIM_VECTOR_WIDTH=w, **(child_env or {}))
         env.pop("NUMBA_CPU_FEATURES", None)
-        proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--child"], env=env, capture_output=True,
+        proc = subprocess.run([sys.executable, os.path.abspath(script), "--child"], env=env, capture_output=True,
                               text=True, check=True)
         r = json.loads(proc.stdout.strip().splitlines()[-1])
         if r.pop("bits") != int(w):
             sys.exit(f"error: the {w}-bit child compiled for another width (no AVX-512F here?)")
         out[w] = r
-    command = " ".join(["python", "scripts/studies/kernel_variants.py", *sys.argv[1:]])
+    command = " ".join(["python", f"scripts/studies/{os.path.basename(script)}", *sys.argv[1:]])
     emit({"command": command, "began": began["date"], "ended": host_info()["date"], "host": began,
           "loadavg_after": host_info()["loadavg"], "threads": 1, "widths": out}, a.out)
+
+
+def main():
+    width_study_main(__file__, __doc__, rates, ["256", "512"])
 
 
 if __name__ == "__main__":

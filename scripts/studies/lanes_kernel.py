@@ -28,10 +28,7 @@ from __future__ import annotations
 
 import aero  # noqa: F401, I001  (before numba: importing aero applies HAWKSIM_VECTOR_WIDTH)
 
-import argparse
-import json
 import os
-import subprocess
 import sys
 import time
 
@@ -42,13 +39,15 @@ from numba import njit
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
-from aero.biot_savart import FOUR_PI, RSQRT_MIN, TINY, _lattice_chunks, claim
+from aero.biot_savart import FOUR_PI, RSQRT_MIN, TINY, _lattice_chunks, aligned_scratch, claim
 from aero.lattice import stacked_lattices
 from aero.scheduling import run_chunked
-from aero.vector_width import vector_bits
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks"))
 from bench_uvlm import kernel_lattice  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from kernel_variants import width_study_main  # noqa: E402
 
 LANES = 8
 F64 = ir.DoubleType()
@@ -62,14 +61,6 @@ FAST = ("fast",)
 
 def _vec(c):
     return ir.Constant(V, [c] * LANES)
-
-
-@njit(inline="always")
-def carve(n):
-    """n float64 starting on a 64-byte boundary."""
-    raw = np.empty(n + 8)
-    off = ((64 - raw.ctypes.data % 64) % 64) // 8
-    return raw[off:off + n]
 
 
 def make_kernel(rsqrt14: bool):
@@ -223,8 +214,8 @@ def make_kernel(rsqrt14: bool):
     @njit(nogil=True, fastmath=True, error_model="numpy")
     def lanes_chunks(T, n, vx, vy, vz, stride, sg, sr, cg, cr, out, counter, nchunk):
         ng = T.shape[1] // LANES
-        ring = carve((stride + 1) * 6 * LANES)
-        U = carve(3 * LANES)
+        ring = aligned_scratch((stride + 1) * 6 * LANES)[0]
+        U = aligned_scratch(3 * LANES)[0]
         scale = 1.0 / FOUR_PI
         q = claim(counter)
         while q < nchunk:
@@ -305,31 +296,10 @@ def rates(ns: int, rounds=2, reps=5, threads=1) -> dict:
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--widths", nargs="+", default=["512", "256"], choices=["256", "512"])
-    ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
-    ap.add_argument("--out")
-    a = ap.parse_args()
-    if a.child:
-        print(json.dumps({"bits": vector_bits(), "ns16": rates(16), "ns8": rates(8),
-                          "ns8_two_threads": rates(8, threads=2)}))
-        return
-    from hawksim.jsonout import emit, host_info
+    def child():
+        return {"ns16": rates(16), "ns8": rates(8), "ns8_two_threads": rates(8, threads=2)}
 
-    began = host_info()
-    out = {}
-    for w in a.widths:
-        env = dict(os.environ, HAWKSIM_VECTOR_WIDTH=w, NUMBA_NUM_THREADS="1")
-        env.pop("NUMBA_CPU_FEATURES", None)
-        proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--child"], env=env, capture_output=True,
-                              text=True, check=True)
-        r = json.loads(proc.stdout.strip().splitlines()[-1])
-        if r.pop("bits") != int(w):
-            sys.exit(f"error: the {w}-bit child compiled for another width (no AVX-512F here?)")
-        out[w] = r
-    command = " ".join(["python", "scripts/studies/lanes_kernel.py", *sys.argv[1:]])
-    emit({"command": command, "began": began["date"], "ended": host_info()["date"], "host": began,
-          "loadavg_after": host_info()["loadavg"], "threads": 1, "widths": out}, a.out)
+    width_study_main(__file__, __doc__, child, ["512", "256"], {"NUMBA_NUM_THREADS": "1"})
 
 
 if __name__ == "__main__":
