@@ -17,16 +17,19 @@ and rr = |r0|^2 r_c^2; targets as (n, 3). The loops run over chunks of targets o
 (``error_model="numpy"``: no Python zero-division checks), vectorised over segments. Cost per evaluation: two
 square roots and one division, which bound it at ~0.45 G evaluations/s per core with 256-bit vectors here.
 
-:func:`lattice_induced_velocity` evaluates the same formula for the edges of a ring lattice (wing or wake), whose
-corners each segment shares with its neighbours: per target, the unit vectors r/|r| are computed once per
-corner (without the divider: :func:`rsqrt`), and per edge, since r0 = r1 - r2,
+:func:`_lattice_chunks` and :func:`_lattice_chunks_mixed` are the corner-block kernels for the edges of a ring
+lattice (wing or wake), whose corners each segment shares with its neighbours: per target, the unit vectors r/|r|
+are computed once per corner (without the divider: :func:`rsqrt`), and per edge, since r0 = r1 - r2,
 
     K = (r1 - r2) . (r1/|r1| - r2/|r2|),
 
 which needs no square root and keeps the plain formula's precision for short edges (the scalar form
 |r1| + |r2| - (r1 . r2)(1/|r1| + 1/|r2|) loses it: its rounding, eps |r|, is not scaled by |r0|); the one
-division left per edge is the core denominator. The corners are processed
-in blocks of LATTICE_BLOCK, so that a block's corner distances stay in the L1 cache while its edges use them.
+division left per edge is the core denominator. The corners are processed in blocks of LATTICE_BLOCK, so that a
+block's corner distances stay in the L1 cache while its edges use them. The float64 lattice velocity the UVLM uses
+comes from the targets-in-lanes kernel of :mod:`aero.lattice_lanes` (1.2-1.3x this one at 512 bits, issue 23);
+:func:`_lattice_chunks` stays as the baseline the benchmarks time it against, and its pieces
+(:func:`corner_vectors`, :func:`_edge_sum`) serve the treecode's near field.
 """
 
 from __future__ import annotations
@@ -55,12 +58,12 @@ TINY32 = np.float32(1e-37)
 """The float32 counterpart of TINY (a normal float32, so that no denominator is zero)."""
 
 PRECISIONS = ("float64", "mixed")
-"""Pair-evaluation precisions of :func:`lattice_induced_velocity`: float64 throughout, or "mixed": each
-target-edge evaluation in float32 (after the target-corner differences are formed in float64) and the sums over
-edges accumulated in float64."""
+"""Pair-evaluation precisions of :func:`aero.lattice_lanes.lattice_induced_velocity`: float64 throughout, or
+"mixed": each target-edge evaluation in float32 (after the target-corner differences are formed in float64) and the
+sums over edges accumulated in float64."""
 
 LATTICE_BLOCK = 192
-"""Corners per block in :func:`lattice_induced_velocity` (the block's per-target scratch, 6 x 8 bytes per
+"""Corners per block of the corner-block kernels (the block's per-target scratch, 6 x 8 bytes per
 corner, and inputs stay in a 48 KiB L1 data cache)."""
 
 
@@ -176,24 +179,32 @@ def corner_vectors(px, py, pz, bx, by, bz, m, rx, ry, rz, ex, ey, ez):
 
 
 @njit(inline="always", cache=True)
+def aligned_buffer(size):
+    """A float64 array of ``size`` whose first element lies on a 64-byte (cache-line) boundary. numba's own arrays
+    are 32-byte aligned (they began 32 bytes past a cache line in 20 of 20 allocations of 209 elements)."""
+    raw = np.empty(size + 8)
+    off = ((64 - raw.ctypes.data % 64) % 64) // 8
+    return raw[off:off + size]
+
+
+@njit(inline="always", cache=True)
 def aligned_scratch(size):
     """Six float64 arrays of ``size`` whose first elements lie on 64-byte (cache-line) boundaries, carved from one
-    allocation: the lattice kernel's per-target corner vectors. numba's own arrays are 32-byte aligned (they
-    began 32 bytes past a cache line in 20 of 20 allocations of 209 elements), and on AMD Zen 5 with 512-bit
-    vectors the edge sums then load many vectors across two cache lines: the edge pass alone ran 1.2x faster on
-    aligned scratch there (scripts/studies/kernel_variants.py, ``edges_only`` against ``edges_shifted``,
+    :func:`aligned_buffer`: the corner-block kernels' per-target corner vectors. On AMD Zen 5 with 512-bit
+    vectors the edge sums otherwise load many vectors across two cache lines: the edge pass alone ran 1.2x faster
+    on aligned scratch there (scripts/studies/kernel_variants.py, ``edges_only`` against ``edges_shifted``,
     2026-12-04). The alignment moves no arithmetic, so no bits."""
     pad = (size + 7) // 8 * 8
-    raw = np.empty(6 * pad + 8)
-    off = ((64 - raw.ctypes.data % 64) % 64) // 8
-    return (raw[off:off + size], raw[off + pad:off + pad + size], raw[off + 2 * pad:off + 2 * pad + size],
-            raw[off + 3 * pad:off + 3 * pad + size], raw[off + 4 * pad:off + 4 * pad + size],
-            raw[off + 5 * pad:off + 5 * pad + size])
+    raw = aligned_buffer(6 * pad)
+    return (raw[:size], raw[pad:pad + size], raw[2 * pad:2 * pad + size], raw[3 * pad:3 * pad + size],
+            raw[4 * pad:4 * pad + size], raw[5 * pad:5 * pad + size])
 
 
 @njit(nogil=True, fastmath=True, error_model="numpy", cache=True)
 def _lattice_chunks(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out, counter, nchunk):
-    """One task of :func:`lattice_induced_velocity`: chunks q = claim(counter) < nchunk of the targets."""
+    """One task of the corner-block float64 lattice kernel (the arguments of
+    :func:`aero.lattice_lanes.lattice_induced_velocity`, then the work queue's counter and chunk count): chunks
+    q = claim(counter) < nchunk of the targets. The baseline of :mod:`aero.lattice_lanes`'s kernel."""
     n = targets.shape[0]
     nc = vx.shape[0]
     if n == 0 or nc == 0:
@@ -320,28 +331,6 @@ def _lattice_chunks_mixed(targets, vx, vy, vz, stride, span_gamma, span_rr, chor
                 out[i, 1] += uy * scale
                 out[i, 2] += uz * scale
         q = claim(counter)
-
-
-def lattice_induced_velocity(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out,
-                             threads=None, precision="float64"):
-    """out[i] += velocity (3,) at targets[i] (n, 3) induced by the edges of a flattened lattice [m/s].
-
-    Corners (nc,) each of vx, vy, vz [m], row-major with ``stride`` corners per row; the edge from corner c to
-    c + 1 has circulation span_gamma[c] and rr = |r0|^2 r_c^2 span_rr[c], the edge from c to c + stride
-    chord_gamma[c], chord_rr[c]. Edges that do not exist (from the last corner of a row, from the last row) must
-    have gamma 0 and rr > 0: they then add exactly zero, so lattices with the same stride can be stacked.
-    All arrays contiguous float64. threads: default numba's thread count (:func:`aero.scheduling.run_chunked`;
-    the result is the same, bit for bit, for any thread count). precision: one of :data:`PRECISIONS`.
-    """
-    if precision not in PRECISIONS:
-        raise ValueError(f"precision must be one of {PRECISIONS}, got {precision!r}")
-    kernel = _lattice_chunks
-    if precision == "mixed":
-        kernel = _lattice_chunks_mixed
-        span_gamma, span_rr, chord_gamma, chord_rr = (a.astype(np.float32)
-                                                      for a in (span_gamma, span_rr, chord_gamma, chord_rr))
-    run_chunked(kernel, (targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out),
-                targets.shape[0], targets.shape[0] * vx.shape[0], threads)
 
 
 RING_PAIR_COST = 24

@@ -5,7 +5,7 @@ ring's loop (i,j) -> (i,j+1) -> (i+1,j+1) -> (i+1,j)) is the set of its shared e
 spanwise edges (i, j)->(i, j+1), i = 0..r, carry g[i,j] - g[i-1,j]; chordwise edges (i, j)->(i+1, j),
 j = 0..s, carry g[i,j-1] - g[i,j] (circulation outside the lattice is zero). This halves the Biot-Savart work
 of a ring-by-ring evaluation, and the corners the edges share let the kernel compute each target's distances
-once per corner, not twice per edge (:func:`aero.biot_savart.lattice_induced_velocity`).
+once per corner, not twice per edge (:func:`aero.lattice_lanes.lattice_induced_velocity`).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from aero.biot_savart import lattice_induced_velocity
+from aero.lattice_lanes import lattice_induced_velocity
 
 
 @dataclass(frozen=True)

@@ -491,7 +491,7 @@ def _plan(lc, lr, ln, b_c, b_rho, b_rc, b_left, b_right, b_r0, b_r1, b_c0, b_c1,
 def lattice_tree_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, params: TreeParams = TreeParams(),
                           threads: int | None = None, plan: bool = False) -> np.ndarray | None:
     """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the edges of a stacked lattice (the arrays of
-    :func:`aero.biot_savart.lattice_induced_velocity`: corners vx, vy, vz (nc,) row-major with ``stride`` per
+    :func:`aero.lattice_lanes.lattice_induced_velocity`: corners vx, vy, vz (nc,) row-major with ``stride`` per
     row, span / chord edge circulations sg, cg and rr = |r0|^2 r_c^2 sr, cr per corner, zero-circulation padding
     where an edge does not exist), by the treecode with ``params``. threads: default numba's thread count; the
     result is the same, bit for bit, for any. plan: first estimate the tree's cost from its interaction counts

@@ -60,6 +60,7 @@ from roofline import roofline_fractions  # noqa: E402
 
 import aero.uvlm as uvlm_module  # noqa: E402
 from aero.lattice import lattice_velocity, ring_lattice  # noqa: E402
+from aero.lattice_lanes import lane_config  # noqa: E402
 from aero.treecode import TreeParams, lattice_tree  # noqa: E402
 from aero.uvlm import UVLMConfig, run_prescribed  # noqa: E402
 from aero.uvlm_kinematics import two_wing_motion  # noqa: E402
@@ -69,13 +70,18 @@ from hawksim.jsonout import emit  # noqa: E402
 BOUND = 1e-4
 """Issue 23's bound on the cycle averages (relative to the direct sum's)."""
 
-LANE_OPS_PER_PAIR = 25 + 22 * 10217 / 19816
-"""FP lane-operations per edge-target pair of the lattice kernel (aero.biot_savart._lattice_chunks), an FMA
-counted as one: per edge (``_edge_sum``) 6 for the cross product (3 multiplies, 3 fused multiply-subtracts),
-9 for K (6 differences, a multiply and 2 FMAs), 5 for the denominator, 1 division, 1 multiply by gamma and 3 FMAs
-into the sums: 25; per corner 22 (3 differences, 3 for r^2, max, 1/sqrt: float32 conversion, estimate, its Newton
-step (4) and conversion back, the Householder step (5), 3 multiplies for r/|r|); with bench_uvlm.py's lattice
-(601 x 17 = 10 217 corners for 19 816 edges) ~36.3."""
+CORNER_LANE_OPS = {"rsqrt14": 17, "float32": 22}
+"""FP lane-operations per corner of the lattice kernel (aero.lattice_lanes), an FMA counted as one, by its 1/sqrt
+route: 3 differences, 3 for r^2, max, 1/sqrt, 3 multiplies for r/|r|, where 1/sqrt is the vrsqrt14pd estimate and
+its fourth-order step (1 + 2 for e, 3 for the polynomial, 1 FMA: 7) or the float32 detour (conversion, estimate,
+its Newton step (4), conversion back, the third-order step (5): 12)."""
+
+LANE_OPS_PER_PAIR = 25 + CORNER_LANE_OPS[lane_config()[1]] * 10217 / 19816
+"""FP lane-operations per edge-target pair of the lattice kernel (aero.lattice_lanes, its 1/sqrt route in this
+process): per edge 6 for the cross product (3 multiplies, 3 fused multiply-subtracts), 9 for K (6 differences, a
+multiply and 2 FMAs), 5 for the denominator, 1 division, 1 multiply by gamma and 3 FMAs into the sums: 25; per
+corner :data:`CORNER_LANE_OPS`; with bench_uvlm.py's lattice (601 x 17 = 10 217 corners for 19 816 edges) ~33.8
+with the estimate, ~36.3 without (the corner-block kernel's count before 2026-12-04)."""
 
 FMA_C = r"""
 #include <immintrin.h>

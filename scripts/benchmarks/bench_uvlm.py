@@ -2,8 +2,8 @@
 
 * kernel_geval_s: Biot-Savart segment-point evaluations per second (float64, all cores) of the per-segment
   kernel (aero.biot_savart.induced_velocity), 20k random segments x 4k points.
-* lattice_kernel_geval_s: the same for the lattice kernel the UVLM uses (aero.biot_savart.lattice_induced_velocity:
-  corners shared by the edges, divider-free 1/sqrt), on a wake-like lattice of 600 x 16 rings (19 816 edges) x
+* lattice_kernel_geval_s: the same for the lattice kernel the UVLM uses (aero.lattice_lanes.lattice_induced_velocity:
+  corners shared by the edges, targets in the vector lanes), on a wake-like lattice of 600 x 16 rings (19 816 edges) x
   4k points; evaluations counted per real edge.
 * reference case: two flapping wings (8 x 16 panels each, mirror images), 3 wingbeats at 25 Hz, 220 steps,
   free wake, no truncation, core growth and leading-edge suction on; wall time excluding compilation.

@@ -14,6 +14,7 @@ import pytest
 from aero import scheduling
 from aero.biot_savart import _lattice_chunks, _ring_chunks, _segment_chunks, pack, ring_influence
 from aero.lattice import _fill, ring_lattice
+from aero.lattice_lanes import _lanes_chunks, transpose_targets
 
 
 def _wake_like(rows=40, ns=8, seed=0):
@@ -45,7 +46,7 @@ def _tasks(kernel, args, nchunk, ntask):
 
 def test_any_chunking_and_task_count_gives_the_same_bits():
     """Every chunk is taken exactly once (a chunk done twice would double its targets, one skipped would leave
-    zeros) and a target's arithmetic does not depend on its chunk: bit-identical outputs, for the three kernels,
+    zeros) and a target's arithmetic does not depend on its chunk: bit-identical outputs, for the four kernels,
     run as sequential tasks and on real threads."""
     lat, p = _wake_like()
     rng = np.random.default_rng(2)
@@ -54,6 +55,7 @@ def test_any_chunking_and_task_count_gives_the_same_bits():
     a = rng.normal(size=(50, 3)) * 1e-2
     seg = pack(a, a + 1e-3 * rng.normal(size=a.shape), rng.normal(size=50), 1e-6)
     cases = [(_lattice_chunks, lambda: _lattice_args(lat, p), -1),
+             (_lanes_chunks, lambda: (transpose_targets(p), p.shape[0], *_lattice_args(lat, p)[1:]), -1),
              (_ring_chunks, lambda: (p, normals, corners, 1e-6, np.zeros((p.shape[0], 30))), -1),
              (_segment_chunks, lambda: (p, *seg, np.zeros((p.shape[0], 3))), -1)]
     for kernel, make, out_index in cases:
@@ -152,7 +154,8 @@ test's 40 x 8 lattice: 2.3e-7."""
 def test_mixed_precision_kernel_is_close_to_float64_and_deterministic():
     """precision="mixed": within float32 rounding of the float64 kernel, and bit-identical for any thread count
     and chunking (the determinism within a precision setting that issue 23 asks for)."""
-    from aero.biot_savart import _lattice_chunks_mixed, lattice_induced_velocity
+    from aero.biot_savart import _lattice_chunks_mixed
+    from aero.lattice_lanes import lattice_induced_velocity
 
     lat, p = _wake_like(seed=4)
     args = _lattice_args(lat, p)
