@@ -447,10 +447,16 @@ def _tree_chunks(x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_righ
 
 NEAR_COST = 1.6
 """Cost of one near-field edge-target pair of the treecode (a block's edges, padding included) in direct-sum pairs
-(the lattice kernel's): measured 0.22 s against 0.13 s for the same 10-beat wake with theta = 0 (one thread)."""
+(the lattice kernel's). Tuned: first measured 0.22 s against 0.13 s for the same 10-beat wake with theta = 0 (one
+thread, the corner-block kernel); re-fitted with the targets-in-lanes kernel by ``scripts/studies/tree_cost.py``
+(2026-12-05, an AVX-512 Xeon: 1.55 at 256 bits, 1.64 at 512; results/tree_cost_2026-12-05*.json). It moves where
+``wake_summation="auto"`` switches to the tree: with it the plan chose the faster sum in all 13 crossover cases at
+both widths."""
 
 FAR_COST = 3.0
-"""Cost of one cluster-target far-field evaluation (:func:`_far`, ~80 FP operations) in direct-sum pairs (~36)."""
+"""Cost of one cluster-target far-field evaluation (:func:`_far`, ~80 FP operations) in direct-sum pairs (~34).
+Estimated from the operation count, not fitted: at theta = 0.2 the crossover cases do too few far evaluations to
+pin it (tree_cost.py's least-squares fit gave 15-19, with the same 13 decisions as 3.0)."""
 
 TREE_MARGIN = 0.8
 """``plan``: the tree is worth it when its estimated cost is below this fraction of the direct sum's."""
@@ -488,6 +494,35 @@ def _plan(lc, lr, ln, b_c, b_rho, b_rc, b_left, b_right, b_r0, b_r1, b_c0, b_c1,
     return near, far
 
 
+def _trees(targets, vx, vy, vz, stride, sg, sr, cg, cr, params: TreeParams):
+    """Both trees of :func:`lattice_tree_velocity`: (source blocks, their nodes, the targets in tree order, the
+    target leaves, the targets' permutation)."""
+    blocks = _block_tree(vx, vy, vz, stride, params.source_leaf)
+    nodes = _block_nodes(*blocks[:4], vx, vy, vz, stride, sg, sr, cg, cr)
+    tperm, t_start, t_end, t_left, _ = _split(*(np.ascontiguousarray(targets[:, i]) for i in range(3)),
+                                              params.target_leaf)
+    xyz = tuple(np.ascontiguousarray(targets[tperm, i]) for i in range(3))
+    return blocks, nodes, xyz, _target_leaves(t_start, t_end, t_left, *xyz), tperm
+
+
+def _counts(trees, nrows: int, stride: int, params: TreeParams) -> tuple[float, float]:
+    """(near-field edge-target pairs, far-field cluster-target evaluations) of the traversal on ``trees``."""
+    (b_r0, b_r1, b_c0, b_c1, b_left, b_right), (b_c, b_rho, b_rc, _), _, (ls, le, lc, lr), _ = trees
+    return _plan(lc, lr, le - ls, b_c, b_rho, b_rc, b_left, b_right, b_r0, b_r1, b_c0, b_c1, nrows, stride,
+                 float(params.theta), float(params.core_factor))
+
+
+def tree_work(targets, vx, vy, vz, stride, sg, sr, cg, cr, params: TreeParams = TreeParams()) -> tuple[float, float]:
+    """The work :func:`lattice_tree_velocity` would do on these arguments, counted without evaluating anything:
+    (near-field edge-target pairs, padding included; far-field cluster-target evaluations). ``plan`` weighs them
+    by :data:`NEAR_COST` and :data:`FAR_COST` against the direct sum's 2 x targets x corners pairs."""
+    targets = np.ascontiguousarray(targets, dtype=float).reshape(-1, 3)
+    if targets.shape[0] == 0 or vx.shape[0] < 2:
+        return 0.0, 0.0
+    return _counts(_trees(targets, vx, vy, vz, stride, sg, sr, cg, cr, params), vx.shape[0] // stride, stride,
+                   params)
+
+
 def lattice_tree_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, params: TreeParams = TreeParams(),
                           threads: int | None = None, plan: bool = False) -> np.ndarray | None:
     """Velocity (n, 3) [m/s] at targets (n, 3) [m] induced by the edges of a stacked lattice (the arrays of
@@ -502,17 +537,12 @@ def lattice_tree_velocity(targets, vx, vy, vz, stride, sg, sr, cg, cr, params: T
     out = np.zeros((n, 3))
     if n == 0 or vx.shape[0] < 2:
         return out
-    b_r0, b_r1, b_c0, b_c1, b_left, b_right = _block_tree(vx, vy, vz, stride, params.source_leaf)
-    b_c, b_rho, b_rc, b_mom = _block_nodes(b_r0, b_r1, b_c0, b_c1, vx, vy, vz, stride, sg, sr, cg, cr)
-    tperm, t_start, t_end, t_left, _ = _split(*(np.ascontiguousarray(targets[:, i]) for i in range(3)),
-                                              params.target_leaf)
-    x, y, z = (np.ascontiguousarray(targets[tperm, i]) for i in range(3))
-    ls, le, lc, lr = _target_leaves(t_start, t_end, t_left, x, y, z)
+    trees = _trees(targets, vx, vy, vz, stride, sg, sr, cg, cr, params)
     if plan:
-        near, far = _plan(lc, lr, le - ls, b_c, b_rho, b_rc, b_left, b_right, b_r0, b_r1, b_c0, b_c1,
-                          vx.shape[0] // stride, stride, float(params.theta), float(params.core_factor))
+        near, far = _counts(trees, vx.shape[0] // stride, stride, params)
         if NEAR_COST * near + FAR_COST * far >= TREE_MARGIN * 2.0 * n * vx.shape[0]:
             return None
+    (b_r0, b_r1, b_c0, b_c1, b_left, b_right), (b_c, b_rho, b_rc, b_mom), (x, y, z), (ls, le, lc, lr), tperm = trees
     res = np.empty((n, 3))
     run_chunked(_tree_chunks, (x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_right, b_c, b_rho, b_rc,
                                b_mom, vx, vy, vz, stride, sg, sr, cg, cr, float(params.theta),

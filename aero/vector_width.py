@@ -4,16 +4,22 @@ LLVM, and so numba, picks the width of the vectors it compiles loops for by the 
 AVX-512 server CPUs (Intel Skylake-SP, Cascade Lake) and the Xeons after them it prefers 256-bit registers (the
 tuning flag ``prefer-256-bit``), because those CPUs lower their clock while 512-bit instructions run; on AMD Zen 5
 (``znver5``: an EPYC KVM guest here, 2026-12-04) it uses 512-bit registers already by default (the compiled
-kernels hold zmm registers). The default width therefore depends on the host, and so do the last bits of every
-result (~1e-15 relative per kernel call, ~1e-12 on a 220-step UVLM run's mean lift).
+kernels hold zmm registers). The default width therefore depends on the host. The default float64 UVLM gives the
+same bits at both widths: its lattice kernel (:mod:`aero.lattice_lanes`) puts targets in the lanes, so a target's
+arithmetic does not depend on the lane count (tests/aero/test_vector_width.py); a CPU without AVX-512 takes
+another route to 1/|r| there, with other last bits. Kernels whose loops numba
+vectorises over sources still differ in the last bits between widths: the treecode's near field and the
+mixed-precision wake (~1e-15 relative per call; the corner-block kernel moved a 220-step UVLM run's mean lift by
+~1e-12).
 
 On an Intel Xeon the 512-bit code ran the UVLM 1.19-1.28x faster (an Emerald Rapids KVM guest with 2 cores:
 docs/uvlm.md, "Speed"). numba fixes its code-generation target once per process (``NUMBA_CPU_FEATURES``, read
 when numba is imported), so the width cannot be chosen per function. With ``HAWKSIM_VECTOR_WIDTH`` in the
 environment, importing :mod:`aero` (before numba) sets ``NUMBA_CPU_FEATURES`` to the host's features with the
 256-bit preference turned on (256) or off (512), for this process and its children (dask workers); on a host
-without AVX-512F both give the 256-bit code. Unset, numba's own choice stands. A data set is bit-reproducible only
-with the same width on the same kind of CPU; :func:`vector_bits` says which width a process compiles for.
+without AVX-512F both give the 256-bit code. Unset, numba's own choice stands. A data set made with the treecode or
+mixed precision is bit-reproducible only with the same width on the same kind of CPU; :func:`vector_bits` says which
+width a process compiles for.
 """
 
 from __future__ import annotations

@@ -212,8 +212,7 @@ def _time(fn, reps=3):
 
 def _compare(lats, pts, mirror, params) -> dict:
     """One convection call's wake-on-wake sum, direct and by the tree, on the same targets (with images)."""
-    p0, nrm = mirror
-    allp = np.concatenate([pts, pts - 2.0 * ((pts - p0) @ nrm)[:, None] * nrm])
+    allp = with_images(pts, mirror)
     ref = lattice_velocity(allp, lats)
     tree = lattice_tree(allp, lats, params)
     td = _time(lambda: lattice_velocity(allp, lats))
@@ -224,14 +223,16 @@ def _compare(lats, pts, mirror, params) -> dict:
             "max_error_rel": float(np.linalg.norm(tree - ref, axis=1).max() / np.linalg.norm(ref, axis=1).max())}
 
 
-def crossover(theta: float) -> dict:
+def crossover_cases() -> list[tuple[str, int, list, np.ndarray, tuple]]:
+    """The crossover's cases: (kind, size, wake lattices, targets (n, 3) [m], mirror (point, normal)). Kind
+    "uvlm_wakes_1ms": the free wake of a held 1 m/s flight (Table 3 kinematics, 6 x 12 rings, 40 steps a beat)
+    after size = 1, 2, 3, 5, 7 and 10 beats, its corners the targets, as one convection call sees them; kind
+    "unstretched_lattices": a wake-like lattice of size rows x 12 rings with a small random jitter (seed 0)."""
     from hawksim.backends.held import held_flight
     from hawksim.backends.uvlm import UVLMBackend
     from hawksim.insect.kinematics import table3_kinematics
     from hawksim.insect.morphology import RHO_AIR
 
-    params = TreeParams(theta=theta)
-    out = {"theta": theta, "threads": _threads(), "uvlm_wakes_1ms": [], "unstretched_lattices": []}
     snaps = {}
     beats = (1, 2, 3, 5, 7, 10)
 
@@ -249,9 +250,7 @@ def crossover(theta: float) -> dict:
 
     held_flight(table3_kinematics(1.0), 1.0, Snap(n_chord=6, n_span=12, config=UVLMConfig(rho=RHO_AIR)), cycles=10,
                 average_cycles=1, steps_per_cycle=40)
-    for b in beats:
-        lats, pts, mirror = snaps[b]
-        out["uvlm_wakes_1ms"].append({"beats": b, "load": _load(), **_compare(lats, pts, mirror, params)})
+    cases = [("uvlm_wakes_1ms", b, *snaps[b]) for b in beats]
     rng = np.random.default_rng(0)
     for rows in (50, 100, 200, 400, 800, 1600, 3200):
         G = np.zeros((rows + 1, 13, 3))
@@ -259,10 +258,23 @@ def crossover(theta: float) -> dict:
         G[..., 1] = 4e-3 * np.arange(13)[None, :]
         G += 2e-4 * rng.normal(size=G.shape)
         lat = ring_lattice(G, 1e-3 * rng.normal(size=(rows, 12)), 1e-8, 1e-8)
-        pts = G[1:].reshape(-1, 3)
-        out["unstretched_lattices"].append({"rows": rows, "load": _load(),
-                                            **_compare([lat], pts, (np.zeros(3), np.array([0.0, 1.0, 0.0])),
-                                                       params)})
+        cases.append(("unstretched_lattices", rows, [lat], G[1:].reshape(-1, 3),
+                      (np.zeros(3), np.array([0.0, 1.0, 0.0]))))
+    return cases
+
+
+def with_images(pts: np.ndarray, mirror) -> np.ndarray:
+    """The targets and their mirror images (2n, 3), as the solver passes them to one wake-on-wake call."""
+    p0, nrm = mirror
+    return np.concatenate([pts, pts - 2.0 * ((pts - p0) @ nrm)[:, None] * nrm])
+
+
+def crossover(theta: float) -> dict:
+    params = TreeParams(theta=theta)
+    out = {"theta": theta, "threads": _threads(), "uvlm_wakes_1ms": [], "unstretched_lattices": []}
+    for kind, size, lats, pts, mirror in crossover_cases():
+        key = "beats" if kind == "uvlm_wakes_1ms" else "rows"
+        out[kind].append({key: size, "load": _load(), **_compare(lats, pts, mirror, params)})
     return out
 
 
