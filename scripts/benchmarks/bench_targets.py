@@ -46,7 +46,7 @@ REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, REPO)
 
 from hawksim.jsonout import emit, host_info  # noqa: E402
-from roofline import lane_peak, roofline_fractions  # noqa: E402
+from roofline import lane_peak, pair_ceiling, roofline_fractions  # noqa: E402
 
 FLY_STEPS_PER_BEAT = 40
 """UVLM steps per wingbeat of the fly backend (hawksim.backends: the fly lattice), as in bench_treecode's wakes."""
@@ -192,7 +192,8 @@ def fly_floor(fly: dict) -> dict:
     FLY_STEPS_PER_BEAT convection calls. This counts the wake-on-wake sum alone (the solve and the wings' share
     come on top), so the rate is a lower bound. Ceiling: all threads' FP lane-operations/s (:func:`lane_peak`, the
     wider of the 256- and 512-bit peaks) / the kernel's lane-operations per pair, i.e. the kernel at 100 % of the
-    roofline."""
+    roofline. ``port_ceiling_g_pairs_s``: the tighter port model of roofline.pair_ceiling (the multiplies and FMAs
+    per pair on the FMA pipes alone), the wider width's."""
     wakes = {w["beats"]: w for w in fly["crossover"]["uvlm_wakes_1ms"]}
     w10 = wakes[FLY_WAKE_CYCLES]
     pairs10 = w10["wake_segments"] * w10["targets"]
@@ -205,9 +206,12 @@ def fly_floor(fly: dict) -> dict:
     if roof.get("peak"):
         ceiling = max(lane_peak(roof, b) for b in ("256", "512")) / roof["lane_ops_per_pair"]
         achieved = max(v["all"] for v in roof["lattice_kernel_g_pairs_s"].values())
+        ports = max(pair_ceiling(roof, b) for b in ("256", "512"))
         out.update({"fp_ceiling_g_pairs_s": round(ceiling, 2), "kernel_g_pairs_s": achieved,
                     "needed_over_ceiling": round(need / 1e9 / ceiling, 2),
-                    "needed_over_kernel": round(need / 1e9 / achieved, 2)})
+                    "needed_over_kernel": round(need / 1e9 / achieved, 2),
+                    "port_ceiling_g_pairs_s": round(ports, 2),
+                    "needed_over_port_ceiling": round(need / 1e9 / ports, 2)})
     return out
 
 
@@ -221,7 +225,8 @@ def reference_floor(uvlm: dict, fly: dict | None, ptera_s: float | None) -> dict
     benchmark case, all threads) and at the FP ceiling (all threads' FP lane-operations/s at the stage's vector
     width, :func:`lane_peak`, / the kernel's lane-operations per pair), the speed-ups over PteraSoftware those
     times allow (the case's other work, 12-19 % of it on 2026-12-04, not counted: upper bounds), and the pair rate
-    a 50x run would need for the pairs alone."""
+    a 50x run would need for the pairs alone; likewise at roofline.pair_ceiling's port model
+    (``port_ceiling_g_pairs_s``, ``speedup_bound_at_port_ceiling``)."""
     pairs = uvlm.get("reference_case_pairs")
     if not pairs or not ptera_s:
         return None
@@ -234,8 +239,11 @@ def reference_floor(uvlm: dict, fly: dict | None, ptera_s: float | None) -> dict
     roof = (fly or {}).get("roofline") or {}
     if roof.get("peak"):
         ceiling = lane_peak(roof, str(uvlm.get("vector_bits", 256))) / roof["lane_ops_per_pair"]
+        ports = pair_ceiling(roof, str(uvlm.get("vector_bits", 256)))
         out.update({"fp_ceiling_g_pairs_s": round(ceiling, 2),
-                    "speedup_bound_at_fp_ceiling": round(ptera_s / (pairs / ceiling / 1e9), 1)})
+                    "speedup_bound_at_fp_ceiling": round(ptera_s / (pairs / ceiling / 1e9), 1),
+                    "port_ceiling_g_pairs_s": round(ports, 2),
+                    "speedup_bound_at_port_ceiling": round(ptera_s / (pairs / ports / 1e9), 1)})
     return out
 
 

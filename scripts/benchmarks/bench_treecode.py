@@ -56,7 +56,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_uvlm import lattice_kernel_rate, reference_wing  # noqa: E402, I001  (imports aero first)
-from roofline import roofline_fractions  # noqa: E402
+from roofline import pair_ceiling, roofline_fractions  # noqa: E402
 
 import aero.uvlm as uvlm_module  # noqa: E402
 from aero.lattice import lattice_velocity, ring_lattice  # noqa: E402
@@ -82,6 +82,66 @@ process): per edge 6 for the cross product (3 multiplies, 3 fused multiply-subtr
 multiply and 2 FMAs), 5 for the denominator, 1 division, 1 multiply by gamma and 3 FMAs into the sums: 25; per
 corner :data:`CORNER_LANE_OPS`; with bench_uvlm.py's lattice (601 x 17 = 10 217 corners for 19 816 edges) ~33.8
 with the estimate, ~36.3 without (the corner-block kernel's count before 2026-12-04)."""
+
+CORNER_FMA_PORT_OPS = {"rsqrt14": 12, "float32": 15}
+"""Multiplies and FMAs (the operations an FMA pipe must issue) per corner of the lattice kernel, by its 1/sqrt route:
+3 for r^2, 3 multiplies for r/|r|, and the 1/sqrt's step: 6 for vrsqrt14pd's fourth-order step (2 for e, 4 for
+the polynomial and its FMA into y), 9 for the float32 detour (its Newton step and the third-order step). Read off
+the compiled code (:func:`kernel_op_counts`) on AMD Zen 4, 2026-12-06, at 8 and 4 lanes: the corner loop with both
+edges has 44 of them with the estimate (16 vmulpd, 27 vfmadd/vfmsub, 1 vfnmadd), 12 + 2 x 16. The roofline section
+uses the counts read off this process's code; these are the fallback."""
+
+EDGE_FMA_PORT_OPS = 16
+"""Multiplies and FMAs per edge of the lattice kernel: 6 for the cross product, 3 for K's dot product, 3 for
+|r1 x r2|^2, 1 multiply by gamma, 3 FMAs into the sums (K's 6 differences, the core's addition and the division
+issue elsewhere)."""
+
+FMA_PORT_OPS_PER_PAIR = EDGE_FMA_PORT_OPS + CORNER_FMA_PORT_OPS[lane_config()[1]] * 10217 / 19816
+"""Multiplies and FMAs per edge-target pair (bench_uvlm.py's lattice, as :data:`LANE_OPS_PER_PAIR`): ~22.2 with the
+estimate. Divides the FMA-only peak in roofline.pair_ceiling, where additions have pipes of their own."""
+
+def kernel_op_counts() -> dict | None:
+    """Vector FP operations per edge and per corner in this process's compiled lattice kernel, read off its machine
+    code (the lanes kernel of :func:`aero.lattice_lanes.chunks_kernel` at :func:`lane_config`, compiled uncached so
+    that numba shows its assembly): its corner loop with both edges is the basic block with the most vector FP
+    instructions, the loop with the spanwise edge alone the next (the first ``stride`` corners; with 4 lanes each
+    loop comes twice, once per half of the GROUP of 8 targets), so per edge = their
+    difference and per corner = the second less one edge. ``fma_port``: multiplies and FMAs (:data:`EDGE_FMA_PORT_OPS`,
+    :data:`CORNER_FMA_PORT_OPS` count them from the source); ``fp``: every vector FP instruction (the division and
+    1/sqrt estimate included; the float32 route's conversions not). Per vector of lanes, i.e. per lane-operation.
+    None where the code does not have that
+    shape (per-corner counts not positive)."""
+    import re
+
+    from aero.lattice_lanes import chunks_kernel
+
+    kernel = chunks_kernel(lane_config())
+    T, v = np.zeros((3, 16)), np.zeros(20)
+    kernel(T, 16, v, v, v, 5, v, v + 1.0, v, v + 1.0, np.zeros((16, 3)), np.zeros(1, np.int64), 1)
+    asm = next(iter(kernel.inspect_asm().values()))
+    fp = re.compile(r"^v(add|sub|mul|div|max|min|sqrt|rsqrt14|fmadd|fmsub|fnmadd|fnmsub)\w*p[sd]$")
+    fma = re.compile(r"^v(mul|fmadd|fmsub|fnmadd|fnmsub)\w*p[sd]$")
+    blocks, cur = [], {"fp": 0, "fma_port": 0}
+    for line in asm.splitlines():
+        s = line.strip()
+        if s.endswith(":") and not s.startswith("#"):
+            blocks.append(cur)
+            cur = {"fp": 0, "fma_port": 0}
+            continue
+        op = s.split(None, 1)
+        if len(op) == 2 and ("mm" in op[1]) and fp.match(op[0]):
+            cur["fp"] += 1
+            cur["fma_port"] += bool(fma.match(op[0]))
+    blocks.append(cur)
+    # with fewer lanes than GROUP the loops come once per lane vector: take the two largest distinct blocks
+    distinct = {b["fp"]: b for b in blocks}
+    two, one = [distinct[k] for k in sorted(distinct, reverse=True)[:2]]
+    edge = {k: two[k] - one[k] for k in two}
+    corner = {k: one[k] - edge[k] for k in one}
+    if min(corner.values()) <= 0 or min(edge.values()) <= 0:
+        return None
+    return {"per_edge": edge, "per_corner": corner}
+
 
 FMA_C = r"""
 #include <immintrin.h>
@@ -344,7 +404,11 @@ def roofline() -> dict:
     compiling for 256- and 512-bit vectors, and the kernel's fraction of the roofline per thread count (the
     one-thread figures are the robust ones on a shared machine: other processes take cores from both runs)."""
     threads = _threads()
-    out = {"threads": threads, "lane_ops_per_pair": round(LANE_OPS_PER_PAIR, 2), "load_before": _load()}
+    counts = kernel_op_counts()
+    fma_ops = FMA_PORT_OPS_PER_PAIR if counts is None else (
+        counts["per_edge"]["fma_port"] + counts["per_corner"]["fma_port"] * 10217 / 19816)
+    out = {"threads": threads, "lane_ops_per_pair": round(LANE_OPS_PER_PAIR, 2),
+           "fma_port_ops_per_pair": round(fma_ops, 2), "compiled_op_counts": counts, "load_before": _load()}
     cc = shutil.which("cc") or shutil.which("gcc")
     peaks, fp_peaks = {}, {}
     if cc:
@@ -383,6 +447,8 @@ def roofline() -> dict:
             b: {k: round(rates[b][k] * LANE_OPS_PER_PAIR / peaks[b][k]["lane_ops_g_s"], 3) for k in ("one", "all")}
             for b in ("256", "512")}
         out["fraction_of_fp_roofline"] = roofline_fractions(out)
+        out["pair_ceiling_g_pairs_s"] = {b: {k: round(pair_ceiling(out, b, k), 3) for k in ("one", "all")}
+                                         for b in ("256", "512")}
     out["load_after"] = _load()
     return out
 

@@ -20,6 +20,34 @@ def lane_peak(roof: dict, bits: str, threads: str = "all") -> float | None:
     return max(values)
 
 
+def fma_lane_peak(roof: dict, bits: str, threads: str = "all") -> float | None:
+    """The FMA-only peak [G lane-operations/s] at a vector width (bench_treecode's ``peak``), for all threads no
+    less than the one-thread peak times the thread count (as :func:`lane_peak`). None without it."""
+    if not roof.get("peak"):
+        return None
+    p = roof["peak"][bits]
+    if threads == "one":
+        return p["one"]["lane_ops_g_s"]
+    return max(p["all"]["lane_ops_g_s"], p["one"]["lane_ops_g_s"] * roof["threads"])
+
+
+def pair_ceiling(roof: dict, bits: str, threads: str = "all") -> float | None:
+    """The most edge-target pairs/s [G] the lattice kernel's arithmetic allows at a vector width: the smaller of
+    (a) the FP peak :func:`lane_peak` / all its FP lane-operations per pair (``lane_ops_per_pair``: every FP
+    operation on the same pipes, as on Intel's Xeons, whose additions use the FMA ports) and (b) the FMA-only peak
+    :func:`fma_lane_peak` / its multiplies and FMAs per pair (``fma_port_ops_per_pair``: on AMD Zen 4 and 5 the
+    additions have pipes of their own, but a multiply or FMA needs an FMA pipe on every x86 core). An upper bound
+    (a port model: no latency, no loads); (a) alone where the record has no ``fma_port_ops_per_pair`` (sittings
+    before 2026-12-06). None without the peaks."""
+    fp = lane_peak(roof, bits, threads)
+    if fp is None:
+        return None
+    bound = fp / roof["lane_ops_per_pair"]
+    if roof.get("fma_port_ops_per_pair"):
+        bound = min(bound, fma_lane_peak(roof, bits, threads) / roof["fma_port_ops_per_pair"])
+    return bound
+
+
 def roofline_fractions(roof: dict) -> dict | None:
     """The lattice kernel's fraction of the FP roofline per vector width and thread count: its rate x lane-operations
     per pair / :func:`lane_peak`."""

@@ -39,6 +39,20 @@ def test_fractions_divide_the_kernel_lane_ops_by_the_ceiling():
     assert f["512"]["all"] == pytest.approx(2.1 * 36 / 180, abs=1e-3)
 
 
+def test_the_pair_ceiling_is_the_tighter_of_all_fp_ops_and_the_fma_pipes_alone():
+    # without a multiply/FMA count (sittings before 2026-12-06): the FP ceiling alone
+    assert bt.pair_ceiling(ROOF, "256", "one") == pytest.approx(46.0 / 36.0)
+    ports = {**ROOF, "fma_port_ops_per_pair": 24.0}
+    # 256 bits, one thread: all ops 46 / 36 = 1.28 against the FMA pipes 30 / 24 = 1.25
+    assert bt.pair_ceiling(ports, "256", "one") == pytest.approx(30.0 / 24.0)
+    # all threads: FMA-only 2 x 30 = 60 (no less than the cores apart) / 24 = 2.5 against 92 / 36 = 2.56
+    assert bt.pair_ceiling(ports, "256", "all") == pytest.approx(60.0 / 24.0)
+    # where additions share the FMA pipes (fp_peak = FMA peak) the all-ops bound binds
+    intel = {**ports, "fp_peak": None}
+    assert bt.pair_ceiling(intel, "512", "all") == pytest.approx(120.0 / 36.0)
+    assert bt.pair_ceiling({"peak": None}, "256") is None
+
+
 def test_stage_environments(monkeypatch):
     monkeypatch.setenv("HAWKSIM_VECTOR_WIDTH", "512")
     monkeypatch.setenv("NUMBA_CPU_FEATURES", "+avx2")
