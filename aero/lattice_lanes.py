@@ -85,20 +85,31 @@ def lane_config() -> tuple[int, str]:
     return lanes, "rsqrt14" if avx512 else "float32"
 
 
+def config_group(config_) -> int:
+    """Targets per group of a kernel configuration (lanes, inverse_sqrt[, interleave]): :data:`GROUP`, or more where
+    ``interleave`` lane vectors of ``lanes`` targets each share a pass over the corners."""
+    lanes, interleave = config_[0], (config_[2] if len(config_) > 2 else 1)
+    return max(GROUP, lanes * interleave)
+
+
 def group_intrinsic(config_=None):
     """The numba intrinsic ``group_velocity(T, i0, vx, vy, vz, stride, sg, sr, cg, cr, ring, U)`` (njit code
-    only): U[c * GROUP + j] = the c-th velocity component (times 4 pi) at target T[:, i0 + j] (j < GROUP) of all
-    edges. T (3, npad) float64 targets, i0 a multiple of GROUP; ring an aligned scratch of
-    (stride + 1) * 6 * lanes float64, U of 3 * GROUP. config_: (lanes, inverse_sqrt), default :func:`lane_config`
-    (read when a kernel is compiled); the studies pass others."""
+    only): U[c * G + j] = the c-th velocity component (times 4 pi) at target T[:, i0 + j] (j < G) of all
+    edges, G = :func:`config_group` (:data:`GROUP` by default). T (3, npad) float64 targets, i0 a multiple of G;
+    ring an aligned scratch of (stride + 1) * 6 * G float64, U of 3 * G. config_: (lanes, inverse_sqrt) or (lanes,
+    inverse_sqrt, interleave), default :func:`lane_config` (read when a kernel is compiled); the studies pass
+    others. ``interleave`` lane vectors share one pass over the corners (independent chains for the out-of-order
+    core; each target's sum is the same, bit for bit)."""
 
     @intrinsic
     def group_velocity(typingctx, T, i0, vx, vy, vz, stride, sg, sr, cg, cr, ring, U):
         sig = types.void(T, i0, vx, vy, vz, stride, sg, sr, cg, cr, ring, U)
 
         def codegen(context, builder, signature, args):
-            lanes, inverse_sqrt = lane_config() if config_ is None else config_
-            _emit_group(context, builder, signature, args, lanes, inverse_sqrt)
+            cfg = lane_config() if config_ is None else config_
+            lanes, inverse_sqrt = cfg[:2]
+            interleave = cfg[2] if len(cfg) > 2 else 1
+            _emit_group(context, builder, signature, args, lanes, inverse_sqrt, interleave, config_group(cfg))
             return context.get_dummy_value()
 
         return sig, codegen
@@ -193,8 +204,13 @@ def inverse_sqrt_intrinsic(config_=None):
     return inverse_sqrt
 
 
-def _emit_group(context, builder, signature, args, lanes: int, inverse_sqrt: str) -> None:
-    """The IR of one group_velocity call: GROUP // lanes passes over the corners, one per lane vector."""
+def _emit_group(context, builder, signature, args, lanes: int, inverse_sqrt: str, interleave: int = 1,
+                group: int = GROUP) -> None:
+    """The IR of one group_velocity call: group // lanes lane vectors of targets, ``interleave`` of them per pass
+    over the corners."""
+    nvec = group // lanes
+    if group % lanes or nvec % interleave:
+        raise ValueError(f"a group of {group} targets is not {interleave}-interleaved vectors of {lanes} lanes")
     L = _Lanes(builder, lanes, inverse_sqrt)
     vec, splat, add, sub, mul = L.vec, L.splat, L.add, L.sub, L.mul
     vload, vstore = L.load, L.store
@@ -205,12 +221,14 @@ def _emit_group(context, builder, signature, args, lanes: int, inverse_sqrt: str
     i0v, stridev = args[1], args[5]
     nc = builder.extract_value(context.make_array(aty[2])(context, builder, args[2]).shape, 0)
     npad = builder.extract_value(context.make_array(aty[0])(context, builder, args[0]).shape, 1)
+    H = range(interleave)
 
     def at(name, k):
         return builder.gep(dptr[name], [k], inbounds=True, source_etype=_F64)
 
-    def slot_ptr(slot, c):
-        off = builder.add(builder.mul(slot, ir.Constant(_I64, 6 * lanes)), ir.Constant(_I64, c * lanes))
+    def slot_ptr(slot, c, j):
+        off = builder.add(builder.mul(slot, ir.Constant(_I64, 6 * lanes * interleave)),
+                          ir.Constant(_I64, (c * interleave + j) * lanes))
         return builder.gep(dptr["ring"], [off], inbounds=True, source_etype=_F64)
 
     def edge(a, ea, b, eb, g, rr, u):
@@ -227,55 +245,68 @@ def _emit_group(context, builder, signature, args, lanes: int, inverse_sqrt: str
     zero = ir.Constant(_I64, 0)
     one = ir.Constant(_I64, 1)
     slots = builder.add(stridev, one)
-    # state carried across corners, in allocas that LLVM promotes to registers
-    st_prev = [cgutils.alloca_once(builder, V) for _ in range(6)]
-    st_u = [cgutils.alloca_once(builder, V) for _ in range(3)]
+    # state carried across corners, per interleaved vector, in allocas that LLVM promotes to registers
+    st_prev = [[cgutils.alloca_once(builder, V) for _ in range(6)] for _ in H]
+    st_u = [[cgutils.alloca_once(builder, V) for _ in range(3)] for _ in H]
     st_slot = cgutils.alloca_once(builder, _I64)
     st_partner = cgutils.alloca_once(builder, _I64)
-    for h in range(GROUP // lanes):
-        first = builder.add(i0v, ir.Constant(_I64, h * lanes))
-        p = [vload(builder.gep(dptr["T"], [builder.add(builder.mul(ir.Constant(_I64, c), npad), first)],
-                               inbounds=True, source_etype=_F64), 8) for c in range(3)]
+    for h0 in range(0, nvec, interleave):
+        p = []
+        for j in H:
+            first = builder.add(i0v, ir.Constant(_I64, (h0 + j) * lanes))
+            p.append([vload(builder.gep(dptr["T"], [builder.add(builder.mul(ir.Constant(_I64, c), npad), first)],
+                                        inbounds=True, source_etype=_F64), 8) for c in range(3)])
 
         def corner(k, p=p):
-            r = [sub(p[c], splat(builder.load(at(n, k)))) for c, n in enumerate(("vx", "vy", "vz"))]
-            inv = L.inv_sqrt(add(add(mul(r[0], r[0]), mul(r[1], r[1])), mul(r[2], r[2])))
-            return r, [mul(rc, inv) for rc in r]
+            cs = [splat(builder.load(at(n, k))) for n in ("vx", "vy", "vz")]
+            out = []
+            for j in H:
+                r = [sub(p[j][c], cs[c]) for c in range(3)]
+                inv = L.inv_sqrt(add(add(mul(r[0], r[0]), mul(r[1], r[1])), mul(r[2], r[2])))
+                out.append((r, [mul(rc, inv) for rc in r]))
+            return out
 
-        def keep(slot, r, e):
-            for c in range(3):
-                vstore(r[c], slot_ptr(slot, c), 8 * lanes)
-                vstore(e[c], slot_ptr(slot, 3 + c), 8 * lanes)
-            for x, v in zip(st_prev, r + e):
-                builder.store(v, x)
+        def keep(slot, re_):
+            for j, (r, e) in zip(H, re_):
+                for c in range(3):
+                    vstore(r[c], slot_ptr(slot, c, j), 8 * lanes)
+                    vstore(e[c], slot_ptr(slot, 3 + c, j), 8 * lanes)
+                for x, v in zip(st_prev[j], r + e):
+                    builder.store(v, x)
 
         def step(k, chord):
             """Corner k: its spanwise edge from k - 1 and, if chord, its chordwise edge from k - stride."""
-            r, e = corner(k)
-            prev = [builder.load(x) for x in st_prev]
-            u = [builder.load(x) for x in st_u]
+            re_ = corner(k)
             km1 = builder.sub(k, one)
-            u = edge(prev[:3], prev[3:], r, e, builder.load(at("sg", km1)), builder.load(at("sr", km1)), u)
+            g_s, rr_s = builder.load(at("sg", km1)), builder.load(at("sr", km1))
+            us = []
+            for j, (r, e) in zip(H, re_):
+                prev = [builder.load(x) for x in st_prev[j]]
+                u = [builder.load(x) for x in st_u[j]]
+                us.append(edge(prev[:3], prev[3:], r, e, g_s, rr_s, u))
             nxt = builder.add(builder.load(st_slot), one)
             nxt = builder.select(builder.icmp_signed("==", nxt, slots), zero, nxt)
             if chord:
                 ps = builder.load(st_partner)
-                pr = [vload(slot_ptr(ps, c), 8 * lanes) for c in range(3)]
-                pe = [vload(slot_ptr(ps, 3 + c), 8 * lanes) for c in range(3)]
+                ks = builder.sub(k, stridev)
+                g_c, rr_c = builder.load(at("cg", ks)), builder.load(at("cr", ks))
+                for j, (r, e) in zip(H, re_):
+                    pr = [vload(slot_ptr(ps, c, j), 8 * lanes) for c in range(3)]
+                    pe = [vload(slot_ptr(ps, 3 + c, j), 8 * lanes) for c in range(3)]
+                    us[j] = edge(pr, pe, r, e, g_c, rr_c, us[j])
                 pn = builder.add(ps, one)
                 builder.store(builder.select(builder.icmp_signed("==", pn, slots), zero, pn), st_partner)
-                ks = builder.sub(k, stridev)
-                u = edge(pr, pe, r, e, builder.load(at("cg", ks)), builder.load(at("cr", ks)), u)
-            keep(nxt, r, e)
+            keep(nxt, re_)
             builder.store(nxt, st_slot)
-            for x, v in zip(st_u, u):
-                builder.store(v, x)
+            for j in H:
+                for x, v in zip(st_u[j], us[j]):
+                    builder.store(v, x)
 
-        for x in st_u:
-            builder.store(vec(0.0), x)
+        for j in H:
+            for x in st_u[j]:
+                builder.store(vec(0.0), x)
         with builder.if_then(builder.icmp_signed(">", nc, zero)):
-            r, e = corner(zero)
-            keep(zero, r, e)
+            keep(zero, corner(zero))
             builder.store(zero, st_slot)
             builder.store(zero, st_partner)
             k_mid = builder.select(builder.icmp_signed("<", stridev, nc), stridev, nc)
@@ -283,9 +314,11 @@ def _emit_group(context, builder, signature, args, lanes: int, inverse_sqrt: str
                 step(k, False)
             with cgutils.for_range_slice(builder, k_mid, nc, one, inc=True) as (k, _):
                 step(k, True)
-        for c in range(3):
-            vstore(builder.load(st_u[c]), builder.gep(dptr["U"], [ir.Constant(_I64, c * GROUP + h * lanes)],
-                                                      inbounds=True, source_etype=_F64), 8 * lanes)
+        for j in H:
+            for c in range(3):
+                vstore(builder.load(st_u[j][c]),
+                       builder.gep(dptr["U"], [ir.Constant(_I64, c * group + (h0 + j) * lanes)], inbounds=True,
+                                   source_etype=_F64), 8 * lanes)
 
 
 group_velocity = group_intrinsic()
@@ -315,10 +348,12 @@ def _lanes_chunks(T, n, vx, vy, vz, stride, sg, sr, cg, cr, out, counter, nchunk
 
 
 def chunks_kernel(config_):
-    """:func:`_lanes_chunks` compiled for another (lanes, inverse_sqrt) than :func:`lane_config` (not cached; for
-    tests and studies): the same code with its group kernel from :func:`group_intrinsic` (config_)."""
+    """:func:`_lanes_chunks` compiled for another (lanes, inverse_sqrt[, interleave]) than :func:`lane_config` (not
+    cached; for tests and studies): the same code with its group kernel from :func:`group_intrinsic` (config_) and
+    groups of :func:`config_group` (config_) targets (pad the targets to it: :func:`transpose_targets`)."""
     py = _lanes_chunks.py_func
-    code = FunctionType(py.__code__, dict(py.__globals__, group_velocity=group_intrinsic(config_)), py.__name__)
+    code = FunctionType(py.__code__, dict(py.__globals__, group_velocity=group_intrinsic(config_),
+                                          GROUP=config_group(config_)), py.__name__)
     return njit(nogil=True, fastmath=True, error_model="numpy")(code)
 
 
@@ -334,10 +369,10 @@ def supported_configs() -> list[tuple[int, str]]:
     return out
 
 
-def transpose_targets(targets: np.ndarray) -> np.ndarray:
-    """Targets (n, 3) as (3, n rounded up to GROUP), padded with copies of the last target (n >= 1)."""
+def transpose_targets(targets: np.ndarray, group: int = GROUP) -> np.ndarray:
+    """Targets (n, 3) as (3, n rounded up to ``group``), padded with copies of the last target (n >= 1)."""
     n = targets.shape[0]
-    T = np.empty((3, -(-n // GROUP) * GROUP))
+    T = np.empty((3, -(-n // group) * group))
     T[:, :n] = targets.T
     T[:, n:] = targets[-1][:, None]
     return T

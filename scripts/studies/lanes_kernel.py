@@ -8,7 +8,10 @@ over all corners (its module docstring). This study runs every (lanes, 1/sqrt ro
 supports (:func:`aero.lattice_lanes.supported_configs`), named ``lanes<L>_<route>``: L = 8 lanes of <8 x double>
 (zmm) or 4 of <4 x double> (ymm; the shipped choice at 256 bits), route ``f32`` (float32 1/sqrt and the
 third-order float64 step of :func:`aero.biot_savart.rsqrt`, portable) or ``rsqrt14`` (AVX-512's vrsqrt14pd and
-one fourth-order step; AVX-512F, and AVX512VL for 4 lanes). ``base`` is the corner-block kernel.
+one fourth-order step; AVX-512F, and AVX512VL for 4 lanes). ``base`` is the corner-block kernel. ``_x2``: two lane
+vectors of targets per pass over the corners (16 targets a group at 8 lanes), two independent chains for the
+out-of-order core, with the shipped 1/sqrt route (added 2026-12-06; no gain on AMD Zen 4, whose FMA pipes bind:
+docs/performance.md, "AMD Zen 4").
 
 Rates in G edge-target pairs/s, one thread, on bench_uvlm.py's lattice (600 rows x ns rings, 4000 targets) for
 ns = 16 (stride 17, the reference case's) and ns = 8 (stride 9, the flight wake's), best of 5, twice
@@ -30,7 +33,7 @@ import numpy as np
 
 from aero.biot_savart import _lattice_chunks
 from aero.lattice import stacked_lattices
-from aero.lattice_lanes import GROUP, chunks_kernel, supported_configs, transpose_targets
+from aero.lattice_lanes import chunks_kernel, config_group, lane_config, supported_configs, transpose_targets
 from aero.scheduling import run_chunked
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks"))
@@ -46,7 +49,6 @@ def rates(ns: int, rounds=2, reps=5, threads=1) -> dict:
     vx, vy, vz, sg, sr, cg, cr = (np.ascontiguousarray(a) for a in arrays)
     counter = np.zeros(1, np.int64)
     pairs = (sg.size + cg.size) * p.shape[0]
-    T = transpose_targets(p)
     nt = p.shape[0]
 
     def base(o):
@@ -57,13 +59,20 @@ def rates(ns: int, rounds=2, reps=5, threads=1) -> dict:
         _lattice_chunks(p, vx, vy, vz, stride, sg, sr, cg, cr, o, counter, 1)
 
     variants = {"base": base}
-    for lanes, inverse_sqrt in supported_configs():
-        name = f"lanes{lanes}_{'f32' if inverse_sqrt == 'float32' else inverse_sqrt}"
-        k = chunks_kernel((lanes, inverse_sqrt))
+    configs = [(*c, 1) for c in supported_configs()]
+    # two lane vectors per pass over the corners, the shipped 1/sqrt route where this host runs it at that lane count
+    configs += [(lanes, lane_config()[1] if (lanes, lane_config()[1]) in supported_configs() else "float32", 2)
+                for lanes in (8, 4)]
+    for lanes, inverse_sqrt, interleave in configs:
+        name = f"lanes{lanes}_{'f32' if inverse_sqrt == 'float32' else inverse_sqrt}" + (
+            f"_x{interleave}" if interleave > 1 else "")
+        cfg = (lanes, inverse_sqrt, interleave)
+        k, group = chunks_kernel(cfg), config_group(cfg)
+        T = transpose_targets(p, group)
 
-        def run(o, k=k):
+        def run(o, k=k, T=T, group=group):
             if threads > 1:
-                run_chunked(k, (T, nt, vx, vy, vz, stride, sg, sr, cg, cr, o), T.shape[1] // GROUP, pairs, threads)
+                run_chunked(k, (T, nt, vx, vy, vz, stride, sg, sr, cg, cr, o), T.shape[1] // group, pairs, threads)
                 return
             counter[0] = 0
             k(T, nt, vx, vy, vz, stride, sg, sr, cg, cr, o, counter, 1)
