@@ -3,13 +3,14 @@
 numba compiles each kernel the first time it runs in an install and keeps the machine code in the per-user cache
 (:mod:`aero.numba_cache`); later processes load it in well under a second. The first ``hawksim aero`` after
 ``pip install`` would otherwise spend ~5-10 s compiling (docs/uvlm.md, "Speed"). ``hawksim warmup`` runs a
-coarse held-body UVLM evaluation, a quasi-steady one, one open-loop quasi-steady wingbeat, one with the per-step
-surrogate, and one UVLM wingbeat with each opt-in wake sum (the treecode, forced, and the plan that
-``wake_summation="auto"`` makes on wakes of over ``aero.uvlm.TREE_MIN_SEGMENTS`` segments, as ``hawksim fly --aero
-uvlm --wake-cycles 5`` and up have; ``--wake-precision mixed``), which between them use every kernel of ``hawksim
-aero`` and ``hawksim fly`` with the argument types those commands pass. The README's install command runs it.
-Any command that does have to compile says so first, in one line on stderr when stderr is a terminal and progress
-is on (:func:`install_compile_notice`).
+coarse held-body UVLM evaluation, a quasi-steady one, one open-loop quasi-steady wingbeat and one with the per-step
+surrogate, which between them use every kernel of ``hawksim aero`` and ``hawksim fly`` with the argument types
+those commands pass, but for the UVLM flight's opt-in wake sums: the treecode (which ``--wake-cycles 5`` and up may
+plan, ``aero.uvlm``'s ``wake_summation="auto"``) and ``--wake-precision mixed`` compile on their first use, with the
+notice below (the treecode's ~6 s on the 2-core project machine, 2026-12-06). Warming them here too took half of
+this command (22 of 44 s in one run beside other work, 2026-12-06) for options few flights use, so it does not.
+The README's install command runs it. Any command that does have to compile says so first, in one line on stderr
+when stderr is a terminal and progress is on (:func:`install_compile_notice`).
 """
 
 from __future__ import annotations
@@ -90,26 +91,8 @@ def cmd_warmup(args) -> dict:
     t0 = time.perf_counter()  # the per-step surrogate's kernels (the network, its record of calls) in the flight loop
     fly_named(1.0, 1, "surrogate")
     stages["fly_surrogate_s"] = round(time.perf_counter() - t0, 3)
-    t0 = time.perf_counter()  # the UVLM flight's opt-in wake sums: the treecode, its plan, the mixed-precision kernel
-    fly_named(1.0, 1, "uvlm", wake_summation="tree")
-    _plan_tree()
-    fly_named(1.0, 1, "uvlm", wake_precision="mixed")
-    stages["fly_uvlm_wake_sums_s"] = round(time.perf_counter() - t0, 3)
     return {"compiled": counter.count, "cache_dir": os.environ.get("NUMBA_CACHE_DIR"), "stages": stages,
             "wall_time_s": round(time.perf_counter() - t_all, 3)}
-
-
-def _plan_tree() -> None:
-    """The treecode's plan (``aero.treecode.lattice_tree(..., plan=True)``, which ``wake_summation="auto"`` runs on
-    long wakes) on a small flat lattice: compiles its counting kernels with the UVLM's argument types."""
-    import numpy as np
-
-    from aero.lattice import ring_lattice
-    from aero.treecode import lattice_tree
-
-    grid = np.stack(np.meshgrid(np.arange(20.0), np.arange(7.0), [0.0], indexing="ij"), -1).reshape(20, 7, 3) * 1e-3
-    lat = ring_lattice(grid, np.ones((19, 6)), 1e-8, 1e-8)
-    lattice_tree(np.ascontiguousarray(grid.reshape(-1, 3) + 5e-4), [lat], plan=True)
 
 
 def register(sub) -> None:
