@@ -10,8 +10,8 @@ supports (:func:`aero.lattice_lanes.supported_configs`), named ``lanes<L>_<route
 third-order float64 step of :func:`aero.biot_savart.rsqrt`, portable) or ``rsqrt14`` (AVX-512's vrsqrt14pd and
 one fourth-order step; AVX-512F, and AVX512VL for 4 lanes). ``base`` is the corner-block kernel. ``_x2``: two lane
 vectors of targets per pass over the corners (16 targets a group at 8 lanes), two independent chains for the
-out-of-order core, with the shipped 1/sqrt route (added 2026-12-06; no gain on AMD Zen 4, whose FMA pipes bind:
-docs/performance.md, "AMD Zen 4").
+out-of-order core, with the shipped 1/sqrt route (added 2026-12-06; on AMD Zen 4, whose FMA pipes bind, 0.97-1.03x
+at 8 lanes and 1.04-1.08x at 4: docs/performance.md, "AMD Zen 4").
 
 Rates in G edge-target pairs/s, one thread, on bench_uvlm.py's lattice (600 rows x ns rings, 4000 targets) for
 ns = 16 (stride 17, the reference case's) and ns = 8 (stride 9, the flight wake's), best of 5, twice
