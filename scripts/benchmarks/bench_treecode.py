@@ -238,7 +238,11 @@ def _held(config: UVLMConfig, speed: float) -> dict:
     return {"L_plus": a.L_plus, "D_plus": a.D_plus, "M_plus": a.M_plus, "P_plus": a.P_plus}
 
 
-def accuracy(thetas) -> dict:
+def accuracy_cases(variants: dict, key: str) -> dict:
+    """The cycle averages of the three accuracy cases (the reference case; the held body at hover and 2 m/s) by the
+    direct sum and by each variant: ``variants[label](case, base)`` returns ``case`` run with the variant, ``base``
+    the case's UVLMConfig arguments. Per case: the direct values and, under ``key``, per label the values, relative
+    differences, whether within :data:`BOUND`, wall times."""
     from hawksim.insect.morphology import RHO_AIR
 
     cases = {"reference": (_reference, {}), "hover": (lambda c: _held(c, 0.0), {"rho": RHO_AIR}),
@@ -247,16 +251,22 @@ def accuracy(thetas) -> dict:
     for name, (case, base) in cases.items():
         t0 = time.perf_counter()
         ref = case(UVLMConfig(**base))
-        entry = {"direct": ref, "direct_wall_s": round(time.perf_counter() - t0, 2), "tree": {}}
-        for th in thetas:
+        entry = {"direct": ref, "direct_wall_s": round(time.perf_counter() - t0, 2), key: {}}
+        for label, run in variants.items():
             t0 = time.perf_counter()
-            val = case(UVLMConfig(**base, wake_summation="tree", tree_theta=th))
+            val = run(case, base)
             rel = {k: abs(val[k] - ref[k]) / abs(ref[k]) for k in ref}
-            entry["tree"][str(th)] = {"values": val, "relative": rel, "max_relative": max(rel.values()),
-                                      "within_bound": max(rel.values()) <= BOUND,
-                                      "wall_s": round(time.perf_counter() - t0, 2)}
+            entry[key][label] = {"values": val, "relative": rel, "max_relative": max(rel.values()),
+                                 "within_bound": max(rel.values()) <= BOUND,
+                                 "wall_s": round(time.perf_counter() - t0, 2)}
         out[name] = entry
     return out
+
+
+def accuracy(thetas) -> dict:
+    return accuracy_cases({str(th): (lambda case, base, th=th: case(UVLMConfig(**base, wake_summation="tree",
+                                                                                tree_theta=th)))
+                           for th in thetas}, "tree")
 
 
 # ---- crossover -----------------------------------------------------------------------------------------------

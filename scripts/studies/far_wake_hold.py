@@ -35,18 +35,16 @@ import argparse
 import contextlib
 import os
 import sys
-import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks"))
-from bench_treecode import BOUND, _held, _reference  # noqa: E402, I001  (imports aero first)
+from bench_treecode import BOUND, accuracy_cases  # noqa: E402, I001  (imports aero first)
 
 import aero.uvlm as aero_uvlm  # noqa: E402
 import hawksim.backends.uvlm as backend_uvlm  # noqa: E402
 from aero.lattice import Lattice  # noqa: E402
 from aero.uvlm import UVLM, UVLMConfig  # noqa: E402
-from hawksim.insect.morphology import RHO_AIR  # noqa: E402
 from hawksim.jsonout import emit, host_info  # noqa: E402
 
 
@@ -179,23 +177,14 @@ def change_per_step(near_rows: int, steps: int = 100, first: int = 60) -> dict:
 
 
 def accuracy(intervals, near_rows: int) -> dict:
-    cases = {"reference": (_reference, {}), "hover": (lambda c: _held(c, 0.0), {"rho": RHO_AIR}),
-             "2 m/s": (lambda c: _held(c, 2.0), {"rho": RHO_AIR})}
-    out = {}
-    for name, (case, base) in cases.items():
-        t0 = time.perf_counter()
-        ref = case(UVLMConfig(**base))
-        entry = {"direct": ref, "direct_wall_s": round(time.perf_counter() - t0, 2), "held": {}}
-        for k in intervals:
-            t0 = time.perf_counter()
+    def held(k):
+        def run(case, base):
             with held_far_wake(k, near_rows):
-                val = case(UVLMConfig(**base))
-            rel = {q: abs(val[q] - ref[q]) / abs(ref[q]) for q in ref}
-            entry["held"][str(k)] = {"values": val, "relative": rel, "max_relative": max(rel.values()),
-                                     "within_bound": max(rel.values()) <= BOUND,
-                                     "wall_s": round(time.perf_counter() - t0, 2)}
-        out[name] = entry
-    return {"near_rows": near_rows, "bound": BOUND, "cases": out}
+                return case(UVLMConfig(**base))
+        return run
+
+    return {"near_rows": near_rows, "bound": BOUND,
+            "cases": accuracy_cases({str(k): held(k) for k in intervals}, "held")}
 
 
 def flight(interval: int, near_rows: int, cycles: int = 20) -> dict:
