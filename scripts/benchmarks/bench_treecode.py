@@ -76,7 +76,11 @@ route: 3 differences, 3 for r^2, max, 1/sqrt, 3 multiplies for r/|r|, where 1/sq
 its fourth-order step (1 + 2 for e, 3 for the polynomial, 1 FMA: 7) or the float32 detour (conversion, estimate,
 its Newton step (4), conversion back, the third-order step (5): 12)."""
 
-LANE_OPS_PER_PAIR = 25 + CORNER_LANE_OPS[lane_config()[1]] * 10217 / 19816
+CORNERS_PER_EDGE = 10217 / 19816
+"""Corners per edge of bench_uvlm.py's lattice (601 x 17 corners, 19 816 edges): per-corner operations count this
+much per edge-target pair."""
+
+LANE_OPS_PER_PAIR = 25 + CORNER_LANE_OPS[lane_config()[1]] * CORNERS_PER_EDGE
 """FP lane-operations per edge-target pair of the lattice kernel (aero.lattice_lanes, its 1/sqrt route in this
 process): per edge 6 for the cross product (3 multiplies, 3 fused multiply-subtracts), 9 for K (6 differences, a
 multiply and 2 FMAs), 5 for the denominator, 1 division, 1 multiply by gamma and 3 FMAs into the sums: 25; per
@@ -96,7 +100,7 @@ EDGE_FMA_PORT_OPS = 16
 |r1 x r2|^2, 1 multiply by gamma, 3 FMAs into the sums (K's 6 differences, the core's addition and the division
 issue elsewhere)."""
 
-FMA_PORT_OPS_PER_PAIR = EDGE_FMA_PORT_OPS + CORNER_FMA_PORT_OPS[lane_config()[1]] * 10217 / 19816
+FMA_PORT_OPS_PER_PAIR = EDGE_FMA_PORT_OPS + CORNER_FMA_PORT_OPS[lane_config()[1]] * CORNERS_PER_EDGE
 """Multiplies and FMAs per edge-target pair (bench_uvlm.py's lattice, as :data:`LANE_OPS_PER_PAIR`): ~22.2 with the
 estimate. Divides the FMA-only peak in roofline.pair_ceiling, where additions have pipes of their own."""
 
@@ -105,12 +109,11 @@ def kernel_op_counts() -> dict | None:
     code (the lanes kernel of :func:`aero.lattice_lanes.chunks_kernel` at :func:`lane_config`, compiled uncached so
     that numba shows its assembly): its corner loop with both edges is the basic block with the most vector FP
     instructions, the loop with the spanwise edge alone the next (the first ``stride`` corners; with 4 lanes each
-    loop comes twice, once per half of the GROUP of 8 targets), so per edge = their
-    difference and per corner = the second less one edge. ``fma_port``: multiplies and FMAs (:data:`EDGE_FMA_PORT_OPS`,
-    :data:`CORNER_FMA_PORT_OPS` count them from the source); ``fp``: every vector FP instruction (the division and
-    1/sqrt estimate included; the float32 route's conversions not). Per vector of lanes, i.e. per lane-operation.
-    None where the code does not have that
-    shape (per-corner counts not positive)."""
+    loop comes twice, once per half of the GROUP of 8 targets), so per edge = their difference and per corner = the
+    second less one edge. ``fma_port``: multiplies and FMAs (:data:`EDGE_FMA_PORT_OPS`, :data:`CORNER_FMA_PORT_OPS`
+    count them from the source); ``fp``: every vector FP instruction (the division and 1/sqrt estimate included;
+    the float32 route's conversions not). Per vector of lanes, i.e. per lane-operation. None where the code does
+    not have that shape (per-corner counts not positive)."""
     import re
 
     from aero.lattice_lanes import chunks_kernel
@@ -416,7 +419,7 @@ def roofline() -> dict:
     threads = _threads()
     counts = kernel_op_counts()
     fma_ops = FMA_PORT_OPS_PER_PAIR if counts is None else (
-        counts["per_edge"]["fma_port"] + counts["per_corner"]["fma_port"] * 10217 / 19816)
+        counts["per_edge"]["fma_port"] + counts["per_corner"]["fma_port"] * CORNERS_PER_EDGE)
     out = {"threads": threads, "lane_ops_per_pair": round(LANE_OPS_PER_PAIR, 2),
            "fma_port_ops_per_pair": round(fma_ops, 2), "compiled_op_counts": counts, "load_before": _load()}
     cc = shutil.which("cc") or shutil.which("gcc")

@@ -120,16 +120,20 @@ class HeldFarWakeUVLM(UVLM):
 
 
 @contextlib.contextmanager
-def held_far_wake(interval: int, near_rows: int):
-    """Within the block, every UVLM that aero.uvlm.run_prescribed and the UVLM backend build is a
-    :class:`HeldFarWakeUVLM` with these settings (interval 1: the direct sum, through the same class)."""
-    cls = type("Held", (HeldFarWakeUVLM,), {"interval": interval, "near_rows": near_rows})
+def uvlm_class(cls):
+    """Within the block, every UVLM that aero.uvlm.run_prescribed and the UVLM backend build is a ``cls``."""
     saved = aero_uvlm.UVLM, backend_uvlm.UVLM
     aero_uvlm.UVLM = backend_uvlm.UVLM = cls
     try:
         yield
     finally:
         aero_uvlm.UVLM, backend_uvlm.UVLM = saved
+
+
+def held_far_wake(interval: int, near_rows: int):
+    """:func:`uvlm_class` with a :class:`HeldFarWakeUVLM` of these settings (interval 1: the direct sum, through the
+    same class)."""
+    return uvlm_class(type("Held", (HeldFarWakeUVLM,), {"interval": interval, "near_rows": near_rows}))
 
 
 def _load():
@@ -164,13 +168,9 @@ def change_per_step(near_rows: int, steps: int = 100, first: int = 60) -> dict:
 
     t = np.linspace(0.0, 3 / 25.0 * steps / 220, steps)
     R, o, v, w = two_wing_motion(t, freq=25.0)
-    saved = aero_uvlm.UVLM
-    aero_uvlm.UVLM = Probe
-    try:
+    with uvlm_class(Probe):
         aero_uvlm.run_prescribed([reference_wing()], UVLMConfig(), t, R[:, :1], o[:, :1], v[:, :1], w[:, :1],
                                  mirror_plane=(np.zeros(3), np.array([0.0, 1.0, 0.0])))
-    finally:
-        aero_uvlm.UVLM = saved
     return {"case": "reference", "steps": [first, steps], "near_rows": near_rows, "compared_steps": len(largest),
             "largest_change_over_largest_velocity": {"max": max(largest), "median": float(np.median(largest))},
             "median_change_over_largest_velocity": {"max": max(median), "median": float(np.median(median))}}
