@@ -62,6 +62,17 @@ SHED_RULES = ("ring", "travel")
 """Placements of the newest wake vortex (:class:`UVLMConfig` ``shed_rule``)."""
 
 
+POTENTIAL_JUMPS = ("panel", "ring")
+"""How the unsteady load term reads the potential jump of each panel (:class:`UVLMConfig` ``potential_jump``)."""
+
+TIME_DERIVATIVES = ("bdf2", "euler")
+"""The backward difference of the potential jump's time derivative (:class:`UVLMConfig` ``time_derivative``)."""
+
+LEGACY_0_2 = dict(shed_rule="ring", potential_jump="ring", time_derivative="euler")
+"""The UVLMConfig fields that give hawksim 0.2's UVLM (the one the shipped data sets, networks and tables were
+computed with, until they are regenerated): ``UVLMConfig(**LEGACY_0_2)``. Its unsteady loads exceed Theodorsen's
+by 10-40 % at k = 1 (docs/validation.md)."""
+
 WAKE_SUMMATIONS = ("direct", "tree", "auto")
 """How the wake-on-wake velocities that convect the free wake are summed (:class:`UVLMConfig` ``wake_summation``)."""
 
@@ -138,8 +149,10 @@ class UVLMConfig:
     convection_core_chords: float = 0.1
     a_prime: float = 1e-2
     max_wake_rows: int | None = None
-    shed_rule: str = "ring"
+    shed_rule: str = "travel"
     shed_fraction: float = 0.25
+    potential_jump: str = "panel"
+    time_derivative: str = "bdf2"
     wake_precision: str = "float64"
     wake_summation: str = "direct"
     tree_theta: float = TreeParams.theta
@@ -147,6 +160,12 @@ class UVLMConfig:
     def __post_init__(self):
         if self.shed_rule not in SHED_RULES:
             raise ValueError(f"UVLMConfig.shed_rule must be one of {', '.join(SHED_RULES)}, got {self.shed_rule!r}")
+        if self.potential_jump not in POTENTIAL_JUMPS:
+            raise ValueError(f"UVLMConfig.potential_jump must be one of {', '.join(POTENTIAL_JUMPS)}, "
+                             f"got {self.potential_jump!r}")
+        if self.time_derivative not in TIME_DERIVATIVES:
+            raise ValueError(f"UVLMConfig.time_derivative must be one of {', '.join(TIME_DERIVATIVES)}, "
+                             f"got {self.time_derivative!r}")
         if not (np.isfinite(self.shed_fraction) and 0.0 < self.shed_fraction <= 1.0):
             raise ValueError(f"UVLMConfig.shed_fraction must lie in (0, 1], got {self.shed_fraction!r}")
         if self.wake_precision not in PRECISIONS:
@@ -239,7 +258,10 @@ class UVLM:
         self.config = config
         self.wakes = [Wake(m.shape[1]) for m in self.meshes]
         self.step_count = 0
-        self._gamma_prev: list[np.ndarray] | None = None
+        self._gamma_prev: list[np.ndarray] | None = None  # ring circulations of the previous step
+        self._gamma_prev2: list[np.ndarray] | None = None  # and of the one before
+        self._dt_prev: float | None = None  # the previous step's dt [s]
+        self._dt_prev2: float | None = None
         self._tree_plan: tuple[int, bool] | None = None  # (step planned, tree chosen) of wake_summation="auto"
         self.mean_len = float(np.mean([m.mean_chordwise_length for m in self.meshes]))
         self.rb = config.core_fraction * self.mean_len
@@ -385,7 +407,8 @@ class UVLM:
         result = self._loads(dt, colloc, normals, gammas, bound_lat, wake_lat, freestream, v_kin, mirror)
         if not (np.all(np.isfinite(result.element_force))):
             raise FloatingPointError(f"UVLM blow-up at step {k}: non-finite loads")
-        self._gamma_prev = [g.copy() for g in gammas]
+        self._gamma_prev2, self._dt_prev2 = self._gamma_prev, self._dt_prev
+        self._gamma_prev, self._dt_prev = [g.copy() for g in gammas], dt
 
         # 5. shed and convect
         for w in range(nw):
@@ -395,6 +418,30 @@ class UVLM:
         self._convect(dt, rings, gammas, freestream, mirror)
         self.step_count += 1
         return result
+
+    def _jump_rate(self, w: int, g: np.ndarray) -> np.ndarray:
+        """d(potential jump)/dt [m^2/s^2] of wing w's panels (nc, ns) from its ring circulations g now and at the
+        previous steps (``UVLMConfig.time_derivative``: "bdf2", the second-order backward difference on the
+        last three steps, with unequal steps allowed; "euler" and the second step, the first-order one; zero at
+        the first step). ``UVLMConfig.potential_jump`` "panel": a panel's jump is the mean of the two rings that
+        bound it chordwise (ring i's circulation is the jump at the panel edge between panels i and i + 1 of the
+        1/4-3/4 lattice, zero ahead of the leading edge), so that the sum over panels is the trapezoid rule of
+        the jump over the plate; "ring" (hawksim 0.2): ring i's own circulation over panel i, a right-endpoint
+        sum that counts a quarter ring behind the trailing edge and overstates the term by half a panel of the
+        trailing edge's jump (first order in the chordwise panel; docs/validation.md)."""
+        if self._gamma_prev is None:
+            return np.zeros_like(g)
+        g1 = self._gamma_prev[w]
+        if self.config.time_derivative == "bdf2" and self._gamma_prev2 is not None:
+            g2 = self._gamma_prev2[w]
+            h1, h2 = self._dt_prev, self._dt_prev2  # t - t1 and t1 - t2 (a step's dt leads to the next pose)
+            rate = ((2 * h1 + h2) / (h1 * (h1 + h2)) * g - (h1 + h2) / (h1 * h2) * g1
+                    + h1 / (h2 * (h1 + h2)) * g2)
+        else:
+            rate = (g - g1) / self._dt_prev
+        if self.config.potential_jump == "panel":
+            rate = 0.5 * (rate + np.concatenate([np.zeros_like(rate[:1]), rate[:-1]]))
+        return rate
 
     def _loads(self, dt, colloc, normals, gammas, bound_lat, wake_lat, freestream, v_kin, mirror
                ) -> StepResult:
@@ -426,9 +473,8 @@ class UVLM:
                 side = np.sign((F[le] * n_ring[0]).sum(1))
                 F[le] += (-s_pos)[:, None] * e_f + (s_pos * side)[:, None] * n_ring[0]
             # unsteady term per ring
-            g_prev = self._gamma_prev[w] if self._gamma_prev is not None else g
             area = self.meshes[w].panel_areas
-            F_u = (-c.rho * (g - g_prev) / dt * area)[..., None] * n_ring
+            F_u = (-c.rho * self._jump_rate(w, g) * area)[..., None] * n_ring
             # panel assignment: leading spanwise edge -> its ring; chordwise edges split between neighbours
             pf = F_u.copy()
             pf += F[:n_span].reshape(nc, ns, 3)
