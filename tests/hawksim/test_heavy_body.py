@@ -124,3 +124,18 @@ def test_heavy_body_uvlm():
     held = held_averages(kin, 1.0, UVLMBackend(n_chord=6, n_span=12), steps_per_cycle=40, power=True)
     _check((free["L"], free["D"], free["M"]), held[:3])
     _check_power(free, held[3])
+    assert abs(free["P_steps"] - held[3]) > P_REL_TOL * abs(held[3]), (free, held)  # measured -3.0 %
+
+
+@pytest.mark.slow
+def test_heavy_body_power_surrogate():
+    """The per-step surrogate (`hawksim fly --aero surrogate`'s coupling: the network in the native callback every
+    5 of 200 steps) at the 1 m/s UVLM trim: its P+ against the held body's at 40 steps, and the every-step
+    estimate misses it (measured -1.5 %; the update sampling 1.5e-5)."""
+    from hawksim.backends.step_surrogate import StepSurrogateBackend
+
+    kin = trim_kinematics(1.0, "uvlm")
+    free = heavy_free_flight(kin, 1.0, StepSurrogateBackend(kin), steps_per_cycle=200, aero_every=5)
+    *_, held_P = held_averages(kin, 1.0, StepSurrogateBackend(kin), steps_per_cycle=40, power=True)
+    _check_power(free, held_P)
+    assert abs(free["P_steps"] - held_P) > P_REL_TOL * abs(held_P), (free, held_P)
