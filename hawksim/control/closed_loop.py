@@ -33,11 +33,12 @@ from hawksim.control.derivatives import stability_position
 from hawksim.control.plant import command_of, controlled_plant, saturate
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import STEPS_PER_CYCLE, backend_record, read_body_state, set_body_state
+from hawksim.flight.power import P_plus
 from hawksim.flight.result import FlightResult
 from hawksim.frames import attitude_of, pitch_of, quat_from_matrices
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
-from hawksim.insect.morphology import HAWKMOTH, P0_W
+from hawksim.insect.morphology import HAWKMOTH
 
 SPEED_RATE = 0.2
 """Largest change of the speed reference per wingbeat [m/s]."""
@@ -292,7 +293,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                         "air_velocity": [float(a) for a in air],
                         "state": [float(a) for a in x],
                         "commands": applied[0], "saturated": saturated,
-                        "P_plus": float(np.maximum(pj, 0).mean() / P0_W)})
+                        "P_plus": P_plus(pj, sim.aero_every)})
             if nseg > 1:
                 out[-1]["commands_half_stroke"] = applied[1]
             if progress is not None:  # after the beat is complete (an interrupt raised here keeps it)
@@ -313,6 +314,6 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
             wing_R=a["wR"], wing_origin=a["wo"], force=a["F"], moment=a["M"], power_aero=a["Pa"],
             power_joint=a["Pj"], wall_time_s=time.perf_counter() - t_start,
             trim_source=f"periodic orbit of the free body, {control} control", beat_steps=n,
-            speed_commands=np.array(refs), end_t=end_t, end_pos=end_pos)
+            speed_commands=np.array(refs), end_t=end_t, end_pos=end_pos, aero_every=sim.aero_every)
     return ClosedLoop(beats=out, schedule=schedule, result=result, wall_time_s=time.perf_counter() - t_start,
                       control=control, delay=int(delay), gusts=gusts, speed_rate=speed_rate)

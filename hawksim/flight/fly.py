@@ -109,4 +109,5 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
         body_v=a["body_v"], body_omega=a["body_omega"], wing_R=a["wing_R"], wing_origin=a["wing_origin"],
         force=a["force"], moment=a["moment"], power_aero=a["power_aero"], power_joint=a["power_joint"],
         wall_time_s=wall, extras=extras, trim_source=trim.source, end_t=end_t, end_pos=end_pos,
+        aero_every=sim.aero_every,
     )

@@ -39,12 +39,12 @@ import numpy as np
 from hawksim.backends.base import AeroBackend
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, reference_speed
 from hawksim.insect.model import load_model
-from hawksim.insect.morphology import P0_W
 from hawksim.backends import flight_backend
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE
 from hawksim.frames import pitch_of
 from hawksim.flight.body_state import (S, STATE_NAMES, SYM_STATE, BodyState, read_body_state,  # noqa: F401
                                        set_body_state, state_to_world, world_to_state)
+from hawksim.flight.power import P_plus
 from hawksim.flight.simulator import Simulator, aero_every_for
 from hawksim.trim.tables import trim_kinematics
 
@@ -116,7 +116,8 @@ def make_orbit_backend(aero: str, *, symmetric: bool = True, kinematics: Kinemat
 class Beats:
     """A free flight strobed at phase 0, nb beats. states (nb + 1, 9): the state at t = k T; mean_velocity
     (nb, 3): each beat's mean centre-of-mass velocity of the body (displacement / T), world frame [m/s];
-    mean_pitch (nb,) [rad]; P_plus (nb,): cycle mean of max(0, joint power) / P0; wall_time_s."""
+    mean_pitch (nb,) [rad]; P_plus (nb,): cycle mean of max(0, joint power) / P0 over the backend-update steps
+    (:func:`hawksim.flight.power.P_plus`); wall_time_s."""
 
     states: np.ndarray
     mean_velocity: np.ndarray
@@ -171,7 +172,7 @@ class _Flight:
             vel.append((new - pos) / kin.period)
             pos = new
             pitch.append(th.mean())
-            pp.append(np.maximum(pw, 0.0).mean() / P0_W)
+            pp.append(P_plus(pw, every, first=b.first))
         return Beats(np.array(states), np.array(vel), np.array(pitch), np.array(pp), time.perf_counter() - t0,
                      backend_record(backend, every))
 
@@ -186,7 +187,8 @@ class Orbit:
     ``warm_beats`` beats from an empty wake precede the periodic beat); residual: max abs normalized residual
     (periodicity of (u, w, q, theta) by U, 1/T, rad; mean velocity by U); residuals (6,): the vector;
     mean_velocity (3,): mean velocity of the body centre of mass over the periodic beat, world frame (z up) [m/s];
-    mean_pitch [rad]: cycle-mean body pitch; P_plus: cycle mean of max(0, joint power) / P0 over the periodic beat;
+    mean_pitch [rad]: cycle-mean body pitch; P_plus: cycle mean of max(0, joint power) / P0 over the periodic beat
+    (:func:`hawksim.flight.power.P_plus`; the shipped UVLM and surrogate tables: its "steps" sampling);
     iterations: Newton iterations; converged: residual <= tol; floor: for the UVLM, the max abs normalized
     periodicity residual of the NEXT beat (the wake's beat-to-beat variation), 0 otherwise;
     history: max abs residual after each iteration; wall_time_s.

@@ -6,9 +6,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from hawksim.flight.power import P_plus
 from hawksim.frames import attitude_of, pitch_of, quat_to_matrix, roll_of
 from hawksim.insect.kinematics import Kinematics
-from hawksim.insect.morphology import HAWKMOTH, P0_W
+from hawksim.insect.morphology import HAWKMOTH
 
 DEPARTURE_SPEED = 0.1
 """A flight has departed when a wingbeat's mean vertical speed leaves the target, or its horizontal speed leaves
@@ -26,7 +27,9 @@ class FlightResult:
     wing; moment (n, 3) total aerodynamic moment about the body centre of mass [N m]; power_aero (n,) [W];
     power_joint (n,) [W] (aerodynamic + inertial power of the wings, relative to the body). end_t [s] and end_pos
     (3,) [m]: time and body centre of mass after the last step (None where the flight was interrupted), so that
-    the last wingbeat's mean speed spans the whole beat like the others.
+    the last wingbeat's mean speed spans the whole beat like the others. aero_every: steps per backend update (the
+    loads are held in between; row 0 is an update), which the required power samples
+    (:mod:`hawksim.flight.power`).
     """
 
     speed_target: float
@@ -51,6 +54,7 @@ class FlightResult:
     end_t: float | None = None
     end_pos: np.ndarray | None = None
     """Backend extras (e.g. UVLM pressure and wake) for the steps where they were kept, as (step, dict)."""
+    aero_every: int = 1
 
     @property
     def body_R(self) -> np.ndarray:
@@ -145,6 +149,6 @@ class FlightResult:
                 "L_plus": float(L[last].mean() / W),
                 "D_plus": float(D[last].mean() / W),
                 "M_plus": float(self.pitching_moment()[last].mean() / (W * HAWKMOTH.cbar)),
-                "P_plus": float(np.maximum(self.power_joint[last], 0).mean() / P0_W),
+                "P_plus": P_plus(self.power_joint[last], self.aero_every, first=last.start),
             },
         }

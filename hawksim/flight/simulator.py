@@ -281,7 +281,9 @@ class Simulator:
         gravity: whether gravity acts.
         aero_every: call the backend every this many steps (its dt is then aero_every steps); in between the
             loads are held fixed in the world frame (force, and moment about each wing's hinge), so a costly
-            backend (the UVLM) can run at a coarser rate than the integrator.
+            backend (the UVLM) can run at a coarser rate than the integrator. The joint power of the steps in
+            between pairs the held load with a later wing motion; the required power therefore samples the
+            update steps only (:mod:`hawksim.flight.power`).
         native: solve the computed torque in the compiled MuJoCo callback of :mod:`hawksim.flight.native` (the
             same floats as the Python callback, several times faster) where it is available; False: the Python
             callback :meth:`_control` (a subclass that overrides :meth:`desired` always gets it, unless it

@@ -119,8 +119,9 @@ def open_loop(aero: str, speed: float) -> dict:
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
     from hawksim.flight.orbit import periodic_orbit, shipped_orbit
+    from hawksim.flight.power import P_plus
     from hawksim.insect.model import load_model
-    from hawksim.insect.morphology import HAWKMOTH, P0_W
+    from hawksim.insect.morphology import HAWKMOTH
     from hawksim.trim.point import Trim
 
     orb = shipped_orbit(speed, aero)
@@ -144,7 +145,7 @@ def open_loop(aero: str, speed: float) -> dict:
     lift, _ = r.lift_drag()
     spc = r.steps_per_cycle
     L = [float(lift[k * spc:(k + 1) * spc].mean() / HAWKMOTH.weight) for k in range(n)]
-    P = [float(np.maximum(r.power_joint[k * spc:(k + 1) * spc], 0).mean() / P0_W) for k in range(n)]
+    P = [P_plus(r.power_joint[k * spc:(k + 1) * spc], r.aero_every, first=k * spc) for k in range(n)]
     ref = beats[w]["pitch_deg"]
     hold = 0
     for b in beats[w:]:

@@ -12,6 +12,11 @@ reproduces the held run, whose loads are a zero-order hold at the backend's own 
 Tolerances: L+, D+ within ``REL_TOL`` = 0.5 % of max(|L+|, 1) (D+ and L+ share the scale W: D+ is near zero,
 so its error is measured on the weight scale), M+ within ``M_ABS_TOL`` = 0.005 absolute (M+ is near zero at the
 trim, so a relative error is meaningless; 0.005 is 0.5 % of W cbar).
+
+The required power P+ (cycle mean of max(0, P_aero + P_inertial) / P0) must match too (issue 48, item 5): with the
+loads held between updates, the joint power of the steps in between pairs the update's load with a later wing
+motion, and max(0, .) turns that lag into a bias (-2.7 % for the UVLM, -2.8 % quasi-steady); the flight's P+
+samples the update steps only (:mod:`hawksim.flight.power`), which removes it. ``P_REL_TOL`` below.
 """
 
 import mujoco
@@ -23,6 +28,7 @@ from hawksim.insect.model import load_model
 from hawksim.insect.morphology import HAWKMOTH
 from hawksim.backends.quasi_steady import QuasiSteadyBackend
 from hawksim.frames import quat_from_matrix, rot_y
+from hawksim.flight.power import P_plus
 from hawksim.flight.simulator import Simulator
 from hawksim.trim.tables import trim_kinematics
 
@@ -31,34 +37,43 @@ REL_TOL = 0.005
 M_ABS_TOL = 0.005
 CYCLES = 3
 """Wingbeats flown; the last one is compared (the UVLM's wake develops over the first two)."""
+P_REL_TOL = 0.005
+"""Heavy-body free P+ against the held body's, relative: issue 48's 0.5 %. The bias it guards against (the
+zero-order hold's lag inside max(0, .), ``sampling="steps"``) measured -2.8 % quasi-steady (0.9206 against 0.9475,
+1 m/s, 200 steps, backend every 5) and -2.7 % UVLM (1.1035 against 1.1346); the update sampling gave 4e-5
+quasi-steady, so 0.5 % is 5x below the bias and 100x above the fixed estimate's error."""
 
 
-def heavy_free_averages(kin, speed, backend, *, steps_per_cycle, aero_every, cycles=CYCLES):
-    """(L+, D+, M+) of the last wingbeat of a free flight of a body ``HEAVY`` times heavier, gravity off,
-    started at pitch chi moving straight up at ``speed`` [m/s]; loads as applied by the loop (world frame,
-    the pitching moment about the body's centre of mass, nose up)."""
+def heavy_free_flight(kin, speed, backend, *, steps_per_cycle, aero_every, cycles=CYCLES):
+    """The last wingbeat of a free flight of a body ``HEAVY`` times heavier, gravity off, started at pitch chi
+    moving straight up at ``speed`` [m/s]: {"L", "D", "M"} (L+, D+, M+ of the loads as applied by the loop: world
+    frame, the pitching moment about the body's centre of mass, nose up) and {"P_updates", "P_steps"} (P+ of the
+    joint power, :func:`hawksim.flight.power.P_plus` with either sampling)."""
     m = load_model()
     b = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "body")
     m.body_mass[b] *= HEAVY
     m.body_inertia[b] *= HEAVY
     sim = Simulator(m, kin, backend, steps_per_cycle=steps_per_cycle, gravity=False, aero_every=aero_every)
     sim.reset(velocity=np.array([0.0, 0.0, speed]), quat=quat_from_matrix(rot_y(-kin.chi)))
-    L, D, M = [], [], []
-    for _ in range(cycles * steps_per_cycle):
-        r = sim.step()
-        F = r.loads.force.sum(0)
-        Mc = r.loads.moment_about(r.state, r.state.body_pos)
-        L.append(F[2])
-        D.append(-F[0])
-        M.append(-(Mc @ r.state.body_R[:, 1]))
-    last = slice(-steps_per_cycle, None)
+    sim.advance((cycles - 1) * steps_per_cycle)
+    r = sim.advance(steps_per_cycle)
+    F = r.force.sum(1)
     W = HAWKMOTH.weight
-    return np.mean(L[last]) / W, np.mean(D[last]) / W, np.mean(M[last]) / (W * HAWKMOTH.cbar)
+    pitching = -(r.moment_about_body() * r.body_R[:, :, 1]).sum(1)
+    return {"L": F[:, 2].mean() / W, "D": -F[:, 0].mean() / W, "M": pitching.mean() / (W * HAWKMOTH.cbar),
+            **{f"P_{s}": P_plus(r.power_joint, aero_every, first=r.first, sampling=s) for s in ("updates", "steps")}}
 
 
-def held_averages(kin, speed, backend, *, steps_per_cycle, cycles=CYCLES):
+def heavy_free_averages(kin, speed, backend, *, steps_per_cycle, aero_every, cycles=CYCLES):
+    """(L+, D+, M+) of :func:`heavy_free_flight`."""
+    r = heavy_free_flight(kin, speed, backend, steps_per_cycle=steps_per_cycle, aero_every=aero_every, cycles=cycles)
+    return r["L"], r["D"], r["M"]
+
+
+def held_averages(kin, speed, backend, *, steps_per_cycle, cycles=CYCLES, power=False):
+    """(L+, D+, M+) of the held body's last wingbeat (and P+ after them where ``power``)."""
     a = held_flight(kin, speed, backend, cycles=cycles, steps_per_cycle=steps_per_cycle).averages
-    return a.L_plus, a.D_plus, a.M_plus
+    return (a.L_plus, a.D_plus, a.M_plus) + ((a.P_plus,) if power else ())
 
 
 def _check(free, held):
@@ -79,12 +94,48 @@ def test_heavy_body_quasi_steady(aero_every):
     _check(free, held)
 
 
+def _check_power(free, held_P):
+    """The update-sampled P+ within P_REL_TOL of the held body's."""
+    assert abs(free["P_updates"] - held_P) <= P_REL_TOL * abs(held_P), (free, held_P)
+
+
+@pytest.mark.parametrize("aero_every", [1, 5])
+def test_heavy_body_power_quasi_steady(aero_every):
+    """P+ of the heavy free flight (quasi-steady, 1 m/s, 200 steps, backend every ``aero_every``) against the held
+    body at the backend's rate; with a hold (5) the every-step estimate must miss the tolerance (the bias this
+    test exists for: it shows that the check can fail), without one (1) the two samplings are the same rows."""
+    kin = trim_kinematics(1.0, "quasi-steady")
+    free = heavy_free_flight(kin, 1.0, QuasiSteadyBackend(), steps_per_cycle=200, aero_every=aero_every)
+    *_, held_P = held_averages(kin, 1.0, QuasiSteadyBackend(), steps_per_cycle=200 // aero_every, power=True)
+    _check_power(free, held_P)
+    if aero_every == 1:
+        assert free["P_steps"] == free["P_updates"]
+    else:
+        assert abs(free["P_steps"] - held_P) > P_REL_TOL * abs(held_P), (free, held_P)
+
+
 @pytest.mark.slow
 def test_heavy_body_uvlm():
     """UVLM at the 1 m/s UVLM trim, `hawksim fly`'s coupling: 6 x 12 rings, 200 steps, backend every 5."""
     from hawksim.backends.uvlm import UVLMBackend
 
     kin = trim_kinematics(1.0, "uvlm")
-    free = heavy_free_averages(kin, 1.0, UVLMBackend(n_chord=6, n_span=12), steps_per_cycle=200, aero_every=5)
-    held = held_averages(kin, 1.0, UVLMBackend(n_chord=6, n_span=12), steps_per_cycle=40)
-    _check(free, held)
+    free = heavy_free_flight(kin, 1.0, UVLMBackend(n_chord=6, n_span=12), steps_per_cycle=200, aero_every=5)
+    held = held_averages(kin, 1.0, UVLMBackend(n_chord=6, n_span=12), steps_per_cycle=40, power=True)
+    _check((free["L"], free["D"], free["M"]), held[:3])
+    _check_power(free, held[3])
+    assert abs(free["P_steps"] - held[3]) > P_REL_TOL * abs(held[3]), (free, held)  # measured -3.0 %
+
+
+@pytest.mark.slow
+def test_heavy_body_power_surrogate():
+    """The per-step surrogate (`hawksim fly --aero surrogate`'s coupling: the network in the native callback every
+    5 of 200 steps) at the 1 m/s UVLM trim: its P+ against the held body's at 40 steps, and the every-step
+    estimate misses it (measured -1.5 %; the update sampling 1.5e-5)."""
+    from hawksim.backends.step_surrogate import StepSurrogateBackend
+
+    kin = trim_kinematics(1.0, "uvlm")
+    free = heavy_free_flight(kin, 1.0, StepSurrogateBackend(kin), steps_per_cycle=200, aero_every=5)
+    *_, held_P = held_averages(kin, 1.0, StepSurrogateBackend(kin), steps_per_cycle=40, power=True)
+    _check_power(free, held_P)
+    assert abs(free["P_steps"] - held_P) > P_REL_TOL * abs(held_P), (free, held_P)
