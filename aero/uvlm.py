@@ -102,7 +102,9 @@ class UVLMConfig:
     < 0.2 %; the wake edges on the trailing edge share it, so a freshly shed wake segment cancels the bound
     trailing-edge segment it leaves exactly; wake_core_chords: initial core of the wake vortices in mean
     chords (a physical viscous core, independent of the lattice so that refining converges), which then
-    grows with age (core_growth); convection_core_chords: the core of the bound vortices when they convect
+    grows with age (core_growth); a model parameter, not sourced: once the panels are finer than it, it
+    suppresses the near wake (the heave lift at k = 0.5, AR 20 reads 0.985 of 2D at 16 chordwise rings against
+    0.968 with a vanishing core; the classical cases run with 0.001 c, :data:`aero.plate.PLAIN_CONFIG`); convection_core_chords: the core of the bound vortices when they convect
     the wake, in mean chords (a wake vortex passing a lattice must not be flung by the lattice's near field,
     which the panels do not resolve); a_prime: Ramasamy-Leishman's turbulent-viscosity coefficient a' in
     delta = 1 + a' |Gamma| / nu (their rotor value is ROTOR_A_PRIME = 6.5e-5). The default, 1e-2, is a numerical
@@ -112,15 +114,21 @@ class UVLMConfig:
     speed, and L+ changes by -0.2 % at 2 m/s and -4 % at 1 m/s against the rotor value;
     max_wake_rows: keep only this many of the newest wake rows (None: no truncation);
     shed_rule: where the trailing edge of the last bound ring row lies, and so the newest wake vortex (the
-    starting vortex of each step's shed row): "ring" (default, hawksim 0.2): a quarter of a chordwise panel
-    behind the wing's trailing edge (the ring lattice's own geometry), whatever the step's travel; "travel":
-    ``shed_fraction`` x (v_air - v_wing) dt behind each trailing-edge corner, Katz & Plotkin's (2001, Sec. 13.7
-    and 13.12) 0.2-0.3 of the distance travelled in the step, so that the near wake scales with dt and the loads
-    converge in the time step (AR-8 pitching-heaving wing, 40 -> 160 steps per cycle: CL amplitude and phase
-    move by 5.2 % / 6.3 deg with "ring" and 0.7 % / 2.0 deg with "travel", tests/aero/test_uvlm_shedding.py; the
-    hawkmoth's L+ at 1 m/s on the default lattice moves by 0.1 % from 40 to 80 steps with "travel", 12 % with
-    "ring"; neither rule makes the lattice converged: docs/fidelity.md). The collocation points, normals and areas
-    stay those of the panels.
+    starting vortex of each step's shed row): "travel" (the default since issue 48): ``shed_fraction`` x
+    (v_air - v_wing) dt behind each trailing-edge corner, Katz & Plotkin's (2001, Sec. 13.7 and 13.12) 0.2-0.3 of
+    the distance travelled in the step, so that the near wake scales with dt and the loads converge in the time
+    step; "ring" (hawksim 0.2): a quarter of a chordwise panel behind the wing's trailing edge (the ring lattice's
+    own geometry) whatever the step's travel, which makes the loads depend on the step (the heave lift at k = 1,
+    AR 20, 8 chordwise rings: 1.00, 1.09, 1.15 of 2D theory at 25, 50, 100 steps a period, against 0.99, 1.00,
+    1.02 with "travel"; docs/validation.md). The collocation points, normals and areas stay those of the panels.
+    potential_jump: how the unsteady load term -rho d(jump)/dt A n reads each panel's potential jump: "panel"
+    (default since issue 48) the mean of the two ring circulations that bound the panel chordwise (the trapezoid
+    rule of the jump over the plate; ring i's circulation is the jump at the edge between panels i and i + 1),
+    "ring" (hawksim 0.2) ring i's own circulation over panel i (a right-endpoint sum that overstates the term by
+    half a panel of the trailing edge's jump, and made the heave lift exceed Theodorsen's by 10-40 %).
+    time_derivative: that term's backward difference, "bdf2" (default since issue 48; second order, unequal
+    steps allowed) or "euler" (hawksim 0.2; first order, half a step of lag). :data:`LEGACY_0_2` gives 0.2's
+    three choices together.
     The sensitivity of L+ and P+ to every tuned constant here: docs/fidelity.md (section 5).
     wake_precision: the pair evaluations of the wake-on-wake velocities that convect the free wake, "float64" or
     "mixed" (float32 evaluations, float64 sums: :data:`aero.biot_savart.PRECISIONS`; opt-in, its effect on the

@@ -6,7 +6,8 @@ reduced frequency k = w c / (2 U) = 0.25; wake prescribed (convected by the free
 same amplitudes and phases to 1e-4 / 0.01 deg at this small amplitude, measured), no leading-edge suction. The
 lift coefficient's first harmonic over the third cycle is compared at 40 and 160 steps per cycle. Issue 22
 measured the plain UVLM against PteraSoftware 5.1.0 on an AR-8 pitching-heaving wing at k = 0.25 (8-9 % and
-8 deg from 40 to 160 steps); this case, with hawksim's lattice, gives 5.2 % and 6.3 deg with the default rule.
+8 deg from 40 to 160 steps); this case, with hawksim's lattice, gave 5.2 % and 6.3 deg with hawksim 0.2's "ring"
+rule. Since issue 48 the default is "travel" with the corrected unsteady term (aero.uvlm.UVLMConfig).
 """
 
 import numpy as np
@@ -20,18 +21,20 @@ K_REDUCED = 0.25
 HEAVE, PITCH, PITCH_PHASE = 0.25 * CHORD, np.deg2rad(5.0), np.pi / 2
 N_CHORD, N_SPAN, CYCLES = 4, 16, 3
 
-AMPLITUDE_CHANGE_MAX = 0.02
-"""Relative change of the CL amplitude from 40 to 160 steps per cycle with the "travel" rule (issue 22's target:
-< 2 %). Measured 0.71 %."""
+AMPLITUDE_CHANGE_MAX = 0.03
+"""Relative change of the CL amplitude from 40 to 160 steps per cycle with the default "travel" rule and the
+default unsteady term (issue 48: the panel's potential jump, second-order dGamma/dt). Measured 2.7 % (0.1645,
+0.1670, 0.1691 at 40, 80, 160; 0.1706 at 320): at a fixed lattice the loads converge as the step shrinks, to a
+limit a few per cent from the one along U dt = one chordwise panel (docs/validation.md, "The time step at a fixed
+lattice"). With hawksim 0.2's unsteady term the same rule moved 0.7 %: that term's own error offset the drift."""
 
 PHASE_CHANGE_MAX_DEG = 3.0
-"""Change of the CL phase [deg] from 40 to 160 steps per cycle with the "travel" rule (issue 22's target: < 3 deg).
-Measured 2.0 deg; what is left is mostly the first-order backward difference of dGamma/dt in the unsteady load
-term (half a step of lag: 4.5 deg at 40 steps, 1.1 at 160, on that term only), not the shedding."""
+"""Change of the CL phase [deg] from 40 to 160 steps per cycle with "travel" (issue 22's target: < 3 deg).
+Measured 1.5 deg (147.5, 148.1, 149.1)."""
 
-RING_AMPLITUDE_CHANGE_MIN = 0.04
-"""The default "ring" rule's amplitude change over the same refinement must exceed this (it is the error the
-"travel" rule removes). Measured 5.2 % (phase 6.3 deg)."""
+RING_AMPLITUDE_CHANGE_MIN = 0.05
+"""The "ring" rule's amplitude change over the same refinement must exceed this (the step dependence "travel"
+halves). Measured 7.1 % (0.1615, 0.1702, 0.1739; phase 146.0, 149.9, 151.9 deg)."""
 
 PLACEMENT_ATOL = 1e-14
 """m: the newest wake row's corners vs trailing edge + 0.25 (v_air - v_wing) dt computed here from the pose: the
@@ -69,13 +72,15 @@ def lift_harmonic(steps_per_cycle: int, rule: str) -> tuple[float, float]:
 
 @pytest.fixture(scope="module")
 def harmonics():
-    return {(rule, n): lift_harmonic(n, rule) for rule in ("ring", "travel") for n in (40, 160)}
+    return {(rule, n): lift_harmonic(n, rule) for rule in ("ring", "travel") for n in (40, 80, 160)}
 
 
 def test_travel_rule_converges_in_the_time_step(harmonics):
     (a40, p40), (a160, p160) = harmonics["travel", 40], harmonics["travel", 160]
     assert abs(a40 / a160 - 1) < AMPLITUDE_CHANGE_MAX
     assert abs(p40 - p160) < PHASE_CHANGE_MAX_DEG
+    a80 = harmonics["travel", 80][0]
+    assert abs(a160 - a80) < abs(a80 - a40)  # converging
 
 
 def test_ring_rule_does_not(harmonics):
@@ -84,6 +89,7 @@ def test_ring_rule_does_not(harmonics):
     assert abs(a40 / a160 - 1) > RING_AMPLITUDE_CHANGE_MIN
     # both rules converge to the same limit: at 160 steps the ring's quarter panel is 0.8 steps of travel
     assert harmonics["ring", 160][0] == pytest.approx(harmonics["travel", 160][0], rel=0.03)
+    assert abs(a40 / a160 - 1) > 2 * abs(harmonics["travel", 40][0] / harmonics["travel", 160][0] - 1)
 
 
 def test_travel_rule_places_the_newest_wake_row():
@@ -103,7 +109,7 @@ def test_travel_rule_places_the_newest_wake_row():
 
 
 def test_default_rule_and_bad_settings():
-    assert UVLMConfig().shed_rule == "ring"
+    assert UVLMConfig().shed_rule == "travel"
     with pytest.raises(ValueError, match="shed_rule"):
         UVLMConfig(shed_rule="halfway")
     with pytest.raises(ValueError, match="shed_fraction"):
