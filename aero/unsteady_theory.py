@@ -36,6 +36,14 @@ QUARTER_CHORD = -0.5
 WAGNER_QUAD_LIMIT = 400
 """Subintervals of the Fourier integrals in :func:`wagner` (QUADPACK QAWO on [0, WAGNER_SPLIT], QAWF beyond)."""
 
+WAGNER_LOG_SPLIT = 2.0
+"""Below this k, :func:`wagner` integrates g(k) sin(k s) directly (g = (F - 1/2) / k ~ 1 / (2k) at 0); above, with
+QUADPACK's sine weight (QAWO up to WAGNER_SPLIT, QAWF beyond)."""
+
+WAGNER_EPSABS = 1e-9
+"""Absolute tolerance of each Fourier integral in :func:`wagner` (QUADPACK's default 1.5e-8 relative cannot be met
+in round-off at some s and it says so; phi itself is needed to 1e-6)."""
+
 WAGNER_SPLIT = 20.0
 """Reduced frequency where :func:`wagner` passes from the finite to the infinite Fourier integral (the integrand's
 log k behaviour near 0 stays in the finite part)."""
@@ -84,9 +92,14 @@ def wagner(s):
         if si == 0.0:
             out[i] = 0.5
             continue
-        near, _ = scipy.integrate.quad(g, 0.0, WAGNER_SPLIT, weight="sin", wvar=si, limit=WAGNER_QUAD_LIMIT)
-        far, _ = scipy.integrate.quad(g, WAGNER_SPLIT, np.inf, weight="sin", wvar=si, limlst=WAGNER_QUAD_LIMIT)
-        out[i] = 0.5 + 2.0 / np.pi * (near + far)
+        # g ~ 1/(2k) at 0: the product g(k) sin(k s) is smooth there, g alone is not (QAWO would fit g)
+        low, _ = scipy.integrate.quad(lambda k: g(k) * np.sin(k * si), 0.0, WAGNER_LOG_SPLIT, limit=WAGNER_QUAD_LIMIT,
+                                      epsabs=WAGNER_EPSABS)
+        mid, _ = scipy.integrate.quad(g, WAGNER_LOG_SPLIT, WAGNER_SPLIT, weight="sin", wvar=si,
+                                      limit=WAGNER_QUAD_LIMIT, epsabs=WAGNER_EPSABS)
+        far, _ = scipy.integrate.quad(g, WAGNER_SPLIT, np.inf, weight="sin", wvar=si, limlst=WAGNER_QUAD_LIMIT,
+                                      epsabs=WAGNER_EPSABS)
+        out[i] = 0.5 + 2.0 / np.pi * (low + mid + far)
     return out.reshape(np.shape(s)) if np.ndim(s) else float(out[0])
 
 

@@ -41,7 +41,7 @@ def test_wagner_against_jones_and_limits():
     s = np.array([0.5, 1, 2, 3, 5, 10, 15, 20])
     assert np.max(np.abs(wagner(s) - wagner_jones(s))) < JONES_ATOL
     assert wagner(0.0) == 0.5
-    assert wagner(1000.0) > 0.998
+    assert wagner(200.0) > 0.994  # 1 - phi falls as ~1/s
     assert np.all(np.diff(wagner(np.linspace(0, 30, 31))) > 0)
     with pytest.raises(ValueError, match="reduced time"):
         wagner(-1.0)
