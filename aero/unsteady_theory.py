@@ -93,8 +93,8 @@ def wagner(s):
             out[i] = 0.5
             continue
         # g ~ 1/(2k) at 0: the product g(k) sin(k s) is smooth there, g alone is not (QAWO would fit g)
-        low, _ = scipy.integrate.quad(lambda k: g(k) * np.sin(k * si), 0.0, WAGNER_LOG_SPLIT, limit=WAGNER_QUAD_LIMIT,
-                                      epsabs=WAGNER_EPSABS)
+        low, _ = scipy.integrate.quad(lambda k, s_=si: g(k) * np.sin(k * s_), 0.0, WAGNER_LOG_SPLIT,
+                                      limit=WAGNER_QUAD_LIMIT, epsabs=WAGNER_EPSABS)
         mid, _ = scipy.integrate.quad(g, WAGNER_LOG_SPLIT, WAGNER_SPLIT, weight="sin", wvar=si,
                                       limit=WAGNER_QUAD_LIMIT, epsabs=WAGNER_EPSABS)
         far, _ = scipy.integrate.quad(g, WAGNER_SPLIT, np.inf, weight="sin", wvar=si, limlst=WAGNER_QUAD_LIMIT,

@@ -104,7 +104,8 @@ class UVLMConfig:
     chords (a physical viscous core, independent of the lattice so that refining converges), which then
     grows with age (core_growth); a model parameter, not sourced: once the panels are finer than it, it
     suppresses the near wake (the heave lift at k = 0.5, AR 20 reads 0.985 of 2D at 16 chordwise rings against
-    0.968 with a vanishing core; the classical cases run with 0.001 c, :data:`aero.plate.PLAIN_CONFIG`); convection_core_chords: the core of the bound vortices when they convect
+    0.968 with a vanishing core; the classical cases run with 0.001 c, :data:`aero.plate.PLAIN_CONFIG`);
+    convection_core_chords: the core of the bound vortices when they convect
     the wake, in mean chords (a wake vortex passing a lattice must not be flung by the lattice's near field,
     which the panels do not resolve); a_prime: Ramasamy-Leishman's turbulent-viscosity coefficient a' in
     delta = 1 + a' |Gamma| / nu (their rotor value is ROTOR_A_PRIME = 6.5e-5). The default, 1e-2, is a numerical

@@ -106,7 +106,7 @@ def main():
             continue
         try:
             runs[k] = run_one(*item)
-        except FloatingPointError as e:  # a diverged free wake is a result, said as such
+        except (FloatingPointError, ValueError) as e:  # a diverged wake or a step too coarse: said as such
             runs[k] = {"error": str(e)}
         print(f"{k}: {json.dumps(runs[k])}", file=sys.stderr, flush=True)
         tmp = path.with_suffix(".tmp")

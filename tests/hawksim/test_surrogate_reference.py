@@ -21,6 +21,7 @@ from hawksim.backends.resolution import DEFAULT, REFERENCE, TRAINING
 from hawksim.cli import main
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
 from hawksim.surrogate.multifidelity import correction_targets, fold
+from regeneration import WAITS_FOR_REGENERATION
 
 ROOT = Path(__file__).resolve().parents[2]
 FIXTURE = ROOT / "results" / "surrogate" / "reference_fixture.json"
@@ -117,6 +118,7 @@ def test_reference_network_reproduces_the_reference_uvlm_at_held_out_kinematics(
     assert any(np.any(m > REFERENCE_ABS_TOL) for m in mean["shipped"].values()), mean["shipped"]
 
 
+@WAITS_FOR_REGENERATION
 @have_reference
 def test_a_fixture_label_is_the_reference_uvlm():
     """One fixture label recomputed by `hawksim aero`'s run at the default lattice (~1 s)."""

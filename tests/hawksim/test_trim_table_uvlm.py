@@ -14,6 +14,7 @@ from hawksim import __version__
 from hawksim.backends.held import evaluate
 from hawksim.backends.resolution import Resolution
 from hawksim.insect.kinematics import Kinematics
+from regeneration import WAITS_FOR_REGENERATION
 
 TABLE = json.loads(resources.files("hawksim").joinpath("data/trim_table.json").read_text())
 REPRODUCE_TOL = 1e-6
@@ -26,6 +27,7 @@ def test_table_is_from_this_version():
     assert TABLE["hawksim_version"] == __version__
 
 
+@WAITS_FOR_REGENERATION
 @pytest.mark.parametrize("row", TABLE["rows"], ids=lambda r: f"V={r['speed']:g}")
 def test_trim_reproduces_and_balances(row):
     a = evaluate(Kinematics.from_edge(row["kinematics"]), row["speed"], Resolution(**TABLE["resolution"]))
