@@ -130,6 +130,11 @@ class UVLMConfig:
     time_derivative: that term's backward difference, "bdf2" (default since issue 48; second order, unequal
     steps allowed) or "euler" (hawksim 0.2; first order, half a step of lag). :data:`LEGACY_0_2` gives 0.2's
     three choices together.
+    near_wake_zones: opt-in, a study (0, the default: off): the wing sees the wake rows within this many
+    chordwise panels of the trailing edge lumped panel by panel (:func:`lump_near_wake`), as when the wake moves
+    one panel per step. With the "ring" rule and 2 zones a plate's heave lift stops depending on the step at a
+    fixed lattice (k = 1, AR 20, 8 rings: 0.990, 0.988, 0.990 of 2D at 25, 50, 100 steps a period); the hawkmoth's
+    L+ does not (scripts/studies/step_dependence.py, docs/validation.md section 3).
     The sensitivity of L+ and P+ to every tuned constant here: docs/fidelity.md (section 5).
     wake_precision: the pair evaluations of the wake-on-wake velocities that convect the free wake, "float64" or
     "mixed" (float32 evaluations, float64 sums: :data:`aero.biot_savart.PRECISIONS`; opt-in, its effect on the
@@ -162,6 +167,7 @@ class UVLMConfig:
     shed_fraction: float = 0.25
     potential_jump: str = "panel"
     time_derivative: str = "bdf2"
+    near_wake_zones: int = 0
     wake_precision: str = "float64"
     wake_summation: str = "direct"
     tree_theta: float = TreeParams.theta
@@ -169,6 +175,8 @@ class UVLMConfig:
     def __post_init__(self):
         if self.shed_rule not in SHED_RULES:
             raise ValueError(f"UVLMConfig.shed_rule must be one of {', '.join(SHED_RULES)}, got {self.shed_rule!r}")
+        if int(self.near_wake_zones) != self.near_wake_zones or self.near_wake_zones < 0:
+            raise ValueError(f"UVLMConfig.near_wake_zones must be a non-negative integer, got {self.near_wake_zones!r}")
         if self.potential_jump not in POTENTIAL_JUMPS:
             raise ValueError(f"UVLMConfig.potential_jump must be one of {', '.join(POTENTIAL_JUMPS)}, "
                              f"got {self.potential_jump!r}")
@@ -247,6 +255,31 @@ class StepResult:
         P = -sum_i F_i . (v_i - (v_ref + omega_ref x (p_i - ref)))."""
         v_c = np.asarray(v_ref, float) + _cross(np.asarray(omega_ref, float), self.element_point - np.asarray(ref))
         return float(-(self.element_force * (self.element_velocity - v_c)).sum())
+
+
+def lump_near_wake(lat: Lattice, lengths: np.ndarray, r_attached2: float, zones: int) -> Lattice:
+    """The wake lattice as the wing sees it with ``UVLMConfig.near_wake_zones`` = zones >= 1 (opt-in, a study).
+
+    Each corner's distance d from the attached row (the newest wake vortex) is cut into zones of one chordwise
+    panel, ``lengths`` (ns+1,) [m] at each spanwise station; the corners in zone z < zones move onto the zone's
+    newest corner (zone 0: the attached row itself), so that the rows shed finer than the bound panels act as the
+    lattice lumps each panel's vorticity, as they do when the wake moves one panel per step. The corners moved into
+    zone 0 take the attached row's core (r_attached2 [m^2]). Returns a new Lattice; the wake itself is unchanged.
+    """
+    G = lat.G.copy()
+    d = np.linalg.norm(G[1:] - G[0], axis=-1)  # (rows, ns+1)
+    zone = np.floor(d / lengths).astype(int)
+    span_rc2 = np.array(lat.span_rc2, copy=True)
+    cols = np.arange(G.shape[1])
+    for z in range(zones):
+        inz = zone == z
+        if not inz.any():
+            continue
+        anchor = G[0] if z == 0 else G[1:][np.argmax(inz, axis=0), cols]  # newest corner of the zone
+        G[1:][inz] = np.broadcast_to(anchor, G[1:].shape)[inz]
+        if z == 0:
+            span_rc2[1:][inz[:, :-1] & inz[:, 1:]] = r_attached2
+    return Lattice(G, lat.span_gamma, span_rc2, lat.chord_gamma, lat.chord_rc2)
 
 
 def _reflect_points(x, point, normal):
@@ -386,6 +419,10 @@ class UVLM:
         N = np.concatenate([n.reshape(-1, 3) for n in normals])
         V_rel = np.concatenate([(freestream.at(x) - v_kin(w, x)).reshape(-1, 3) for w, x in enumerate(colloc)])
         wake_lat = self._wake_lattices()
+        if c.near_wake_zones:  # the wing's view of the wake, lumped near the trailing edge (opt-in)
+            wake_lat = [lump_near_wake(lat, np.linalg.norm(msh.vertices[-1] - msh.vertices[-2], axis=-1),
+                                       self.rb * self.rb, c.near_wake_zones)
+                        for lat, msh in zip(wake_lat, self.meshes)]
         v_wake = self._induced(X, wake_lat, mirror)
         rhs = -((V_rel + v_wake) * N).sum(1)
 
