@@ -3,7 +3,8 @@ extrapolated to AR -> infinity (a quadratic in 1/AR), against Theodorsen (heave;
 Garrick's plunging thrust and Wagner's indicial lift (:mod:`aero.unsteady_theory`).
 
 The time step convects the wake one chordwise panel per step (:func:`aero.plate.consistent_steps`). CI runs 8
-chordwise rings at k = 0.5 and 1, where that resolution meets the targets; the slow tests run the converged
+chordwise rings at k = 1, where that resolution meets the targets (k = 0.5 at 8 rings costs 4x as much and is
+within 0.3 %); the slow tests run the converged
 resolution of docs/validation.md (:data:`CONVERGED`) at every k <= 2. The whole table, with the figures:
 scripts/studies/classical_cases.py.
 """
@@ -32,9 +33,12 @@ square of the load)."""
 GARRICK_RTOL_K2 = 0.06
 """At k = 2 the 16-ring resolution gives 25 steps a period; measured 0.962 of Garrick there (the thrust is
 quadratic in the load, whose amplitude is 2.2 % high there)."""
+GARRICK_RTOL_8_RINGS = 0.04
+"""CI's coarser lattice (8 chordwise rings) at k = 1: measured 0.971 of Garrick (16 rings: 0.982)."""
 LEGACY_EXCESS_MIN = 0.08
 """hawksim 0.2's UVLM exceeds the 2D heave lift at k = 1 already at AR 20 (8 rings, 80 steps a period: measured
-1.23, above the 2D theory where a finite wing must be below it): the defect the new unsteady term and shedding
+1.20 with the linear-theory wake core, 1.23 with its own 0.05 c; above the 2D theory where a finite wing must be
+below it: scripts/studies/theodorsen_candidates.py): the defect the new unsteady term and shedding
 remove. The test holds the old configuration to it, so that it shows what the others would catch."""
 
 
@@ -60,11 +64,12 @@ def check_theodorsen(motion, k, nc):
     return ct
 
 
-@pytest.mark.parametrize("motion,k", [("heave", 0.5), ("heave", 1.0), ("pitch", 0.5), ("pitch", 1.0)])
-def test_theodorsen_8_rings(motion, k):
+@pytest.mark.parametrize("motion", ["heave", "pitch"])
+def test_theodorsen_8_rings(motion):
+    k = 1.0
     ct = check_theodorsen(motion, k, 8)
-    if motion == "heave" and k <= 0.5:  # at k = 1, 8 rings give 0.971 of Garrick: the converged test holds it
-        assert ct / garrick_thrust(k, plate.HEAVE_AMPLITUDE / 0.5) == pytest.approx(1.0, abs=GARRICK_RTOL)
+    if motion == "heave":
+        assert ct / garrick_thrust(k, plate.HEAVE_AMPLITUDE / 0.5) == pytest.approx(1.0, abs=GARRICK_RTOL_8_RINGS)
 
 
 def test_wagner_8_rings():
