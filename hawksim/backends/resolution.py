@@ -45,8 +45,15 @@ class Resolution:
 
 DEFAULT = Resolution()
 """``hawksim aero`'s default resolution: 6 x 12 rings per wing, 40 steps per beat, 3 beats, the last averaged.
-Convergence study (``python scripts/studies/uvlm_convergence.py``, results/uvlm_convergence_v1.json, docs/uvlm.md):
-doubling the rings in both directions and the steps per beat changes L+ and P+ by less than 3 %."""
+
+Its error, measured against the Richardson limit of the lattice and the step refined together (4 x 8 / 40 ->
+8 x 16 / 80 -> 16 x 32 / 160 at Table 3's kinematics; ``python scripts/studies/uvlm_resolution.py``,
+results/uvlm_resolution.json, docs/validation.md section 4): L+ -1.4 % and -0.2 %, P+ -0.4 % and -0.2 %, the
+within-beat lift peak -0.6 % and -0.7 % at 1 and 2 m/s (targets: 2 % for the averages, 5 % for the peak; the levels
+are not monotone, so the limit is known to ~0.5 %). Cost: 1.3-2.4 s a run, against 10-11 s and 6-8 min for the two
+finer levels (one sitting, load 3-7). Hover has no converged limit (L+ 0.86, 0.82, 0.91 along the path: the
+wake's encounters with the wings are irregular). The step alone is not converged at this lattice: L+ moves +4.6 %
+(1 m/s) and +2.4 % (2 m/s) from 40 to 160 steps (docs/validation.md section 3): refine lattice and step together."""
 
 TRAINING = Resolution(n_chord=4, n_span=8, steps_per_cycle=30, cycles=3)
 """Resolution of the surrogate's training data (0.4 s per sample, 2.5x cheaper than DEFAULT; 3.8x measured on
