@@ -15,9 +15,7 @@ missing cases); --summary prints the comparison, --figures draws it.
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import os
 import sys
 import time
 from pathlib import Path
@@ -27,6 +25,7 @@ from dataclasses import replace
 
 from aero import plate
 from aero.unsteady_theory import garrick_thrust, heave_lift, pitch_lift, wagner
+from hawksim.jsonout import host_info
 
 KS = (0.1, 0.25, 0.5, 1.0, 2.0)
 ASPECT_RATIOS = (10.0, 20.0, 40.0, 80.0)
@@ -183,8 +182,7 @@ def main():
         t0 = time.perf_counter()
         cases[key] = run_case(motion, k, ar, nc)
         cases[key]["wall_time_s"] = time.perf_counter() - t0
-        cases[key]["date"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
-        cases[key]["load_average"] = os.getloadavg()[0]
+        cases[key]["host"] = host_info()
         print(f"{key}: {cases[key]['wall_time_s']:.1f} s", file=sys.stderr, flush=True)
         tmp = path.with_suffix(".tmp")
         tmp.write_text(json.dumps(data, indent=1))

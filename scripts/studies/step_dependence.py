@@ -12,9 +12,7 @@ steps per beat; L+, P+ of the third beat.
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import os
 import sys
 import time
 from dataclasses import replace
@@ -29,6 +27,7 @@ from hawksim.backends.resolution import DEFAULT
 from hawksim.backends.uvlm import UVLMBackend
 from hawksim.insect.kinematics import table3_kinematics
 from hawksim.insect.morphology import RHO_AIR
+from hawksim.jsonout import emit
 
 PLATE_VARIANTS = {"travel (default)": {}, "ring": dict(shed_rule="ring"),
                   "ring + 1 lumped zone": dict(shed_rule="ring", near_wake_zones=1),
@@ -65,11 +64,8 @@ def main():
             rows.append({"case": "hawkmoth", "variant": name, "steps_per_cycle": spc, "L_plus": r.averages.L_plus,
                          "P_plus": r.averages.P_plus, "wall_time_s": time.perf_counter() - t0})
             print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
-    out = {"command": "python " + " ".join(sys.argv),
-           "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-           "load_average": os.getloadavg()[0], "rows": rows}
-    with open(a.out, "w") as f:
-        json.dump(out, f, indent=1)
+    out = {"command": "python " + " ".join(sys.argv), "rows": rows}
+    emit(out, a.out, host=True)
 
 
 if __name__ == "__main__":

@@ -12,9 +12,7 @@ scripts/studies/classical_cases.py); the ratios here are against the 2D theory.
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import os
 import sys
 from dataclasses import replace
 
@@ -23,6 +21,7 @@ import numpy as np
 from aero import plate
 from aero.unsteady_theory import heave_lift, pitch_lift
 from aero.uvlm import LEGACY_0_2
+from hawksim.jsonout import emit
 
 VARIANTS = {
     "hawksim 0.2 (ring shedding, ring jump, first-order dGamma/dt)": dict(LEGACY_0_2),
@@ -60,11 +59,8 @@ def main():
                                "phase_error_deg": float(np.degrees(np.angle(H / th)))}
             rows.append(row)
             print(json.dumps(row), file=sys.stderr, flush=True)
-    out = {"command": "python " + " ".join(sys.argv), "aspect_ratio": ASPECT_RATIO,
-           "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-           "load_average": os.getloadavg()[0], "rows": rows}
-    with open(a.out, "w") as f:
-        json.dump(out, f, indent=1)
+    out = {"command": "python " + " ".join(sys.argv), "aspect_ratio": ASPECT_RATIO, "rows": rows}
+    emit(out, a.out, host=True)
 
 
 if __name__ == "__main__":

@@ -14,9 +14,7 @@ beat and the within-beat lift peak (max lift / W). Cached in --out (resumable).
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import os
 import sys
 import time
 from pathlib import Path
@@ -28,6 +26,7 @@ from hawksim.backends.held import held_flight
 from hawksim.backends.resolution import DEFAULT, Resolution
 from hawksim.insect.kinematics import table3_kinematics
 from hawksim.insect.morphology import HAWKMOTH
+from hawksim.jsonout import host_info
 
 SPEEDS = (1.0, 2.0, 0.0)
 OUTPUTS = ("L_plus", "D_plus", "M_plus", "P_plus", "lift_peak")
@@ -56,8 +55,7 @@ def run_one(speed, nc, ns, spc, wake_beats):
     last = r.lift[-spc:]
     return {"L_plus": a.L_plus, "D_plus": a.D_plus, "M_plus": a.M_plus, "P_plus": a.P_plus,
             "lift_peak": float(last.max() / HAWKMOTH.weight), "wall_time_s": wall,
-            "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-            "load_average": os.getloadavg()[0]}
+            "host": host_info()}
 
 
 def richardson(f0, f1, f2):

@@ -9,9 +9,7 @@ and at 12 x 24 rings with 80 steps per beat.
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import os
 import sys
 import time
 
@@ -24,6 +22,7 @@ from hawksim.backends.uvlm import UVLMBackend
 from hawksim.insect.kinematics import table3_kinematics
 from hawksim.insect.morphology import RHO_AIR
 from hawksim.paper.reference import PAPER_POWER_FIT_W, PAPER_TABLE4
+from hawksim.jsonout import emit
 
 SPEEDS = (0.0, 0.5, 1.0, 1.5, 2.0)
 MODELS = {"current": {}, "hawksim 0.2": LEGACY_0_2}
@@ -63,13 +62,9 @@ def main():
                 fits[f"{mname} @ {rname}"] = {"intercept_W": a0, "slope_W_per_m_s": b,
                                               "intercept_ratio": a0 / PAPER_POWER_FIT_W[0],
                                               "slope_ratio": b / PAPER_POWER_FIT_W[1]}
-    out = {"command": "python " + " ".join(sys.argv),
-           "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-           "load_average": os.getloadavg()[0], "rows": rows, "power_law": fits,
+    out = {"command": "python " + " ".join(sys.argv), "rows": rows, "power_law": fits,
            "paper_power_law_W": PAPER_POWER_FIT_W}
-    with open(a.out, "w") as f:
-        json.dump(out, f, indent=1)
-    print(json.dumps(fits))
+    emit(out, a.out, host=True)
 
 
 if __name__ == "__main__":
