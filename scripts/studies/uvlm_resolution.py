@@ -9,6 +9,7 @@ p = 1 where the differences do not shrink monotonically, and that is said). Outp
 beat and the within-beat lift peak (max lift / W). Cached in --out (resumable).
 
     python scripts/studies/uvlm_resolution.py --out results/uvlm_resolution.json
+    python scripts/studies/uvlm_resolution.py --out results/uvlm_resolution.json --summary --figures results
 """
 
 from __future__ import annotations
@@ -86,10 +87,38 @@ def summarize(runs):
     return out
 
 
+def figure(runs: dict, out_dir: Path) -> None:
+    """L+ and P+ against the refinement of each axis alone and of all together, one column per speed."""
+    from hawksim import plotting
+    with plotting.style():
+        plt = plotting.pyplot()
+        fig, axes = plt.subplots(2, len(SPEEDS), figsize=(plotting.WIDE, 5.2), squeeze=False)
+        base_of = {"n_chord": 0, "n_span": 1, "steps_per_cycle": 2}
+        for col, speed in enumerate(sorted(SPEEDS)):
+            for row, o in enumerate(("L_plus", "P_plus")):
+                ax = axes[row, col]
+                for name, ts in list(AXES.items())[:3]:
+                    i = base_of[name]
+                    pts = sorted((t[i] / BASE[i], runs[key(speed, *t)][o]) for t in [BASE] + ts
+                                 if key(speed, *t) in runs and "error" not in runs[key(speed, *t)])
+                    ax.plot(*zip(*pts), "o-", ms=3, label=name.replace("_", " ") + " alone")
+                pts = [(t[0] / BASE[0], runs[key(speed, *t)][o]) for t in TOGETHER if key(speed, *t) in runs]
+                ax.plot(*zip(*pts), "ks-", ms=4, label="all together")
+                ax.set(xscale="log", xlabel="refinement (x the default)", ylabel=o.replace("_plus", "+"),
+                       title=f"V = {speed:g} m/s", xticks=[0.5, 1, 2, 4], xticklabels=["0.5", "1", "2", "4"])
+                ax.minorticks_off()
+                if row == 0 and col == 0:
+                    ax.legend()
+        plotting.save(fig, out_dir / "uvlm_resolution.png", title="The hawkmoth case against the resolution",
+                      caption="Table 3's kinematics, held body, third beat; the default is 6 x 12 rings, 40 steps "
+                              "per beat (refinement 1); together: 4 x 8 / 40, 8 x 16 / 80, 16 x 32 / 160.")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", required=True)
     ap.add_argument("--summary", action="store_true")
+    ap.add_argument("--figures", help="folder for the figure")
     a = ap.parse_args()
     path = Path(a.out)
     data = json.loads(path.read_text()) if path.exists() else {"runs": {}}
@@ -114,6 +143,8 @@ def main():
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(data, indent=1))
     tmp.replace(path)
+    if a.figures:
+        figure(runs, Path(a.figures))
     print(json.dumps(data["summary"]))
 
 
