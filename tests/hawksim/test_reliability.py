@@ -7,12 +7,16 @@ from __future__ import annotations
 
 import os
 import stat
+from pathlib import Path
 
 import pytest
 
 from hawksim import atomic
 from hawksim.cli import main
 
+ROOT = Path(__file__).resolve().parents[2]
+TRAINING_DATA = ROOT / "data" / "uvlm_training_0.3.sqlite"
+"""The shipped training set (only read)."""
 KIN = "f=26.1,beta=4.3,phi0=9.4,theta0=-2.8,alpha0=-0.4,phi_a=58.4,alpha_a=48.8"
 
 
@@ -80,3 +84,159 @@ def test_write_bytes_refuses_what_is_not_a_regular_file(name, kind, odd_paths):
     assert f"cannot write network {odd_paths / name}: it is {kind}" in str(info.value)
     assert "\n" not in str(info.value)
     assert stat.S_ISFIFO(os.stat(odd_paths / "fifo").st_mode)
+
+
+# ---- defect 8: broken stdout ----------------------------------------------------------------------------------
+
+
+class _BrokenStdout:
+    """A stdout whose writes fail with ``exc`` (the reader gone: EPIPE; a full device: ENOSPC)."""
+
+    def __init__(self, exc: OSError):
+        self.exc = exc
+
+    def write(self, text):
+        raise self.exc
+
+    def flush(self):
+        raise self.exc
+
+
+PREDICT = ["predict", "--speed", "1", "--kinematics", KIN]
+
+
+@pytest.mark.parametrize("as_json", [True, False], ids=["json", "human"])
+def test_a_reader_that_has_gone_ends_the_command_quietly(as_json, capsys, monkeypatch):
+    monkeypatch.setattr("sys.stdout", _BrokenStdout(BrokenPipeError(32, "Broken pipe")))
+    code = main(PREDICT + (["--json"] if as_json else []))
+    err = capsys.readouterr().err
+    assert code == 141 and err == ""
+
+
+def test_a_full_stdout_is_one_line(capsys, monkeypatch):
+    import errno
+
+    monkeypatch.setattr("sys.stdout", _BrokenStdout(OSError(errno.ENOSPC, "No space left on device")))
+    code = main(PREDICT + ["--json"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 1
+    _one_line(err, "stdout", "No space left on device")
+
+
+def test_a_closed_pipe_is_a_quiet_exit_141(tmp_path):
+    """The trial's `hawksim fly ... --json | head -c 1`, as a process: stdout a pipe whose reader has closed, so the
+    write fails with EPIPE; no traceback, not even Python's "Exception ignored" at its exit."""
+    import subprocess
+    import sys
+
+    r, w = os.pipe()
+    os.close(r)
+    try:
+        proc = subprocess.run([sys.executable, "-m", "hawksim", *PREDICT, "--json"], stdout=w,
+                              stderr=subprocess.PIPE, timeout=120, cwd=tmp_path,
+                              env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+    finally:
+        os.close(w)
+    assert proc.returncode == 141 and proc.stderr == b"", proc.stderr.decode()
+
+
+# ---- defect 7: crafted network files; every JSON strict -------------------------------------------------------
+
+
+def _strict(text: str):
+    import json
+
+    def refuse(name):
+        raise ValueError(f"{name} in the CLI's JSON")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+@pytest.fixture(scope="module")
+def crafted(tmp_path_factory):
+    """The shipped 1 m/s network with its `meta` a JSON array, a string, an object with NaN; and one whose finite
+    weights x 1e300 overflow."""
+    import dataclasses
+
+    from safetensors import safe_open
+    from safetensors.numpy import save
+
+    from hawksim.backends.network import load, shipped_path
+
+    d = tmp_path_factory.mktemp("crafted")
+    src = shipped_path(1.0)
+    with safe_open(str(src), framework="numpy") as fh:
+        md, arrays = fh.metadata(), {k: fh.get_tensor(k) for k in fh.keys()}
+    for name, meta in (("array", "[1, 2]"), ("string", '"hello"'), ("nan", '{"command": NaN}')):
+        (d / f"meta_{name}.safetensors").write_bytes(save(arrays, metadata={**md, "meta": meta}))
+    s = load(src)
+    dataclasses.replace(s, W2=s.W2 * 1e300, b2=s.b2 * 1e300, y_std=s.y_std * 1e300).save(d / "big.safetensors")
+    return d
+
+
+@pytest.mark.parametrize("name,says", [("meta_array", "its meta is a JSON array, not an object"),
+                                       ("meta_string", "its meta is a JSON string, not an object"),
+                                       ("meta_nan", "NaN is not JSON")])
+@pytest.mark.parametrize("argv", [PREDICT + ["--model"], ["trim", "--speed", "1", "--population", "100", "--model"],
+                                  ["train", "--data", "{data}", "--out", "{tmp}/n.safetensors", "--speed", "1",
+                                   "--base"]], ids=["predict", "trim", "train --base"])
+def test_a_network_whose_meta_is_not_an_object_is_named(argv, name, says, crafted, tmp_path, capsys):
+    path = crafted / f"{name}.safetensors"
+    argv = [a.replace("{data}", str(TRAINING_DATA)).replace("{tmp}", str(tmp_path)) for a in argv] + [path]
+    code, out, err = _run(argv, capsys)
+    assert code == 2 and out == ""
+    _one_line(err, str(path), says)
+    assert not (tmp_path / "n.safetensors").exists()
+
+
+@pytest.mark.parametrize("argv", [PREDICT + ["--json", "--model"],
+                                  ["trim", "--speed", "1", "--population", "100", "--json", "--model"]],
+                         ids=["predict", "trim"])
+def test_a_network_that_overflows_is_a_numerical_failure(argv, crafted, capsys):
+    code, out, err = _run(argv + [crafted / "big.safetensors"], capsys)
+    assert code == 3 and out == ""
+    _one_line(err, "numerical failure", "not finite" if argv[0] == "trim" else "big.safetensors")
+
+
+def test_a_non_finite_result_is_never_printed(capsys, monkeypatch):
+    """The last guard: any command's result holding NaN or Infinity exits 3 naming the key (JSON has no such
+    values; Python's json.dumps wrote `Infinity`)."""
+    monkeypatch.setattr("hawksim.cli.predict.cmd_predict", lambda args: {"a": {"b": [1.0, float("inf")]}})
+    code, out, err = _run(PREDICT + ["--json"], capsys)
+    assert code == 3 and out == ""
+    _one_line(err, "numerical failure", "a.b[1]", "inf")
+
+
+@pytest.mark.parametrize("argv", [PREDICT + ["--json"], PREDICT + ["--json", "--network", "reference"],
+                                  ["predict", "--speed", "0.5", "--kinematics", KIN, "--json"]],
+                         ids=["predict", "predict reference", "predict 0.5"])
+def test_the_json_printed_parses_strictly(argv, capsys):
+    code, out, err = _run(argv, capsys)
+    assert code == 0, err
+    obj = _strict(out)
+    assert isinstance(obj, dict) and out.count("\n") == 1
+
+
+# ---- defect 11: --model that is not a regular file -------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name,kind", [("fifo", "is a FIFO (named pipe), not a regular file"),
+                                       ("adir", "is a directory, not a regular file"),
+                                       ("link_to_fifo", "is a FIFO (named pipe) (the target of the link"),
+                                       ("dangling", "does not exist (a link to the missing 'missing.bin')"),
+                                       ("huge", "above the limit of 1 GiB")])
+@pytest.mark.parametrize("argv", [PREDICT + ["--model"], ["trim", "--speed", "1", "--population", "100", "--model"],
+                                  ["train", "--data", TRAINING_DATA, "--out", "n.safetensors", "--speed", "1",
+                                   "--base"]],
+                         ids=["predict", "trim", "train --base"])
+def test_a_model_that_is_not_a_regular_file_is_named(argv, name, kind, odd_paths, capsys, monkeypatch):
+    """A FIFO hung the read, a link to /dev/zero read without end (a FIFO stands in for the device here); each was
+    "does not exist". A sparse file above the bound stands for a huge one (nothing read)."""
+    monkeypatch.chdir(odd_paths)
+    with open(odd_paths / "huge", "wb") as fh:
+        fh.truncate((1 << 30) + 1)
+    path = odd_paths / name
+    code, out, err = _run(argv + [path], capsys)
+    assert code == 2 and out == ""
+    _one_line(err, str(path), kind)
+    assert not (odd_paths / "n.safetensors").exists()
