@@ -24,6 +24,7 @@ from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim, warmup
 from hawksim.cli.args import Parser, UsageError
 from hawksim.cli.progress import close_all
+from hawksim.environment import check_environment
 
 SUBCOMMANDS = (fly, aero, stability, dataset, train, predict, trim, reproduce, warmup)
 """The subcommand modules, in the order `hawksim --help` lists them."""
@@ -104,6 +105,7 @@ def _preload(args) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     try:
+        check_environment()  # (also before numba's import when run as the command: hawksim.__main__)
         parser = build_parser()  # imports the subcommands' modules (mujoco, ...): a Ctrl-C may come here too
         apply_vector_width(strict=True)  # checks HAWKSIM_VECTOR_WIDTH (importing aero applied it)
         args = parser.parse_args(argv)

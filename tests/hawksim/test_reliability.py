@@ -240,3 +240,31 @@ def test_a_model_that_is_not_a_regular_file_is_named(argv, name, kind, odd_paths
     assert code == 2 and out == ""
     _one_line(err, str(path), kind)
     assert not (odd_paths / "n.safetensors").exists()
+
+
+# ---- defect 10: environment variables ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("value,says", [("0", "must be an integer from 1 to 1024"), ("abc", "is not an integer"),
+                                        ("-3", "must be an integer from 1 to 1024"), ("1e3", "is not an integer"),
+                                        ("100000", "must be an integer from 1 to 1024")])
+def test_a_bad_numba_num_threads_is_one_line(value, says, capsys, monkeypatch):
+    monkeypatch.setenv("NUMBA_NUM_THREADS", value)
+    code, out, err = _run(PREDICT, capsys)
+    assert code == 2 and out == ""
+    _one_line(err, f"NUMBA_NUM_THREADS={value!r}", says)
+
+
+def test_numba_num_threads_is_checked_before_numba_is_imported(tmp_path):
+    """As the command: numba, imported with NUMBA_NUM_THREADS=0, raised a 28-line traceback from its import."""
+    import subprocess
+    import sys
+
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path), "NUMBA_NUM_THREADS": "0"}
+    proc = subprocess.run([sys.executable, "-X", "importtime", "-m", "hawksim", "fly", "--speed", "1", "--cycles",
+                           "1"], capture_output=True, text=True, timeout=120, cwd=tmp_path, env=env)
+    lines = [ln for ln in proc.stderr.splitlines() if not ln.startswith("import time:")]
+    assert proc.returncode == 2 and proc.stdout == ""
+    _one_line(lines, "NUMBA_NUM_THREADS='0'")
+    assert not any(ln.split("|")[-1].strip() == "numba" for ln in proc.stderr.splitlines()
+                   if ln.startswith("import time:"))
