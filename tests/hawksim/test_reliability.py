@@ -268,3 +268,37 @@ def test_numba_num_threads_is_checked_before_numba_is_imported(tmp_path):
     _one_line(lines, "NUMBA_NUM_THREADS='0'")
     assert not any(ln.split("|")[-1].strip() == "numba" for ln in proc.stderr.splitlines()
                    if ln.startswith("import time:"))
+
+
+# ---- defects 9 and 13: unbounded numbers of train --kind step and fly ---------------------------------------------
+
+STEP = ["train", "--kind", "step", "--data", "flights.sqlite", "--out", "n.safetensors"]
+
+
+@pytest.mark.parametrize("argv,names", [
+    (STEP + ["--weight-decay", "inf"], ("--weight-decay", "inf")),
+    (STEP + ["--weight-decay", "nan"], ("--weight-decay", "nan")),
+    (STEP + ["--weight-decay", "-1"], ("--weight-decay", "-1")),
+    (STEP + ["--lags", "inf"], ("--lags", "'inf'")),
+    (STEP + ["--lags", "1e308"], ("--lags", "'1e308'")),
+    (STEP + ["--lags", "0.5,x"], ("--lags", "'0.5,x'", "not a comma-separated list")),
+    (STEP + ["--layers", "200000,200000"], ("--layers", "'200000,200000'", "from 1 to 4096")),
+    (STEP + ["--layers", "a,b"], ("--layers", "'a,b'", "not a comma-separated list")),
+    (STEP + ["--layers", ",".join(["8"] * 17)], ("--layers", "at most 16")),
+    (["fly", "--speed", "1", "--cycles", "1", "--control", "lqr", "--sensing-delay", "1000000000"],
+     ("--sensing-delay", "1000000000", "limit of 20")),
+], ids=lambda a: " ".join(a[7:]) if isinstance(a, list) and a[0] == "train" else None)
+def test_unbounded_numbers_are_refused_naming_the_option(argv, names, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, out, err = _run(argv, capsys)
+    assert code == 2 and out == ""
+    _one_line(err, *names)
+    assert "invalid" not in err[0]  # argparse's "invalid _floats value" named no input
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_lag_bound_is_a_flights_length():
+    from hawksim.cli.train import MAX_LAG_BEATS
+    from hawksim.surrogate.flights import FLIGHT_BEATS
+
+    assert MAX_LAG_BEATS == FLIGHT_BEATS
