@@ -302,3 +302,30 @@ def test_the_lag_bound_is_a_flights_length():
     from hawksim.surrogate.flights import FLIGHT_BEATS
 
     assert MAX_LAG_BEATS == FLIGHT_BEATS
+
+
+# ---- defect 12: a data set without its samples table ------------------------------------------------------------
+
+
+@pytest.mark.parametrize("damage,says", [("DROP TABLE samples", "has no samples table"),
+                                         ("ALTER TABLE samples DROP COLUMN version", "lacks the column(s) version")])
+@pytest.mark.parametrize("argv", [["dataset", "--speed", "1", "--samples", "2", "--out"],
+                                  ["dataset", "--kind", "flights", "--samples", "2", "--out"],
+                                  ["train", "--out", "n.safetensors", "--speed", "1", "--data"],
+                                  ["train", "--kind", "step", "--out", "n.safetensors", "--data"]],
+                         ids=["dataset", "dataset flights", "train", "train step"])
+def test_a_data_set_with_a_damaged_schema_is_named(argv, damage, says, tmp_path, capsys, monkeypatch):
+    import sqlite3
+
+    from hawksim.surrogate.dataset import open_dataset
+
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / "d.sqlite"
+    open_dataset(path, create=True).close()
+    with sqlite3.connect(path) as conn:
+        conn.execute(damage)
+    conn.close()
+    code, out, err = _run(argv + [path], capsys)
+    assert code == 2 and out == ""
+    _one_line(err, str(path), says)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.sqlite"]
