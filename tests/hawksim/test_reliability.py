@@ -329,3 +329,40 @@ def test_a_data_set_with_a_damaged_schema_is_named(argv, damage, says, tmp_path,
     assert code == 2 and out == ""
     _one_line(err, str(path), says)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d.sqlite"]
+
+
+# ---- defect 2: the Dask scheduler lost mid-run -------------------------------------------------------------------
+
+
+class _LostClient:
+    """A dask Client whose scheduler is gone once work is submitted: what `kill -9` of the scheduler did to a run
+    (FutureCancelledError, reason scheduler-connection-lost, out of the first result)."""
+
+    def __init__(self, address, timeout=None):
+        self.address = address
+
+    def scheduler_info(self):
+        return {"workers": {"tcp://w1": {}, "tcp://w2": {}}}
+
+    def submit(self, fn, *args, **kwargs):
+        from distributed.client import FutureCancelledError
+
+        raise FutureCancelledError("evaluate_sample-0", "scheduler-connection-lost")
+
+    def close(self, timeout=None):
+        raise OSError("the scheduler is gone")  # closing a client of a lost scheduler fails too
+
+
+@pytest.mark.parametrize("kind", ["samples", "flights"])
+def test_a_lost_scheduler_is_one_line_saying_the_rows_are_kept(kind, tmp_path, capsys, monkeypatch):
+    import dask.distributed
+
+    monkeypatch.setattr(dask.distributed, "Client", _LostClient)
+    out = tmp_path / "c.sqlite"
+    argv = ["dataset", "--kind", kind, "--samples", "6", "--seed", "7", "--scheduler", "tcp://127.0.0.1:8786",
+            "--out", out, "--no-progress"] + (["--speed", "1"] if kind == "samples" else [])
+    code, stdout, err = _run(argv, capsys)
+    assert code == 1 and stdout == ""
+    _one_line(err, "the Dask scheduler tcp://127.0.0.1:8786 was lost mid-run (scheduler-connection-lost)",
+              "every result committed before is kept", "rerun the same command")
+    assert list(tmp_path.iterdir()) == []  # the file this run made holds nothing: removed
