@@ -19,6 +19,13 @@ def run() -> int:
     # The CLI never renders: without this, importing mujoco imports glfw, which starts a Python subprocess to read
     # glfw's version, and a Ctrl-C that reached that subprocess printed its traceback. (A user's own setting stays.)
     os.environ.setdefault("MUJOCO_GL", "disable")
+    from hawksim.environment import EnvironmentVariableError, check_environment
+
+    try:  # before numba is imported (hawksim.cli imports it), which reads NUMBA_NUM_THREADS
+        check_environment()
+    except EnvironmentVariableError as exc:
+        print(f"hawksim: {exc}", file=sys.stderr)
+        return 2
     try:
         from hawksim.cli import main
 

@@ -36,8 +36,14 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
     Ctrl-C (SIGINT to the terminal's process group) at any moment, the LocalCluster's start-up included, raises
     KeyboardInterrupt in this process only, within a fraction of a second: the worker processes are born with SIGINT
     blocked (:func:`_start_local_cluster`), so none prints a traceback, and on the interrupt they are killed (they
-    hold nothing: results reach the caller only through this process) before the cluster is closed."""
+    hold nothing: results reach the caller only through this process) before the cluster is closed.
+
+    A scheduler lost mid-run (a future cancelled, "scheduler-connection-lost", or its connection closed) is a
+    ConnectionError of one line (:func:`lost_cluster_line`), the environment's failure (exit status 1)."""
+    from concurrent.futures import CancelledError
+
     from dask.distributed import Client
+    from distributed.comm.core import CommClosedError
 
     if scheduler:
         try:
@@ -56,7 +62,7 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
             _abandon_local_workers(others)
             cluster.close()
             raise
-    interrupted = False
+    interrupted = lost = False
     try:
         yield client
     except KeyboardInterrupt:
@@ -66,15 +72,29 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
         else:
             _quiet()
         raise
+    except (CancelledError, CommClosedError) as exc:  # the scheduler went away mid-run (issue 53, defect 2)
+        lost = True
+        _quiet()
+        raise ConnectionError(lost_cluster_line(scheduler, exc)) from None
     finally:
-        timeout = INTERRUPTED_CLOSE_S if interrupted else None
+        timeout = INTERRUPTED_CLOSE_S if interrupted or lost else None
         for close in (client.close, cluster.close if cluster is not None else None):
             try:
                 if close is not None:
                     close(timeout=timeout)
-            except Exception:  # after a Ctrl-C the interrupt is what the caller is told
-                if not interrupted:
+            except Exception:  # after a Ctrl-C (or a lost scheduler) that is what the caller is told
+                if not (interrupted or lost):
                     raise
+
+
+def lost_cluster_line(scheduler: str | None, exc: BaseException) -> str:
+    """The one line of a run whose Dask scheduler (or LocalCluster) was lost mid-run: what happened, and that the
+    rows committed before are kept, so the same command on a working cluster continues the file (each result is
+    committed as it arrives; a lost one is recomputed)."""
+    where = f"the Dask scheduler {scheduler}" if scheduler else "the local Dask cluster"
+    reason = getattr(exc, "reason", None) or type(exc).__name__
+    return (f"{where} was lost mid-run ({reason}): every result committed before is kept; rerun the same command "
+            "on a working cluster to continue")
 
 
 def _start_local_cluster(workers: int, others: set):

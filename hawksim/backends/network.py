@@ -118,8 +118,9 @@ class Surrogate:
         and the output scaling into the second: the network applied to SI inputs, giving physical outputs."""
         lo, hi = np.asarray(self.inputs.lo), np.asarray(self.inputs.hi)
         a, c = 2.0 / (hi - lo), -2.0 * lo / (hi - lo) - 1.0  # z = a x + c
-        W1, b1 = self.W1 * a, self.W1 @ c + self.b1
-        W2, b2 = self.W2 * self.y_std[:, None], self.b2 * self.y_std + self.y_mean
+        with np.errstate(over="ignore"):  # a network that overflows gives non-finite outputs, reported by the caller
+            W1, b1 = self.W1 * a, self.W1 @ c + self.b1
+            W2, b2 = self.W2 * self.y_std[:, None], self.b2 * self.y_std + self.y_mean
         return tuple(np.ascontiguousarray(m, dtype=np.float32) for m in (W1.T, b1, W2.T, b2))
 
     def predict_torch(self, x: np.ndarray, speed: float | np.ndarray | None = None, *,
@@ -164,9 +165,9 @@ def load(path: str | Path, expect: InputDefinition | None = None) -> Surrogate:
     bounds, and against ``expect`` if given)."""
     from safetensors import SafetensorError, safe_open
 
-    path = Path(path)
-    if not path.is_file():
-        raise SurrogateFileError(f"surrogate file {str(path)!r} does not exist")
+    from hawksim.inputfile import check_regular_file, metadata_object, strict_json
+
+    path = check_regular_file(path, "surrogate file", SurrogateFileError)  # FIFO, directory, device: named
     try:
         with safe_open(str(path), framework="numpy") as fh:
             md = fh.metadata() or {}
@@ -176,13 +177,16 @@ def load(path: str | Path, expect: InputDefinition | None = None) -> Surrogate:
     if md.get("format") != FORMAT:
         raise SurrogateFileError(f"{str(path)!r} is not a {FORMAT} file (format {md.get('format')!r})")
     try:
-        d = json.loads(md["inputs"])
+        d = strict_json(md["inputs"])
         inputs = InputDefinition(tuple(d["names"]), tuple(map(float, d["lo"])), tuple(map(float, d["hi"])),
                                  None if d["speed"] is None else float(d["speed"]))
-        outputs = tuple(json.loads(md["outputs"]))
-        meta = json.loads(md.get("meta", "{}"))
+        outputs = tuple(strict_json(md["outputs"]))
     except (KeyError, TypeError, ValueError) as exc:
         raise SurrogateFileError(f"{str(path)!r} has an unreadable input definition: {exc}") from None
+    try:
+        meta = metadata_object(md.get("meta"), "meta")
+    except ValueError as exc:
+        raise SurrogateFileError(f"{str(path)!r} has unusable metadata: {exc}") from None
     if outputs != OUTPUTS:
         raise SurrogateFileError(f"{str(path)!r} predicts {outputs}, not {OUTPUTS}")
     ref = InputDefinition.for_speed(inputs.speed)

@@ -120,7 +120,9 @@ class StepNetwork:
     # ---------------------------------------------------------------------------------------------- files
 
     def save(self, path: str | Path) -> Path:
-        from safetensors.numpy import save_file
+        from safetensors.numpy import save
+
+        from hawksim.atomic import write_bytes
 
         path = Path(path)
         tensors = {}
@@ -131,19 +133,17 @@ class StepNetwork:
             tensors[k] = np.ascontiguousarray(getattr(self, k), np.float64)
         md = {"format": FORMAT, "inputs": json.dumps({"names": list(input_names(self.lags)), "lags": list(self.lags)}),
               "outputs": json.dumps(list(OUTPUTS)), "meta": json.dumps(self.meta)}
-        tmp = path.with_name(path.name + ".part")
-        save_file(tensors, str(tmp), metadata=md)
-        tmp.replace(path)
-        return path
+        # all or nothing, a link's target replaced, a device refused (hawksim.atomic)
+        return write_bytes(path, save(tensors, metadata=md), "per-step surrogate")
 
 
 def load(path: str | Path) -> StepNetwork:
     """Read and check a per-step surrogate file (format, inputs, outputs, tensor names, shapes, finiteness)."""
     from safetensors import SafetensorError, safe_open
 
-    path = Path(path)
-    if not path.is_file():
-        raise StepNetworkFileError(f"per-step surrogate file {str(path)!r} does not exist")
+    from hawksim.inputfile import check_regular_file, metadata_object, strict_json
+
+    path = check_regular_file(path, "per-step surrogate file", StepNetworkFileError)  # FIFO, directory, device: named
     try:
         with safe_open(str(path), framework="numpy") as fh:
             md = fh.metadata() or {}
@@ -154,11 +154,11 @@ def load(path: str | Path) -> StepNetwork:
         raise StepNetworkFileError(f"{str(path)!r} is not a {FORMAT} file (format {md.get('format')!r}; a cycle-mean "
                                    "network is used by --aero surrogate-mean)")
     try:
-        inp = json.loads(md["inputs"])
+        inp = strict_json(md["inputs"])
         lags = tuple(float(v) for v in inp["lags"])
         names = tuple(inp["names"])
-        outputs = tuple(json.loads(md["outputs"]))
-        meta = json.loads(md.get("meta", "{}"))
+        outputs = tuple(strict_json(md["outputs"]))
+        meta = metadata_object(md.get("meta"), "meta")
     except (KeyError, TypeError, ValueError) as exc:
         raise StepNetworkFileError(f"{str(path)!r} has unreadable metadata: {exc}") from None
     if names != input_names(lags):

@@ -14,6 +14,8 @@ Each subcommand is one module of this package exposing ``register(subparsers)``,
 from __future__ import annotations
 
 import json
+import math
+import os
 import sys
 
 from aero.vector_width import apply_vector_width
@@ -22,6 +24,7 @@ from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim, warmup
 from hawksim.cli.args import Parser, UsageError
 from hawksim.cli.progress import close_all
+from hawksim.environment import check_environment
 
 SUBCOMMANDS = (fly, aero, stability, dataset, train, predict, trim, reproduce, warmup)
 """The subcommand modules, in the order `hawksim --help` lists them."""
@@ -102,6 +105,7 @@ def _preload(args) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     try:
+        check_environment()  # (also before numba's import when run as the command: hawksim.__main__)
         parser = build_parser()  # imports the subcommands' modules (mujoco, ...): a Ctrl-C may come here too
         apply_vector_width(strict=True)  # checks HAWKSIM_VECTOR_WIDTH (importing aero applied it)
         args = parser.parse_args(argv)
@@ -120,11 +124,71 @@ def main(argv: list[str] | None = None) -> int:
         close_all()  # an open progress bar ends its line first, on a terminal
         print(line, file=sys.stderr)
         return code
-    if args.json:
-        print(json.dumps(out))
-    else:
-        _print_human(out)
+    try:
+        _check_finite(out)
+    except FloatingPointError as exc:
+        code, line = failure(exc)
+        print(line, file=sys.stderr)
+        return code
+    return write_output(out, args.json)
+
+
+EXIT_BROKEN_PIPE = 141
+"""Exit status when stdout's reader has gone (EPIPE: ``hawksim fly --json | head -c 1``): 128 + SIGPIPE, the status
+a shell shows for a Unix tool that SIGPIPE ended (``yes | head -1`` with ``set -o pipefail``), quietly: the reader
+chose to stop reading, nothing is wrong to report."""
+EXIT_STDOUT_FAILED = 1
+"""Exit status when stdout cannot be written for the environment (ENOSPC: ``> /dev/full``, a full disk; EIO): the
+contract's environment failure, with one line on stderr."""
+
+
+def _silence_stdout() -> None:
+    """Point stdout's file descriptor at /dev/null, so that the interpreter's final flush of what is still buffered
+    does not fail again (Python prints "Exception ignored ... BrokenPipeError" then)."""
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # a stream without a descriptor (pytest's capture)
+        return
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, fd)
+    finally:
+        os.close(devnull)
+
+
+def write_output(out: dict, as_json: bool) -> int:
+    """Print the result (one strict JSON object with ``--json``: no NaN or Infinity, ``allow_nan=False``; else
+    ``key: value unit`` lines) and flush it; the exit status. A reader that has gone (EPIPE) ends the command
+    quietly with :data:`EXIT_BROKEN_PIPE`; any other failure to write stdout (ENOSPC) is one line on stderr and
+    :data:`EXIT_STDOUT_FAILED`."""
+    try:
+        if as_json:
+            print(json.dumps(out, allow_nan=False))
+        else:
+            _print_human(out)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        _silence_stdout()
+        return EXIT_BROKEN_PIPE
+    except OSError as exc:
+        _silence_stdout()
+        print(f"hawksim: cannot write the result to stdout: {exc.strerror or exc}", file=sys.stderr)
+        return EXIT_STDOUT_FAILED
     return 0
+
+
+def _check_finite(obj, key: str = "") -> None:
+    """FloatingPointError naming the first key (dotted path) whose value is a non-finite float: a result holding NaN
+    or Infinity is a numerical failure (exit 3), and strict JSON has no such values (issue 53, a crafted network's
+    outputs)."""
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise FloatingPointError(f"the result's {key or 'value'} is {obj} (no result)")
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            _check_finite(v, f"{key}.{k}" if key else str(k))
+    elif isinstance(obj, (list, tuple)):
+        for i, v in enumerate(obj):
+            _check_finite(v, f"{key}[{i}]")
 
 
 def failure(exc: BaseException) -> tuple[int, str]:

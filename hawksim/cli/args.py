@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import stat
 from pathlib import Path
 
 from hawksim.insect.kinematics import PARAM_NAMES, SPEED_RANGE, TABLE2_BOUNDS_DEG, Kinematics
@@ -128,16 +129,30 @@ def perturbation_arg(text: str) -> tuple[str, float]:
 
 
 def writable_file(text: str) -> Path:
+    """An output file's path, checked before any work: its directory exists and is writable, and the path is missing
+    or a regular file, or a symbolic link to one (whose target is then replaced, :func:`hawksim.atomic.output_target`).
+    A device (``/dev/null``), FIFO, socket or directory is refused: outputs are written all or nothing by renaming a
+    temporary file over the target, which would replace the device by a regular file. argparse prefixes the option's
+    name (``argument --rrd: ...``)."""
+    from hawksim.atomic import file_kind
+
     if not text.strip():
         raise argparse.ArgumentTypeError("the file name is empty")
     p = Path(text)
-    parent = p.parent if str(p.parent) else Path(".")
-    if p.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r} is a directory, not a file")
+    target = Path(os.path.realpath(p)) if p.is_symlink() else p
+    via = f" (the target of the link, {str(target)!r})" if target != p else ""
+    try:
+        mode = os.stat(target).st_mode
+    except OSError:
+        mode = None
+    if mode is not None and not stat.S_ISREG(mode):
+        raise argparse.ArgumentTypeError(f"{text!r} is {file_kind(mode)}{via}, not a regular file (outputs are "
+                                         "written all or nothing, by renaming a temporary file over the path)")
+    parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
-        raise argparse.ArgumentTypeError(f"directory of {text!r} does not exist")
+        raise argparse.ArgumentTypeError(f"directory of {text!r}{via} does not exist")
     if not os.access(parent, os.W_OK):
-        raise argparse.ArgumentTypeError(f"directory of {text!r} is not writable")
+        raise argparse.ArgumentTypeError(f"directory of {text!r}{via} is not writable")
     return p
 
 

@@ -237,6 +237,13 @@ def _control_type(parse):
     return f
 
 
+MAX_SENSING_DELAY = 20
+"""Largest --sensing-delay [wingbeats]: the LQR's state is augmented by the 4 to 7 commands of each beat of delay
+and its Riccati solve costs the cube of that size (20 beats: ~150 states; 10**9 asked numpy for an array "too big"),
+and 20 beats (0.8 s at 25 Hz) is ten times the hawkmoth's visual latency, past any delay a controller is designed
+for."""
+
+
 def _delay(text: str) -> int:
     try:
         v = int(text)
@@ -244,6 +251,9 @@ def _delay(text: str) -> int:
         raise ValueError(f"--sensing-delay {text!r} is not an integer") from None
     if v < 0:
         raise ValueError(f"--sensing-delay {text} must be >= 0 wingbeats")
+    if v > MAX_SENSING_DELAY:
+        raise ValueError(f"--sensing-delay {text} exceeds the limit of {MAX_SENSING_DELAY} wingbeats (the "
+                         "controller's state grows with the delay)")
     return v
 
 

@@ -16,7 +16,14 @@ def cmd_predict(args) -> dict:
     from hawksim.backends.network import load_for_speed
 
     sur = load_for_speed(args.model, args.speed, args.network)
-    out = sur.predict_kinematics(args.kinematics, args.speed)
+    import numpy as np
+
+    with np.errstate(all="ignore"):  # an overflow is reported below, in one line
+        out = sur.predict_kinematics(args.kinematics, args.speed)
+    bad = [f"{k} = {v}" for k, v in out.items() if not math.isfinite(v)]
+    if bad:  # finite weights can still overflow (a crafted file: weights x 1e300)
+        raise FloatingPointError(f"the network {args.model or args.network!r} gives {', '.join(bad)} at these "
+                                 "kinematics (no result)")
     out.update({"speed": args.speed, "kinematics": args.kinematics.to_edge(),
                 "chi_deg": math.degrees(args.kinematics.chi),
                 "model": sur.meta.get("command", args.model or args.network),

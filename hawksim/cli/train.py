@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import argparse
 import shlex
 from pathlib import Path
 
@@ -11,23 +12,56 @@ from hawksim.cli.args import UsageError, positive_int_arg, seconds_arg, seed_arg
 from hawksim.cli.progress import progress_for
 
 
+MAX_LAG_BEATS = 8
+"""Longest --lags [wingbeats]: the flights of `hawksim dataset --kind flights` are
+:data:`hawksim.surrogate.flights.FLIGHT_BEATS` (8) beats long, and a longer lag would read every row's history from
+the flight's first row (1e308 overflowed the conversion to steps)."""
+MAX_LAYER_WIDTH = 4096
+"""Widest --layers entry: ~20x the shipped per-step network's 192; a 4096 x 4096 float32 layer is 64 MB, four times
+that with Adam's state and its gradient, per ensemble member (200000,200000 asked torch for 160 GB)."""
+MAX_LAYERS = 16
+"""Most hidden layers of --layers: five times the shipped network's 3 (a bound on the parameters and the time per
+epoch, like the width's)."""
+MAX_WEIGHT_DECAY = 1.0
+"""Largest --weight-decay: AdamW shrinks the weights by lr x decay each step; 1 is 100x the largest value tried
+(1e-2, docs/surrogate.md), past it the weights decay faster than they learn."""
+
+
 def _floats(text: str) -> tuple[float, ...]:
+    """--lags: comma-separated lags in wingbeats, each finite, > 0 and <= MAX_LAG_BEATS."""
     try:
         v = tuple(float(x) for x in text.split(",") if x.strip())
     except ValueError:
-        raise ValueError(f"{text!r} is not a comma-separated list of numbers") from None
-    if any(not (x > 0) for x in v):
-        raise ValueError(f"{text!r}: lags must be > 0 wingbeats")
+        raise argparse.ArgumentTypeError(f"--lags {text!r} is not a comma-separated list of numbers") from None
+    for x in v:
+        if not (0 < x <= MAX_LAG_BEATS):  # NaN fails too
+            raise argparse.ArgumentTypeError(f"--lags {text!r}: each lag must be > 0 and at most {MAX_LAG_BEATS} "
+                                             f"wingbeats (a flight's length), not {x:g}")
     return v
 
 
 def _ints(text: str) -> tuple[int, ...]:
+    """--layers: comma-separated hidden-layer widths, 1 to MAX_LAYER_WIDTH each, at most MAX_LAYERS of them."""
     try:
         v = tuple(int(x) for x in text.split(",") if x.strip())
     except ValueError:
-        raise ValueError(f"{text!r} is not a comma-separated list of integers") from None
-    if not v or any(x < 1 for x in v):
-        raise ValueError(f"{text!r}: layer widths must be positive integers")
+        raise argparse.ArgumentTypeError(f"--layers {text!r} is not a comma-separated list of integers") from None
+    if not v or any(not 1 <= x <= MAX_LAYER_WIDTH for x in v):
+        raise argparse.ArgumentTypeError(f"--layers {text!r}: layer widths must be integers from 1 to "
+                                         f"{MAX_LAYER_WIDTH}")
+    if len(v) > MAX_LAYERS:
+        raise argparse.ArgumentTypeError(f"--layers {text!r}: at most {MAX_LAYERS} hidden layers")
+    return v
+
+
+def _weight_decay(text: str) -> float:
+    """--weight-decay: finite, from 0 to MAX_WEIGHT_DECAY."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--weight-decay {text!r} is not a number") from None
+    if not 0 <= v <= MAX_WEIGHT_DECAY:  # inf and NaN fail too
+        raise argparse.ArgumentTypeError(f"--weight-decay {text} must be from 0 to {MAX_WEIGHT_DECAY:g}")
     return v
 
 
@@ -186,7 +220,7 @@ def register(sub) -> None:
                    help="--kind step: hidden tanh layer widths (128,128,128)")
     p.add_argument("--lags", type=_floats, default=(),
                    help="--kind step: history lags of the body state [wingbeats], e.g. 0.5,1 (none)")
-    p.add_argument("--weight-decay", type=float, default=0.0, help="--kind step: AdamW weight decay (0: Adam)")
+    p.add_argument("--weight-decay", type=_weight_decay, default=0.0, help="--kind step: AdamW weight decay (0: Adam)")
     p.add_argument("--ensemble", type=positive_int_arg("ensemble"), default=1,
                    help="--kind step: networks trained from different seeds, folded into one (1)")
     p.add_argument("--data", required=True, help="SQLite data set from `hawksim dataset`")

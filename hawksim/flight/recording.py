@@ -40,7 +40,7 @@ import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
-from hawksim.atomic import ENVIRONMENT_ERRNOS, temporary_beside
+from hawksim.atomic import ENVIRONMENT_ERRNOS, keep_mode, output_target, temporary_beside
 from hawksim.flight.orbit import STATE_NAMES
 from hawksim.flight.result import FlightResult
 from hawksim.frames import quat_from_matrices
@@ -156,8 +156,9 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
     on stderr and no errno.)
     """
     path = Path(path)
-    _check_target(path)
-    tmp = temporary_beside(path)
+    target = output_target(path, "recording")  # a link's target; a device, FIFO or directory: ValueError
+    _check_target(target)
+    tmp = temporary_beside(target)
     try:
         fh = open(tmp, "xb")  # probes writability; created with the usual umask permissions
     except OSError as exc:
@@ -180,7 +181,8 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
             fh.write(data or b"")
             fh.flush()
             os.fsync(fh.fileno())
-        os.replace(tmp, path)
+        keep_mode(tmp, target)
+        os.replace(tmp, target)
     except OSError as exc:
         raise _write_error(path, exc) from None
     finally:

@@ -237,9 +237,34 @@ def open_dataset(path: str | Path, *, create: bool = False) -> sqlite3.Connectio
         conn.close()
         raise DatasetError(f"data set {str(path)!r} has layout version {version}; this hawksim reads "
                            f"{', '.join(map(str, READABLE_VERSIONS))}")
+    else:
+        try:
+            _check_schema(conn, path)
+        except DatasetError:
+            conn.close()
+            raise
     if create:  # the writer (see JOURNAL_MODE); if another connection holds a WAL file open the mode stays WAL
         conn.execute(f"PRAGMA journal_mode={JOURNAL_MODE}")
     return conn
+
+
+SAMPLE_COLUMNS = ("speed", "seed", "idx", *PARAM_NAMES, *OUTPUTS, "status", "resolution", "version")
+"""Columns of the samples table every reader and writer uses (:data:`_SCHEMA` has these and more): checked when a
+file is opened, so that a damaged schema is one line naming the file, not ``no such table: samples`` deep in a
+query (issue 53, defect 12)."""
+
+
+def _check_schema(conn: sqlite3.Connection, path) -> None:
+    """DatasetError naming ``path`` when its samples table, or a column of :data:`SAMPLE_COLUMNS`, is missing
+    (every data set has one, the flights files too: an empty one)."""
+    have = {r[1] for r in conn.execute("PRAGMA table_info(samples)")}
+    if not have:
+        raise DatasetError(f"data set {str(path)!r} has no samples table (its schema is damaged: start a new file "
+                           "or restore it)")
+    missing = [c for c in SAMPLE_COLUMNS if c not in have]
+    if missing:
+        raise DatasetError(f"data set {str(path)!r}: its samples table lacks the column(s) {', '.join(missing)} "
+                           "(its schema is damaged: start a new file or restore it)")
 
 
 def _where(speed: float | None = None, seed: int | None = None) -> tuple[str, list]:

@@ -158,7 +158,11 @@ def trim_on_surrogate(surrogate, speed: float, *, seed: int = 0, cfg: GAConfig =
 
     def objective_batch(u):
         x = lo + u * (hi - lo)
-        return fitness(surrogate.predict_torch(x, speed), x)
+        f = fitness(surrogate.predict_torch(x, speed), x)
+        if not np.any(np.isfinite(f)):  # a network whose weights overflow (issue 53): the search would never stall
+            raise FloatingPointError(f"the surrogate's fitness is not finite at any of {len(f)} kinematics of the "
+                                     "search (its outputs overflow)")
+        return f
 
     def objective_one(u):
         x = lo + np.asarray(u)[None, :] * (hi - lo)

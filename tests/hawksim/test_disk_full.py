@@ -89,6 +89,20 @@ def test_a_full_disk_under_a_new_data_set_leaves_nothing(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_full_disk_under_a_new_flights_data_set_leaves_nothing(tmp_path):
+    """Issue 53, defect 3: `dataset --kind flights` let SQLite's "disk I/O error" (a file-size limit; "database or
+    disk is full" on a full tmpfs) out as a traceback and left the file it had begun. Now as the samples kind: one
+    line naming the file, exit 1, nothing left. (The limit stops the schema's write, before any flight is flown; a
+    commit later in the run takes the same path.)"""
+    out = tmp_path / "f.sqlite"
+    p = run_limited(["dataset", "--kind", "flights", "--samples", "2", "--out", str(out), "--workers", "1",
+                     "--json", "--no-progress"], limit=4096)
+    line = one_line(p)
+    assert p.returncode == 1 and str(out) in line and "cannot write data set" in line and "SQLITE_IOERR" in line
+    assert "Traceback" not in p.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_full_disk_under_an_existing_data_set_keeps_its_rows_and_a_rerun_continues(tmp_path):
     out = tmp_path / "d.sqlite"
     sha = _filled_dataset(out, 1000)  # ~0.3 MB: above numba's largest cache file, as LIMIT

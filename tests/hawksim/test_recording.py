@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import os
 import shutil
 import subprocess
 import sys
@@ -480,3 +481,19 @@ def test_half_stroke_commands_are_recorded_at_both_updates(tmp_path):
     steps, _ = temporal_column(chunks, "/plots/control/tracking/speed_error", "Scalars:scalars")
     assert len(steps) == 3
     verify(path)
+
+
+def test_a_link_is_followed_and_a_fifo_refused(result, tmp_path):
+    """Issue 53, defect 1: `--rrd link.rrd` replaced the link by a file, `--rrd /dev/null` the device. The link's
+    target is written (the link stays); a FIFO (standing in for a device) is refused and stays a FIFO."""
+    import stat
+
+    (tmp_path / "flight.rrd").write_bytes(b"old")
+    os.symlink("flight.rrd", tmp_path / "link.rrd")
+    write_rrd(tmp_path / "link.rrd", result)
+    assert (tmp_path / "link.rrd").is_symlink() and (tmp_path / "flight.rrd").stat().st_size > 1000
+    os.mkfifo(tmp_path / "fifo.rrd")
+    with pytest.raises(ValueError, match="fifo.rrd: it is a FIFO"):
+        write_rrd(tmp_path / "fifo.rrd", result)
+    assert stat.S_ISFIFO(os.stat(tmp_path / "fifo.rrd").st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fifo.rrd", "flight.rrd", "link.rrd"]

@@ -1,0 +1,368 @@
+"""Issue 53's trial of bad inputs and faults against the CLI contract (docs/conventions.md, "The CLI contract"): output
+paths that are not regular files, broken stdout, crafted network files, the environment, data sets without their
+schema. Every case checks the exit status, that stderr is one line naming the input, and that no traceback is printed.
+The device and FIFO cases use a FIFO and symbolic links in tmp_path, never the real /dev."""
+
+from __future__ import annotations
+
+import os
+import stat
+from pathlib import Path
+
+import pytest
+
+from hawksim import atomic
+from hawksim.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+TRAINING_DATA = ROOT / "data" / "uvlm_training_0.3.sqlite"
+"""The shipped training set (only read)."""
+KIN = "f=26.1,beta=4.3,phi0=9.4,theta0=-2.8,alpha0=-0.4,phi_a=58.4,alpha_a=48.8"
+
+
+def _run(argv, capsys):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert "Traceback" not in err
+    return code, out, lines
+
+
+def _one_line(lines, *names):
+    assert len(lines) == 1, lines
+    for name in names:
+        assert name in lines[0], lines
+    return lines[0]
+
+
+# ---- defect 1: output paths replaced by rename ---------------------------------------------------------------
+
+
+@pytest.fixture
+def odd_paths(tmp_path):
+    """A FIFO, a directory, a link to the FIFO, a link to a regular file and a dangling link, in tmp_path."""
+    os.mkfifo(tmp_path / "fifo")
+    (tmp_path / "adir").mkdir()
+    (tmp_path / "target.bin").write_bytes(b"old")
+    os.symlink(tmp_path / "fifo", tmp_path / "link_to_fifo")
+    os.symlink("target.bin", tmp_path / "link_to_file")  # relative, as `ln -s` makes it
+    os.symlink("missing.bin", tmp_path / "dangling")
+    return tmp_path
+
+
+@pytest.mark.parametrize("name,kind", [("fifo", "FIFO"), ("adir", "directory"), ("link_to_fifo", "FIFO")])
+@pytest.mark.parametrize("argv", [
+    ["fly", "--speed", "1", "--cycles", "1", "--rrd"],
+    ["train", "--data", "d.sqlite", "--out"],
+    ["dataset", "--speed", "1", "--samples", "2", "--out"],
+], ids=["fly --rrd", "train --out", "dataset --out"])
+def test_an_output_path_that_is_not_a_regular_file_is_refused(argv, name, kind, odd_paths, capsys):
+    path = odd_paths / name
+    before = sorted(p.name for p in odd_paths.iterdir())
+    code, out, err = _run(argv + [path], capsys)
+    assert code == 2 and out == ""
+    _one_line(err, argv[-1], str(path), kind, "not a regular file")
+    assert sorted(p.name for p in odd_paths.iterdir()) == before
+    assert stat.S_ISFIFO(os.stat(odd_paths / "fifo").st_mode) and (odd_paths / "link_to_fifo").is_symlink()
+
+
+def test_write_bytes_follows_a_link_and_keeps_it(odd_paths):
+    (odd_paths / "target.bin").chmod(0o640)
+    atomic.write_bytes(odd_paths / "link_to_file", b"new")
+    assert (odd_paths / "link_to_file").is_symlink()
+    assert (odd_paths / "target.bin").read_bytes() == b"new"
+    assert stat.S_IMODE(os.stat(odd_paths / "target.bin").st_mode) == 0o640
+    atomic.write_bytes(odd_paths / "dangling", b"created")
+    assert (odd_paths / "dangling").is_symlink() and (odd_paths / "missing.bin").read_bytes() == b"created"
+    assert not [p for p in odd_paths.iterdir() if p.name.endswith(".tmp")]
+
+
+@pytest.mark.parametrize("name,kind", [("fifo", "a FIFO"), ("adir", "a directory"), ("link_to_fifo", "a FIFO")])
+def test_write_bytes_refuses_what_is_not_a_regular_file(name, kind, odd_paths):
+    with pytest.raises(atomic.NotRegularFileError) as info:
+        atomic.write_bytes(odd_paths / name, b"x", "network")
+    assert f"cannot write network {odd_paths / name}: it is {kind}" in str(info.value)
+    assert "\n" not in str(info.value)
+    assert stat.S_ISFIFO(os.stat(odd_paths / "fifo").st_mode)
+
+
+# ---- defect 8: broken stdout ----------------------------------------------------------------------------------
+
+
+class _BrokenStdout:
+    """A stdout whose writes fail with ``exc`` (the reader gone: EPIPE; a full device: ENOSPC)."""
+
+    def __init__(self, exc: OSError):
+        self.exc = exc
+
+    def write(self, text):
+        raise self.exc
+
+    def flush(self):
+        raise self.exc
+
+
+PREDICT = ["predict", "--speed", "1", "--kinematics", KIN]
+
+
+@pytest.mark.parametrize("as_json", [True, False], ids=["json", "human"])
+def test_a_reader_that_has_gone_ends_the_command_quietly(as_json, capsys, monkeypatch):
+    monkeypatch.setattr("sys.stdout", _BrokenStdout(BrokenPipeError(32, "Broken pipe")))
+    code = main(PREDICT + (["--json"] if as_json else []))
+    err = capsys.readouterr().err
+    assert code == 141 and err == ""
+
+
+def test_a_full_stdout_is_one_line(capsys, monkeypatch):
+    import errno
+
+    monkeypatch.setattr("sys.stdout", _BrokenStdout(OSError(errno.ENOSPC, "No space left on device")))
+    code = main(PREDICT + ["--json"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 1
+    _one_line(err, "stdout", "No space left on device")
+
+
+def test_a_closed_pipe_is_a_quiet_exit_141(tmp_path):
+    """The trial's `hawksim fly ... --json | head -c 1`, as a process: stdout a pipe whose reader has closed, so the
+    write fails with EPIPE; no traceback, not even Python's "Exception ignored" at its exit."""
+    import subprocess
+    import sys
+
+    r, w = os.pipe()
+    os.close(r)
+    try:
+        proc = subprocess.run([sys.executable, "-m", "hawksim", *PREDICT, "--json"], stdout=w,
+                              stderr=subprocess.PIPE, timeout=120, cwd=tmp_path,
+                              env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+    finally:
+        os.close(w)
+    assert proc.returncode == 141 and proc.stderr == b"", proc.stderr.decode()
+
+
+# ---- defect 7: crafted network files; every JSON strict -------------------------------------------------------
+
+
+def _strict(text: str):
+    import json
+
+    def refuse(name):
+        raise ValueError(f"{name} in the CLI's JSON")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+@pytest.fixture(scope="module")
+def crafted(tmp_path_factory):
+    """The shipped 1 m/s network with its `meta` a JSON array, a string, an object with NaN; and one whose finite
+    weights x 1e300 overflow."""
+    import dataclasses
+
+    from safetensors import safe_open
+    from safetensors.numpy import save
+
+    from hawksim.backends.network import load, shipped_path
+
+    d = tmp_path_factory.mktemp("crafted")
+    src = shipped_path(1.0)
+    with safe_open(str(src), framework="numpy") as fh:
+        md, arrays = fh.metadata(), {k: fh.get_tensor(k) for k in fh.keys()}
+    for name, meta in (("array", "[1, 2]"), ("string", '"hello"'), ("nan", '{"command": NaN}')):
+        (d / f"meta_{name}.safetensors").write_bytes(save(arrays, metadata={**md, "meta": meta}))
+    s = load(src)
+    dataclasses.replace(s, W2=s.W2 * 1e300, b2=s.b2 * 1e300, y_std=s.y_std * 1e300).save(d / "big.safetensors")
+    return d
+
+
+@pytest.mark.parametrize("name,says", [("meta_array", "its meta is a JSON array, not an object"),
+                                       ("meta_string", "its meta is a JSON string, not an object"),
+                                       ("meta_nan", "NaN is not JSON")])
+@pytest.mark.parametrize("argv", [PREDICT + ["--model"], ["trim", "--speed", "1", "--population", "100", "--model"],
+                                  ["train", "--data", "{data}", "--out", "{tmp}/n.safetensors", "--speed", "1",
+                                   "--base"]], ids=["predict", "trim", "train --base"])
+def test_a_network_whose_meta_is_not_an_object_is_named(argv, name, says, crafted, tmp_path, capsys):
+    path = crafted / f"{name}.safetensors"
+    argv = [a.replace("{data}", str(TRAINING_DATA)).replace("{tmp}", str(tmp_path)) for a in argv] + [path]
+    code, out, err = _run(argv, capsys)
+    assert code == 2 and out == ""
+    _one_line(err, str(path), says)
+    assert not (tmp_path / "n.safetensors").exists()
+
+
+@pytest.mark.parametrize("argv", [PREDICT + ["--json", "--model"],
+                                  ["trim", "--speed", "1", "--population", "100", "--json", "--model"]],
+                         ids=["predict", "trim"])
+def test_a_network_that_overflows_is_a_numerical_failure(argv, crafted, capsys):
+    code, out, err = _run(argv + [crafted / "big.safetensors"], capsys)
+    assert code == 3 and out == ""
+    _one_line(err, "numerical failure", "not finite" if argv[0] == "trim" else "big.safetensors")
+
+
+def test_a_non_finite_result_is_never_printed(capsys, monkeypatch):
+    """The last guard: any command's result holding NaN or Infinity exits 3 naming the key (JSON has no such
+    values; Python's json.dumps wrote `Infinity`)."""
+    monkeypatch.setattr("hawksim.cli.predict.cmd_predict", lambda args: {"a": {"b": [1.0, float("inf")]}})
+    code, out, err = _run(PREDICT + ["--json"], capsys)
+    assert code == 3 and out == ""
+    _one_line(err, "numerical failure", "a.b[1]", "inf")
+
+
+@pytest.mark.parametrize("argv", [PREDICT + ["--json"], PREDICT + ["--json", "--network", "reference"],
+                                  ["predict", "--speed", "0.5", "--kinematics", KIN, "--json"]],
+                         ids=["predict", "predict reference", "predict 0.5"])
+def test_the_json_printed_parses_strictly(argv, capsys):
+    code, out, err = _run(argv, capsys)
+    assert code == 0, err
+    obj = _strict(out)
+    assert isinstance(obj, dict) and out.count("\n") == 1
+
+
+# ---- defect 11: --model that is not a regular file -------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name,kind", [("fifo", "is a FIFO (named pipe), not a regular file"),
+                                       ("adir", "is a directory, not a regular file"),
+                                       ("link_to_fifo", "is a FIFO (named pipe) (the target of the link"),
+                                       ("dangling", "does not exist (a link to the missing 'missing.bin')"),
+                                       ("huge", "above the limit of 1 GiB")])
+@pytest.mark.parametrize("argv", [PREDICT + ["--model"], ["trim", "--speed", "1", "--population", "100", "--model"],
+                                  ["train", "--data", TRAINING_DATA, "--out", "n.safetensors", "--speed", "1",
+                                   "--base"]],
+                         ids=["predict", "trim", "train --base"])
+def test_a_model_that_is_not_a_regular_file_is_named(argv, name, kind, odd_paths, capsys, monkeypatch):
+    """A FIFO hung the read, a link to /dev/zero read without end (a FIFO stands in for the device here); each was
+    "does not exist". A sparse file above the bound stands for a huge one (nothing read)."""
+    monkeypatch.chdir(odd_paths)
+    with open(odd_paths / "huge", "wb") as fh:
+        fh.truncate((1 << 30) + 1)
+    path = odd_paths / name
+    code, out, err = _run(argv + [path], capsys)
+    assert code == 2 and out == ""
+    _one_line(err, str(path), kind)
+    assert not (odd_paths / "n.safetensors").exists()
+
+
+# ---- defect 10: environment variables ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("value,says", [("0", "must be an integer from 1 to 1024"), ("abc", "is not an integer"),
+                                        ("-3", "must be an integer from 1 to 1024"), ("1e3", "is not an integer"),
+                                        ("100000", "must be an integer from 1 to 1024")])
+def test_a_bad_numba_num_threads_is_one_line(value, says, capsys, monkeypatch):
+    monkeypatch.setenv("NUMBA_NUM_THREADS", value)
+    code, out, err = _run(PREDICT, capsys)
+    assert code == 2 and out == ""
+    _one_line(err, f"NUMBA_NUM_THREADS={value!r}", says)
+
+
+def test_numba_num_threads_is_checked_before_numba_is_imported(tmp_path):
+    """As the command: numba, imported with NUMBA_NUM_THREADS=0, raised a 28-line traceback from its import."""
+    import subprocess
+    import sys
+
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path), "NUMBA_NUM_THREADS": "0"}
+    proc = subprocess.run([sys.executable, "-X", "importtime", "-m", "hawksim", "fly", "--speed", "1", "--cycles",
+                           "1"], capture_output=True, text=True, timeout=120, cwd=tmp_path, env=env)
+    lines = [ln for ln in proc.stderr.splitlines() if not ln.startswith("import time:")]
+    assert proc.returncode == 2 and proc.stdout == ""
+    _one_line(lines, "NUMBA_NUM_THREADS='0'")
+    assert not any(ln.split("|")[-1].strip() == "numba" for ln in proc.stderr.splitlines()
+                   if ln.startswith("import time:"))
+
+
+# ---- defects 9 and 13: unbounded numbers of train --kind step and fly ---------------------------------------------
+
+STEP = ["train", "--kind", "step", "--data", "flights.sqlite", "--out", "n.safetensors"]
+
+
+@pytest.mark.parametrize("argv,names", [
+    (STEP + ["--weight-decay", "inf"], ("--weight-decay", "inf")),
+    (STEP + ["--weight-decay", "nan"], ("--weight-decay", "nan")),
+    (STEP + ["--weight-decay", "-1"], ("--weight-decay", "-1")),
+    (STEP + ["--lags", "inf"], ("--lags", "'inf'")),
+    (STEP + ["--lags", "1e308"], ("--lags", "'1e308'")),
+    (STEP + ["--lags", "0.5,x"], ("--lags", "'0.5,x'", "not a comma-separated list")),
+    (STEP + ["--layers", "200000,200000"], ("--layers", "'200000,200000'", "from 1 to 4096")),
+    (STEP + ["--layers", "a,b"], ("--layers", "'a,b'", "not a comma-separated list")),
+    (STEP + ["--layers", ",".join(["8"] * 17)], ("--layers", "at most 16")),
+    (["fly", "--speed", "1", "--cycles", "1", "--control", "lqr", "--sensing-delay", "1000000000"],
+     ("--sensing-delay", "1000000000", "limit of 20")),
+], ids=lambda a: " ".join(a[7:]) if isinstance(a, list) and a[0] == "train" else None)
+def test_unbounded_numbers_are_refused_naming_the_option(argv, names, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, out, err = _run(argv, capsys)
+    assert code == 2 and out == ""
+    _one_line(err, *names)
+    assert "invalid" not in err[0]  # argparse's "invalid _floats value" named no input
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_lag_bound_is_a_flights_length():
+    from hawksim.cli.train import MAX_LAG_BEATS
+    from hawksim.surrogate.flights import FLIGHT_BEATS
+
+    assert MAX_LAG_BEATS == FLIGHT_BEATS
+
+
+# ---- defect 12: a data set without its samples table ------------------------------------------------------------
+
+
+@pytest.mark.parametrize("damage,says", [("DROP TABLE samples", "has no samples table"),
+                                         ("ALTER TABLE samples DROP COLUMN version", "lacks the column(s) version")])
+@pytest.mark.parametrize("argv", [["dataset", "--speed", "1", "--samples", "2", "--out"],
+                                  ["dataset", "--kind", "flights", "--samples", "2", "--out"],
+                                  ["train", "--out", "n.safetensors", "--speed", "1", "--data"],
+                                  ["train", "--kind", "step", "--out", "n.safetensors", "--data"]],
+                         ids=["dataset", "dataset flights", "train", "train step"])
+def test_a_data_set_with_a_damaged_schema_is_named(argv, damage, says, tmp_path, capsys, monkeypatch):
+    import sqlite3
+
+    from hawksim.surrogate.dataset import open_dataset
+
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / "d.sqlite"
+    open_dataset(path, create=True).close()
+    with sqlite3.connect(path) as conn:
+        conn.execute(damage)
+    conn.close()
+    code, out, err = _run(argv + [path], capsys)
+    assert code == 2 and out == ""
+    _one_line(err, str(path), says)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.sqlite"]
+
+
+# ---- defect 2: the Dask scheduler lost mid-run -------------------------------------------------------------------
+
+
+class _LostClient:
+    """A dask Client whose scheduler is gone once work is submitted: what `kill -9` of the scheduler did to a run
+    (FutureCancelledError, reason scheduler-connection-lost, out of the first result)."""
+
+    def __init__(self, address, timeout=None):
+        self.address = address
+
+    def scheduler_info(self):
+        return {"workers": {"tcp://w1": {}, "tcp://w2": {}}}
+
+    def submit(self, fn, *args, **kwargs):
+        from distributed.client import FutureCancelledError
+
+        raise FutureCancelledError("evaluate_sample-0", "scheduler-connection-lost")
+
+    def close(self, timeout=None):
+        raise OSError("the scheduler is gone")  # closing a client of a lost scheduler fails too
+
+
+@pytest.mark.parametrize("kind", ["samples", "flights"])
+def test_a_lost_scheduler_is_one_line_saying_the_rows_are_kept(kind, tmp_path, capsys, monkeypatch):
+    import dask.distributed
+
+    monkeypatch.setattr(dask.distributed, "Client", _LostClient)
+    out = tmp_path / "c.sqlite"
+    argv = ["dataset", "--kind", kind, "--samples", "6", "--seed", "7", "--scheduler", "tcp://127.0.0.1:8786",
+            "--out", out, "--no-progress"] + (["--speed", "1"] if kind == "samples" else [])
+    code, stdout, err = _run(argv, capsys)
+    assert code == 1 and stdout == ""
+    _one_line(err, "the Dask scheduler tcp://127.0.0.1:8786 was lost mid-run (scheduler-connection-lost)",
+              "every result committed before is kept", "rerun the same command")
+    assert list(tmp_path.iterdir()) == []  # the file this run made holds nothing: removed
