@@ -39,3 +39,42 @@ def test_the_default_folder_is_keyed_by_the_digest_and_a_user_setting_wins(tmp_p
     got = subprocess.run([sys.executable, "-c", code], env={**env, "NUMBA_CACHE_DIR": mine},
                          capture_output=True, text=True, check=True).stdout.strip()
     assert got == mine
+
+
+PROBE_KERNEL = "from numba import njit\n\n\n@njit(cache=True)\ndef plus_one(x):\n    return x + 1\n"
+"""A one-line numba kernel with ``cache=True``: its cache entry is one ``.nbi`` index and one ``.nbc`` data file."""
+
+
+def _run_probe(tmp_path: Path, import_aero: bool = True) -> subprocess.CompletedProcess:
+    code = ("import aero\n" if import_aero else "") + "import probe_kernel\nprint(probe_kernel.plus_one(1))\n"
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
+    return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+
+
+def _corrupt(tmp_path: Path, suffix: str) -> None:
+    files = list((tmp_path / "cache").rglob(f"*{suffix}"))
+    assert files, f"no {suffix} file in the cache"
+    for path in files:
+        path.write_bytes(os.urandom(300))
+
+
+def test_a_corrupt_cache_entry_is_discarded_recompiled_and_reported_in_one_line(tmp_path):
+    """Issue 53, defect 6: random bytes in the cache's index (then data) files were an ``UnpicklingError``
+    traceback in every command until the user deleted the cache; now one line, the kernel compiled again."""
+    (tmp_path / "probe_kernel.py").write_text(PROBE_KERNEL)
+    first = _run_probe(tmp_path)
+    assert (first.returncode, first.stdout.strip(), first.stderr) == (0, "2", "")
+    _corrupt(tmp_path, ".nbi")
+    bare = _run_probe(tmp_path, import_aero=False)  # the fault, without aero's guard
+    assert bare.returncode != 0 and "UnpicklingError" in bare.stderr
+    for suffix in (".nbi", ".nbc"):
+        _corrupt(tmp_path, suffix)
+        run = _run_probe(tmp_path)
+        assert run.returncode == 0 and run.stdout.strip() == "2", run.stderr
+        lines = run.stderr.splitlines()
+        assert len(lines) == 1 and "Traceback" not in run.stderr, run.stderr
+        assert lines[0].startswith("hawksim: discarded a corrupt numba cache entry (probe_kernel.plus_one")
+        assert str(tmp_path / "cache") in lines[0]
+        again = _run_probe(tmp_path)  # the entry was saved afresh: loaded quietly
+        assert (again.returncode, again.stdout.strip(), again.stderr) == (0, "2", "")
