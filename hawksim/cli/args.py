@@ -83,6 +83,13 @@ MAX_RINGS = 256
 MAX_POPULATION = 2_000_000
 """Largest GA population (20x the paper's 1e5): ~10 arrays of population x 7 float64, ~1 GB."""
 
+MAX_DATASET_SAMPLES = 1_000_000
+"""Largest ``hawksim dataset --samples`` (samples or flights per file and seed): 300x the largest shipped run (3000
+samples per speed; 700 flights), ~3 core-days at the training resolution's ~0.25 s a sample (4 samples/s on one
+worker, measured), yet the indices to do and the stored ones (Python integers, ~100 MB at the bound) are found with
+one query and held in memory with room to spare. A larger value was an unbounded list of indices (issue 53,
+defect 5)."""
+
 aero_cycles_arg = positive_int_arg("cycles", MAX_AERO_CYCLES, " (the free wake's cost grows with its length squared)")
 
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from hawksim.backends.resolution import NAMED, TRAINING
-from hawksim.cli.args import add_resolution_args, positive_int_arg, resolution_from, seed_arg, speed_arg, writable_file
+from hawksim.cli.args import (MAX_DATASET_SAMPLES, add_resolution_args, positive_int_arg, resolution_from, seed_arg,
+                              speed_arg, writable_file)
 from hawksim.cli.progress import progress_for
 
 
@@ -56,7 +57,8 @@ def register(sub) -> None:
                    help="--kind flights: orbit (small changes about the orbits, the shipped set) or wide (the "
                         "states of controlled flights in gusts; hawksim.surrogate.flights.FAMILIES); one per file")
     p.add_argument("--speed", type=speed_arg, help="ascent speed V [m/s], 0 to 2 (--kind samples)")
-    p.add_argument("--samples", type=positive_int_arg("samples"), required=True,
+    p.add_argument("--samples", required=True,
+                   type=positive_int_arg("samples", MAX_DATASET_SAMPLES, " (hawksim.cli.args.MAX_DATASET_SAMPLES)"),
                    help="samples (or flights) 0..N-1 of (seed, speed) present in the file when done")
     p.add_argument("--out", type=writable_file, required=True, help="SQLite file (created or continued)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the kinematics draw (0)")

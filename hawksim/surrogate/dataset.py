@@ -398,7 +398,8 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
             raise DatasetError(f"data set {str(path)!r} holds speed {speed} seed {seed} computed by hawksim "
                                f"{', '.join(sorted(other))}, not {__version__}: continue it with that version or "
                                "start a new file")
-        todo = [i for i in range(n) if i not in stored_indices(conn, speed, seed)]
+        have = stored_indices(conn, speed, seed)  # one query (it ran once per index: issue 53, defect 5)
+        todo = [i for i in range(n) if i not in have]
         done0 = n - len(todo)
         if progress:
             progress(done0, n)

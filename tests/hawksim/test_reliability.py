@@ -366,3 +366,53 @@ def test_a_lost_scheduler_is_one_line_saying_the_rows_are_kept(kind, tmp_path, c
     _one_line(err, "the Dask scheduler tcp://127.0.0.1:8786 was lost mid-run (scheduler-connection-lost)",
               "every result committed before is kept", "rerun the same command")
     assert list(tmp_path.iterdir()) == []  # the file this run made holds nothing: removed
+
+
+# ---- defect 5: a large --samples against an existing data set ------------------------------------------------
+
+
+def test_a_large_samples_count_looks_the_stored_indices_up_once(tmp_path, capsys, monkeypatch):
+    """The trial's case (`--samples 200000` on a copy of the shipped training set) ran the stored-index query once
+    per index: nothing in 150 s. One query now, and the progress starts before any sample is computed."""
+    import shutil
+
+    from hawksim.surrogate import dataset
+
+    path = tmp_path / "x.sqlite"
+    shutil.copyfile(TRAINING_DATA, path)
+    queries, events = [], []
+    lookup = dataset.stored_indices
+
+    def counted(conn, speed, seed):
+        queries.append((speed, seed))
+        return lookup(conn, speed, seed)
+
+    def compute(todo, evaluate, scheduler, workers):  # no UVLM: the lookup is what is measured
+        events.append(("compute", len(todo)))
+        return iter(())
+
+    monkeypatch.setattr(dataset, "stored_indices", counted)
+    monkeypatch.setattr(dataset, "_compute", compute)
+    conn = dataset.open_dataset(path)
+    resolution = dataset.stored_resolution(conn, 1.0, 0)
+    conn.close()
+    r = dataset.generate(path, 1.0, 100_000, seed=0, resolution=resolution, workers=1,
+                         progress=lambda done, n: events.append(("progress", done, n)))
+    assert len(queries) == 2  # the indices to do, and the count stored at the end
+    stored = r.samples
+    assert 0 < stored < 100_000
+    assert events == [("progress", stored, 100_000), ("compute", 100_000 - stored)]
+
+
+@pytest.mark.parametrize("kind", ["samples", "flights"])
+def test_samples_above_the_bound_are_refused_naming_the_option(kind, tmp_path, capsys, monkeypatch):
+    from hawksim.cli.args import MAX_DATASET_SAMPLES
+
+    monkeypatch.chdir(tmp_path)
+    too_many = str(MAX_DATASET_SAMPLES + 1)
+    code, out, err = _run(["dataset", "--kind", kind, "--speed", "1", "--samples", too_many, "--out", "x.sqlite"],
+                          capsys)
+    assert code == 2 and out == ""
+    _one_line(err, "--samples", too_many, "exceeds the limit", "MAX_DATASET_SAMPLES")
+    assert list(tmp_path.iterdir()) == []
+    assert MAX_DATASET_SAMPLES >= 3000  # the shipped runs (3000 samples per speed) stay within it
