@@ -378,13 +378,13 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
     rows committed before stay, nothing is left beside the file, and a file this run created with no sample in it
     is removed.
     """
-    created = not (Path(path).exists() and Path(path).stat().st_size > 0)
     new = diverged = unsettled = 0
     conn = lock = None
+    created = False
     t0 = time.perf_counter()
     try:
+        lock, created = _writer_lock(path)  # before the file's schema: two writers never both create it
         conn = open_dataset(path, create=True)
-        lock = _writer_lock(path, conn)
         layout = conn.execute("PRAGMA user_version").fetchone()[0]
         if layout != SCHEMA_VERSION:
             raise DatasetError(f"data set {str(path)!r} has layout {layout} (hawksim 0.2.0, without the wingbeat "
@@ -414,14 +414,7 @@ def generate(path: str | Path, speed: float, n: int, *, seed: int = 0, resolutio
                     progress(done0 + new, n)
         samples = len(stored_indices(conn, speed, seed))
     except BaseException as exc:
-        for close in (conn and conn.rollback, conn and conn.close, lock and lock.close):
-            try:  # a failed commit is rolled back from the journal
-                if close:
-                    close()
-            except sqlite3.Error:
-                pass
-        if new == 0 and (lock is not None or not isinstance(exc, DatasetError)):
-            _remove_unfilled(path, created)  # nothing half-written: a file this run made and left empty goes
+        _close_writer(conn, lock, path, created and new == 0)  # nothing half-written: a file this run made
         env = environment_error(path, exc) if isinstance(exc, sqlite3.OperationalError) else None
         if env is not None:
             raise env from None
@@ -454,21 +447,65 @@ def _remove_unfilled(path, created: bool) -> None:
             Path(str(path) + suffix).unlink(missing_ok=True)
 
 
-def _writer_lock(path, conn):
-    """An exclusive flock on the data-set file held while this process writes it: a second `hawksim dataset` on the
-    same file is refused (DatasetError) instead of computing the same samples again. (flock is independent of
-    SQLite's own fcntl locks, so readers are unaffected.)"""
-    import fcntl
+def _close_writer(conn, lock, path, remove: bool) -> None:
+    """After a failure: roll back (a failed commit is undone from the journal) and close ``conn``, remove the file
+    if ``remove`` (:func:`_remove_unfilled`: this run created it and stored nothing) while the writer's lock is still
+    held, so that no second writer can have opened it meanwhile, then release ``lock``."""
+    for close in (conn and conn.rollback, conn and conn.close):
+        try:
+            if close:
+                close()
+        except sqlite3.Error:
+            pass
+    if lock is not None:
+        _remove_unfilled(path, remove)
+        lock.close()
 
-    fh = open(path, "rb")
-    try:
-        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        fh.close()
-        conn.close()
-        raise DatasetError(f"data set {str(path)!r} is being written by another hawksim dataset: wait for it, or "
-                           "write to another file") from None
-    return fh
+
+WRITER_LOCK_TRIES = 3
+"""Tries to lock the data-set file when the file locked was removed or replaced under its name meanwhile (its
+previous writer removed the file it had made without a sample): then the file now under the name is locked."""
+
+
+def _writer_lock(path):
+    """The exclusive flock held while this process writes the data-set file ``path``, taken before SQLite opens
+    it: the file is created here if absent (``O_EXCL``, at a link's target), so that its schema is only ever written
+    under the lock. Returns (the locked file object, whether this call created the file or found it empty).
+
+    A second writer is refused (DatasetError) instead of computing the same samples again, or, when both created
+    the file at once, instead of both writing the schema: the second failed (``table samples already exists``) and
+    deleted the first's file (issue 53, defect 4). flock is independent of SQLite's own fcntl locks, so readers are
+    unaffected."""
+    import fcntl
+    import os
+
+    target = os.path.realpath(path)
+    for _ in range(WRITER_LOCK_TRIES):
+        created = False
+        try:
+            fd = os.open(target, os.O_RDONLY)
+        except FileNotFoundError:
+            try:
+                fd = os.open(target, os.O_RDONLY | os.O_CREAT | os.O_EXCL, 0o666)
+                created = True
+            except FileExistsError:  # another writer created it just now: lock that one
+                continue
+        fh = os.fdopen(fd, "rb")
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            fh.close()
+            raise DatasetError(f"data set {str(path)!r} is being written by another hawksim dataset: wait for it, "
+                               "or write to another file") from None
+        try:
+            same = os.path.samestat(os.fstat(fd), os.stat(target))
+        except FileNotFoundError:
+            same = False
+        if same:
+            return fh, created or os.fstat(fd).st_size == 0
+        fh.close()  # the file locked is no longer the one under the name: lock the new one
+    raise DatasetError(f"data set {str(path)!r} was removed or replaced {WRITER_LOCK_TRIES} times while this "
+                       "hawksim dataset tried to lock it: is another program writing it?")
 
 
 def _compute(todo, evaluate, scheduler, workers):

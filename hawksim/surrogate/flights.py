@@ -54,7 +54,7 @@ from hawksim.surrogate.dataset import (
     PEAK_FORCE_CEILING,
     DatasetError,
     _compute,
-    _remove_unfilled,
+    _close_writer,
     _writer_lock,
     environment_error,
     open_dataset,
@@ -441,13 +441,13 @@ def generate_flights(path: str | Path, n: int, *, seed: int = 0, scheduler: str 
     computing only the missing ones (the machinery of :func:`hawksim.surrogate.dataset.generate`: one locked
     writer, Dask workers, a commit per flight). ``log(text)`` gets one line per stored flight; ``beats`` (tests
     only) shortens the flights."""
-    created = not (Path(path).exists() and Path(path).stat().st_size > 0)
     conn = lock = None
+    created = False
     t0 = time.perf_counter()
     new = diverged = rows_new = 0
     try:
+        lock, created = _writer_lock(path)  # before the schema: two writers never both create the file
         conn = open_dataset(path, create=True)  # inside: a full disk while the schema is written is reported too
-        lock = _writer_lock(path, conn)
         ensure_flight_table(conn, family)
         other = {r[0] for r in conn.execute("SELECT DISTINCT version FROM flights WHERE seed=?", (int(seed),))}
         other -= {__version__}
@@ -473,14 +473,7 @@ def generate_flights(path: str | Path, n: int, *, seed: int = 0, scheduler: str 
                         f"cut={s.cut} wall={s.wall_s:.1f} s; stored {n - len(todo) + new}/{n}")
         total = len(stored_flights(conn, seed))
     except BaseException as exc:  # as dataset.generate: a full disk is one line, the committed flights stay
-        for close in (conn and conn.rollback, conn and conn.close, lock and lock.close):
-            try:  # a failed commit is rolled back from the journal
-                if close:
-                    close()
-            except sqlite3.Error:
-                pass
-        if new == 0 and (lock is not None or not isinstance(exc, DatasetError)):
-            _remove_unfilled(path, created)  # a file this run made and left without a flight goes
+        _close_writer(conn, lock, path, created and new == 0)  # a file this run made without a flight goes
         env = environment_error(path, exc) if isinstance(exc, sqlite3.OperationalError) else None
         if env is not None:  # "database or disk is full", "disk I/O error" (a file-size limit)
             raise env from None

@@ -416,3 +416,67 @@ def test_samples_above_the_bound_are_refused_naming_the_option(kind, tmp_path, c
     _one_line(err, "--samples", too_many, "exceeds the limit", "MAX_DATASET_SAMPLES")
     assert list(tmp_path.iterdir()) == []
     assert MAX_DATASET_SAMPLES >= 3000  # the shipped runs (3000 samples per speed) stay within it
+
+
+# ---- defect 4: two writers creating the same data set ------------------------------------------------------------
+
+
+def _fake_compute(todo, evaluate, scheduler, workers):
+    """Samples without the UVLM: what the writer stores is what is tested."""
+    from hawksim.surrogate.dataset import Sample
+
+    for i in todo:
+        seed, speed = evaluate.args
+        yield Sample(speed, seed, i, (26.0,) * 7, (1.0, 0.0, 0.0, 1.0), 0.08, 0.01, peak_cf=1.0)
+
+
+def test_a_second_writer_of_a_file_being_created_is_refused_and_deletes_nothing(tmp_path, capsys, monkeypatch):
+    """The trial paused writer A between creating the file and writing its schema: writer B wrote the schema, A
+    failed (`table samples already exists`) and deleted the file, and both runs were lost. Now A creates the file
+    under its lock; B is refused in one line, and A's run completes."""
+    import sqlite3
+    import threading
+
+    from hawksim.backends.resolution import TRAINING
+    from hawksim.surrogate import dataset
+
+    path = tmp_path / "c.sqlite"
+    paused, resume = threading.Event(), threading.Event()
+    connect = sqlite3.connect
+
+    def pausing_connect(*args, **kwargs):  # A stops once SQLite has the (still empty) file open
+        conn = connect(*args, **kwargs)
+        if threading.current_thread().name == "writer A":
+            paused.set()
+            assert resume.wait(60)
+        return conn
+
+    monkeypatch.setattr(dataset, "_compute", _fake_compute)
+    monkeypatch.setattr(dataset.sqlite3, "connect", pausing_connect)
+    result = {}
+
+    def writer_a():
+        try:
+            result["a"] = dataset.generate(path, 1.0, 5, seed=3, resolution=TRAINING)
+        except BaseException as exc:  # noqa: BLE001 - reported by the assertion below
+            result["a"] = exc
+
+    a = threading.Thread(target=writer_a, name="writer A")
+    a.start()
+    try:
+        while not paused.wait(0.1):
+            assert a.is_alive(), result
+        assert path.exists() and path.stat().st_size == 0  # created, no schema yet
+        code, out, err = _run(["dataset", "--speed", "1", "--samples", "5", "--seed", "3", "--out", path,
+                               "--no-progress"], capsys)
+        assert code == 2 and out == ""
+        _one_line(err, str(path), "is being written by another hawksim dataset")
+        assert path.exists()  # B deleted nothing
+    finally:
+        resume.set()
+        a.join(60)
+    assert not isinstance(result["a"], BaseException), result["a"]
+    assert (result["a"].samples, result["a"].new) == (5, 5)
+    conn = dataset.open_dataset(path)
+    assert dataset.stored_indices(conn, 1.0, 3) == set(range(5))
+    conn.close()
