@@ -80,6 +80,12 @@ MAX_AERO_CYCLES = 20
 length (3 beats: ~1.2 s; 20 beats: minutes)."""
 MAX_RINGS = 256
 """Largest --n-chord or --n-span (the default lattice is 6 x 12; a 256 x 256 lattice takes minutes per step)."""
+MAX_UVLM_STEPS_PER_CYCLE = 640
+"""Largest --steps-per-cycle of a held-body UVLM run (`hawksim aero`, `hawksim dataset`): 16x the default 40 and 4x
+the finest step of the convergence study (160, docs/validation.md section 4), past which nothing was measured. The
+free wake grows by a row of rings each step, so a run's cost grows at least with the square of the steps: the
+default's ~1.2 s for 3 beats becomes at least 256 x 1.2 s, ~5 min, at 640 (an estimate from that scaling, not a
+timing). It was unbounded (issue 53, defect 14)."""
 MAX_POPULATION = 2_000_000
 """Largest GA population (20x the paper's 1e5): ~10 arrays of population x 7 float64, ~1 GB."""
 
@@ -198,7 +204,10 @@ def add_resolution_args(p, base, label: str = "default") -> None:
                    help=f"chordwise vortex rings per wing ({label}: {base.n_chord})")
     p.add_argument("--n-span", type=positive_int_arg("n-span", MAX_RINGS),
                    help=f"spanwise vortex rings per wing ({label}: {base.n_span})")
-    p.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle"),
+    p.add_argument("--steps-per-cycle",
+                   type=positive_int_arg("steps-per-cycle", MAX_UVLM_STEPS_PER_CYCLE,
+                                         " (hawksim.cli.args.MAX_UVLM_STEPS_PER_CYCLE: the free wake's cost grows "
+                                         "with the steps squared)"),
                    help=f"time steps per wingbeat ({label}: {base.steps_per_cycle})")
     p.add_argument("--cycles", type=aero_cycles_arg,
                    help=f"wingbeats ({label}: {base.cycles}; the last {base.average_cycles} averaged)")

@@ -16,23 +16,45 @@ def cmd_flights(args) -> dict:
 
     from hawksim.surrogate.flights import generate_flights
 
+    family = args.family or "orbit"
     progress = progress_for(args, "dataset flights", "flight", mininterval=1.0, smoothing=0.05)
     r = generate_flights(args.out, args.samples, seed=args.seed, scheduler=args.scheduler, workers=args.workers,
-                         progress=progress, log=lambda s: print(s, file=sys.stderr, flush=True), family=args.family)
-    return {"path": str(Path(r.path)), "kind": "flights", "family": args.family, "samples": r.flights, "new": r.new,
+                         progress=progress, log=lambda s: print(s, file=sys.stderr, flush=True), family=family)
+    return {"path": str(Path(r.path)), "kind": "flights", "family": family, "samples": r.flights, "new": r.new,
             "diverged_new": r.diverged, "rows_new": r.rows_new, "seed": args.seed, "wall_time_s": r.wall_time_s}
+
+
+SAMPLES_ONLY = ("speed", "resolution", "n_chord", "n_span", "steps_per_cycle", "cycles")
+"""Options of ``--kind samples`` alone: a flights data set flies the orbits at 0-2 m/s at the flights' own UVLM
+resolution (hawksim.surrogate.flights), so each of these given with ``--kind flights`` is refused (exit 2) rather than
+silently ignored (issue 53, defect 14)."""
+FLIGHTS_ONLY = ("family",)
+"""Options of ``--kind flights`` alone, refused with ``--kind samples`` for the same reason."""
+
+
+def _refuse_ignored(args) -> None:
+    """UsageError naming the first option given that the chosen ``--kind`` does not use."""
+    from hawksim.cli.args import UsageError
+
+    unused = SAMPLES_ONLY if args.kind == "flights" else FLIGHTS_ONLY
+    for name in unused:
+        if getattr(args, name, None) is not None:
+            why = ("flights fly the orbits at 0-2 m/s at their own UVLM resolution (hawksim.surrogate.flights)"
+                   if args.kind == "flights" else "held-body samples have no flight family")
+            raise UsageError(f"--{name.replace('_', '-')} does not apply to --kind {args.kind}: {why}")
 
 
 def cmd_dataset(args) -> dict:
     from hawksim.cli.args import UsageError
     from hawksim.surrogate.dataset import generate
 
+    _refuse_ignored(args)
     if args.kind == "flights":
         return cmd_flights(args)
     if args.speed is None:
         raise UsageError("--speed is required for --kind samples")
 
-    res = resolution_from(args, NAMED[args.resolution])
+    res = resolution_from(args, NAMED[args.resolution or "training"])
     progress = progress_for(args, f"dataset V={args.speed:g}", "sample", mininterval=1.0, smoothing=0.05)
     r = generate(args.out, args.speed, args.samples, seed=args.seed, resolution=res, scheduler=args.scheduler,
                  workers=args.workers, progress=progress)
@@ -53,7 +75,7 @@ def register(sub) -> None:
                    help="samples: held-body cycle averages at --speed (the cycle-mean surrogate's data); flights: "
                         "UVLM-in-the-loop free flights around the orbits at 0-2 m/s recorded every UVLM update "
                         "(the per-step surrogate's data; hawksim.surrogate.flights)")
-    p.add_argument("--family", choices=("orbit", "wide"), default="orbit",
+    p.add_argument("--family", choices=("orbit", "wide"),
                    help="--kind flights: orbit (small changes about the orbits, the shipped set) or wide (the "
                         "states of controlled flights in gusts; hawksim.surrogate.flights.FAMILIES); one per file")
     p.add_argument("--speed", type=speed_arg, help="ascent speed V [m/s], 0 to 2 (--kind samples)")
@@ -65,7 +87,7 @@ def register(sub) -> None:
     p.add_argument("--scheduler", help="address of a running Dask scheduler (default: a LocalCluster)")
     p.add_argument("--workers", type=positive_int_arg("workers"),
                    help="LocalCluster worker processes (default: the machine's cores)")
-    p.add_argument("--resolution", choices=tuple(NAMED), default="training",
+    p.add_argument("--resolution", choices=tuple(NAMED),
                    help="named UVLM resolution of the labels: training (4 x 8 rings, 30 steps per beat: the shipped "
                         "networks' data) or reference (`hawksim aero`'s default lattice, 6 x 12 rings, 40 steps: "
                         "the reference surrogate's labels); --n-chord, --n-span, --steps-per-cycle, --cycles "

@@ -100,6 +100,9 @@ def cmd_fly(args) -> dict:
         if control is not None and getattr(args, opt, None) is not None:
             raise UsageError(f"--{opt.replace('_', '-')} applies to open-loop flights only (no --control, --gust or "
                              "--ascent-profile)")
+    if args.sensing_delay is not None and control in (None, "none"):  # issue 53, defect 14: it was ignored
+        raise UsageError(f"--sensing-delay applies to a controlled flight only (--control lqr or clqr); this flight is "
+                         f"open loop (--control {control or 'none'})")
     progress = progress_for(args, "fly") if control is None else progress_for(args, "fly", "beat")
     guard = None
     if args.rrd:  # Ctrl-C / SIGTERM: write the recording of the steps flown (hawksim.flight.recording.InterruptGuard)
@@ -151,7 +154,7 @@ def _fly_controlled(args, control: str, progress, guard) -> dict:
 
     rate = getattr(args, "control_rate", None) or ("beat" if control == "clqr" else default_rate(args.aero))
     cl = fly_command(args.speed, args.cycles, control=control, profile=getattr(args, "ascent_profile", None),
-                     gusts=getattr(args, "gust", None) or [], delay=args.sensing_delay,
+                     gusts=getattr(args, "gust", None) or [], delay=args.sensing_delay or 0,
                      perturb=dict(args.perturb or []), model_path=args.model, progress=progress,
                      partial_on_interrupt=bool(args.rrd), aero=args.aero, rate=rate)
     interrupted = len(cl.result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
@@ -304,8 +307,9 @@ def register(sub) -> None:
     f.add_argument("--gust", type=_control_type(parse_gust), action="append", metavar="VX,VY,VZ@START:BEATS",
                    help="uniform air-velocity pulse [m/s], world frame (z up, y left), over wingbeats START.. "
                         "START+BEATS-1 (from 1), e.g. 0,0.5,0@5:2")
-    f.add_argument("--sensing-delay", type=_control_type(_delay), default=0,
-                   metavar="BEATS", help="the controller senses the state this many wingbeats late (default 0)")
+    f.add_argument("--sensing-delay", type=_control_type(_delay),
+                   metavar="BEATS", help="the controller senses the state this many wingbeats late (default 0; "
+                                         "--control lqr or clqr only)")
     f.add_argument("--no-progress", action="store_true", help="no progress bar")
     f.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     f.set_defaults(func=cmd_fly)

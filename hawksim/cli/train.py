@@ -96,6 +96,45 @@ def cmd_train_step(args) -> dict:
             "wall_time_s": float(np.sum(net.meta["history"]["wall_s"]))}
 
 
+def _save_with_figure(net, out, result, png) -> None:
+    """Write the network to ``out`` and, with ``png``, its validation figure, all or nothing (issue 53, defect 14: a
+    failed figure left the network behind): the network goes to a temporary file beside its target, the figure is
+    drawn and written (PNG, then PDF), and only then the network is renamed into place. On a failure the temporary
+    network and any figure file this command created are removed (a figure file that existed before and was already
+    replaced stays replaced: each is written whole), and the error is raised naming ``out`` or the figure."""
+    import os
+
+    from hawksim.atomic import keep_mode, output_target, temporary_beside
+
+    if not png:
+        net.save(out)
+        return
+    from hawksim.surrogate.plots import validation_figure
+
+    target = output_target(out, "surrogate")
+    tmp = temporary_beside(target)
+    figures = [Path(png).with_suffix(ext) for ext in (".png", ".pdf")]
+    new_figures = [f for f in figures if not os.path.lexists(f)]
+    done = False
+    try:
+        try:
+            net.save(tmp)
+        except OSError as exc:
+            raise OSError(exc.errno, str(exc.strerror).replace(str(tmp), str(out))) from None
+        validation_figure(result, png)
+        keep_mode(tmp, target)
+        try:
+            os.replace(tmp, target)
+        except OSError as exc:
+            raise OSError(exc.errno, f"cannot write surrogate {out}: {exc.strerror or exc}") from None
+        done = True
+    finally:
+        tmp.unlink(missing_ok=True)
+        if not done:
+            for f in new_figures:
+                f.unlink(missing_ok=True)
+
+
 def cmd_train(args) -> dict:
     bar = progress_for(args, "train (LM)", "it")
     state = {"done": 0, "mse": {}}  # LM iterations done, the last train / validation errors
@@ -112,6 +151,9 @@ def cmd_train(args) -> dict:
     import numpy as np
 
     if args.kind == "step":
+        if args.validation_png:  # issue 53, defect 14: it was ignored
+            raise UsageError("--validation-png does not apply to --kind step: it plots the cycle-mean network's "
+                             "held-out samples")
         return cmd_train_step(args)
     if args.extra_data:
         raise UsageError("--extra-data needs --kind step (the per-step surrogate's flights)")
@@ -173,11 +215,7 @@ def cmd_train(args) -> dict:
     if base is not None:
         net, test_scores = _fold_correction(base, base_meta, r)
     interrupts.begin_work()  # until the network is written, a Ctrl-C leaves at once (nothing to clean up)
-    net.save(args.out)
-    if args.validation_png:
-        from hawksim.surrogate.plots import validation_figure
-
-        validation_figure(r, args.validation_png)
+    _save_with_figure(net, args.out, r, args.validation_png)
     return {"n_train": r.n_train, "n_val": r.n_val, "n_test": r.n_test,
             "rmse": test_scores.rmse, "r2": test_scores.r2, "iterations": r.iterations,
             "stopped_by": r.surrogate.meta.get("stopped_by"), "hidden": net.hidden,

@@ -9,6 +9,9 @@ from hawksim.cli.predict import NETWORK_FAMILIES
 from hawksim.cli.progress import progress_for
 from hawksim.cli.stability import ORBIT_MODELS
 
+DEFAULT_POPULATION = 100_000
+"""The GA population when --population is not given: the paper's 1e5."""
+
 
 def cmd_free_flight(args) -> dict:
     """The periodic orbit of the free body (:func:`hawksim.flight.orbit.periodic_orbit`)."""
@@ -18,16 +21,40 @@ def cmd_free_flight(args) -> dict:
     from hawksim.flight.orbit import periodic_orbit
 
     log = None if args.no_progress else (lambda m: print(f"orbit: {m}", file=sys.stderr))
-    orbit = periodic_orbit(args.speed, args.aero, log=log)
+    orbit = periodic_orbit(args.speed, args.aero or "uvlm", log=log)
     if not orbit.converged:
         print(f"hawksim trim: the periodic orbit did not converge (residual {orbit.residual:.2e}, "
               f"{orbit.iterations} iterations): 'converged' is false", file=sys.stderr)
     return orbit_json(orbit)
 
 
+SURROGATE_ONLY = ("model", "network", "seed", "population", "verify", "balance")
+"""Options of the surrogate trim alone: ``--free-flight`` solves the free body's periodic orbit with ``--aero``'s
+model (Newton shooting, no network, no GA, no random draw), so each of these given with it is refused (exit 2)
+rather than silently ignored (issue 53, defect 14); ``--aero`` without ``--free-flight`` likewise."""
+
+
+def _refuse_ignored(args) -> None:
+    """UsageError naming the first option given that the chosen trim does not use."""
+    from hawksim.cli.args import UsageError
+
+    if args.free_flight:
+        for name in SURROGATE_ONLY:
+            if getattr(args, name, None) not in (None, False):
+                raise UsageError(f"--{name} does not apply to --free-flight: the free body's periodic orbit uses "
+                                 "--aero's model, no surrogate network and no GA")
+    elif args.aero is not None:
+        raise UsageError("--aero applies to --free-flight only: the trim searches on the surrogate network "
+                         "(--model or --network)")
+
+
 def cmd_trim(args) -> dict:
+    _refuse_ignored(args)
     if args.free_flight:
         return cmd_free_flight(args)
+    args.network = args.network or "shipped"
+    args.population = args.population or DEFAULT_POPULATION
+    args.seed = 0 if args.seed is None else args.seed
     from dataclasses import replace
 
     from hawksim.backends.network import load_for_speed
@@ -71,11 +98,11 @@ def register(sub) -> None:
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
     which = p.add_mutually_exclusive_group()
     which.add_argument("--model", help="surrogate file (.safetensors; default: the shipped network for V)")
-    which.add_argument("--network", choices=NETWORK_FAMILIES, default="shipped",
+    which.add_argument("--network", choices=NETWORK_FAMILIES,
                        help="family of shipped networks (hawksim.backends.network.NETWORKS): shipped (the default) "
                             "or reference (corrected to `hawksim aero`'s default lattice, docs/surrogate.md)")
-    p.add_argument("--seed", type=seed_arg, default=0, help="seed of the GA (0)")
-    p.add_argument("--population", type=positive_int_arg("population", MAX_POPULATION), default=100_000,
+    p.add_argument("--seed", type=seed_arg, help="seed of the GA (0)")
+    p.add_argument("--population", type=positive_int_arg("population", MAX_POPULATION),
                    help=f"GA population (1e5, as in the paper; at most {MAX_POPULATION:g})")
     p.add_argument("--verify", action="store_true", help="evaluate the optimum with the UVLM")
     p.add_argument("--balance", action="store_true",
@@ -83,7 +110,7 @@ def register(sub) -> None:
     p.add_argument("--free-flight", action="store_true",
                    help="instead: the periodic orbit of the free body (Newton shooting on the one-wingbeat map; "
                         "frees f and phi0 and the body state at phase 0)")
-    p.add_argument("--aero", choices=ORBIT_MODELS, default="uvlm",
+    p.add_argument("--aero", choices=ORBIT_MODELS,
                    help="with --free-flight: the aerodynamic model (default uvlm)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")

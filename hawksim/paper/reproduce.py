@@ -9,6 +9,7 @@ What it produces (each step skips with a note if a piece it needs is missing, e.
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import replace
 from pathlib import Path
 
@@ -47,6 +48,25 @@ def stability_all(out_dir: Path, *, table3: bool = False) -> dict:
     return {"speeds": studies["speeds"], "modes": studies["fig15"]["modes"]}
 
 
+PARTIAL_SUFFIX = ".partial.json"
+"""Suffix of a table being filled speed by speed (``orbit_table_uvlm.partial.json``): each solved speed is written
+there at once (so that an interrupted run resumes where it stopped), and the table appears under its final name only
+when every speed is in it (issue 53, defect 14: an interrupted `hawksim reproduce` left a table with only some speed
+rows under its final name, which a reader could take for the whole)."""
+
+
+def partial_path(path: Path) -> Path:
+    """Where the table ``path`` is kept while incomplete (:data:`PARTIAL_SUFFIX`)."""
+    return path.with_name(path.name.removesuffix(".json") + PARTIAL_SUFFIX)
+
+
+def _complete(partial: Path, path: Path, ours: bool) -> None:
+    """The table is complete: move the partial table to its final name (one rename, all or nothing) when this run
+    read or wrote it (``ours``; a partial table beside a complete one this run did not read is left alone)."""
+    if ours and partial.is_file():
+        os.replace(partial, path)
+
+
 def orbits_all(out_dir: Path, log=print, aeros=("quasi-steady", "uvlm"), speeds=None) -> dict:
     """Periodic orbits of the free body at the study's five speeds for each backend, into
     ``out_dir/orbit_table_<aero>.json`` (:func:`hawksim.flight.orbit.orbit_table`; copy them to ``hawksim/data`` to
@@ -58,14 +78,19 @@ def orbits_all(out_dir: Path, log=print, aeros=("quasi-steady", "uvlm"), speeds=
     done = {}
     for aero in aeros:
         path = out_dir / ORBIT_TABLE_FILES[aero]
-        rows = {r["speed"]: Orbit.from_json(r) for r in json.loads(path.read_text())["rows"]} if path.is_file() else {}
+        partial = partial_path(path)
+        source = path if path.is_file() else partial
+        rows = ({r["speed"]: Orbit.from_json(r) for r in json.loads(source.read_text())["rows"]}
+                if source.is_file() else {})
         for v in (speeds if speeds is not None else TABLE3_SPEEDS):
             if v in rows:
                 continue
             log(f"orbit {aero} V={v:g} ...")
             rows[v] = periodic_orbit(v, aero, log=lambda m, a=aero, s=v: log(f"  {a} V={s:g}: {m}"))
             table = orbit_table([rows[k] for k in sorted(rows)], "hawksim reproduce --only orbits")
-            write_text(path, json.dumps(table, indent=1), "orbit table")
+            write_text(partial, json.dumps(table, indent=1), "orbit table (partial)")
+            source = partial
+        _complete(partial, path, source == partial)
         done[aero] = {"path": str(path), "converged": {f"{k:g}": rows[k].converged for k in sorted(rows)},
                       "residual": {f"{k:g}": rows[k].residual for k in sorted(rows)}}
     return done
@@ -85,7 +110,9 @@ def control_models_all(out_dir: Path, log=print, aero: str = "uvlm", speeds=None
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / CONTROL_MODEL_FILES[aero]
     rows = {}
-    old = json.loads(path.read_text()) if path.is_file() else {"rows": []}
+    partial = partial_path(path)
+    source = path if path.is_file() else partial
+    old = json.loads(source.read_text()) if source.is_file() else {"rows": []}
     if aero == "surrogate":
         from hawksim.backends.step_network import network_sha256
 
@@ -105,7 +132,9 @@ def control_models_all(out_dir: Path, log=print, aero: str = "uvlm", speeds=None
         rows[v] = linearize(orb)
         log(f"  {aero} V={v:g}: {rows[v].wall_time_s:.0f} s, cross-coupling {rows[v].coupling:.1e}")
         table = control_model_table([rows[k] for k in sorted(rows)], f"hawksim reproduce --only control_{aero}")
-        write_text(path, json.dumps(table, indent=1), "control model table")
+        write_text(partial, json.dumps(table, indent=1), "control model table (partial)")
+        source = partial
+    _complete(partial, path, source == partial)
     return {"path": str(path), "speeds": sorted(rows), "wall_time_s": {f"{k:g}": rows[k].wall_time_s for k in rows}}
 
 

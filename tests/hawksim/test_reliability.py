@@ -480,3 +480,118 @@ def test_a_second_writer_of_a_file_being_created_is_refused_and_deletes_nothing(
     conn = dataset.open_dataset(path)
     assert dataset.stored_indices(conn, 1.0, 3) == set(range(5))
     conn.close()
+
+
+# ---- defect 14: options silently ignored, an unbounded step, half-done outputs -------------------------------
+
+def _no_work(*args, **kwargs):
+    raise AssertionError("the command began its work: the option was not refused")
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["dataset", "--kind", "flights", "--speed", "1"], "--speed"),
+    (["dataset", "--kind", "flights", "--n-chord", "4"], "--n-chord"),
+    (["dataset", "--kind", "flights", "--steps-per-cycle", "30"], "--steps-per-cycle"),
+    (["dataset", "--kind", "flights", "--resolution", "reference"], "--resolution"),
+    (["dataset", "--speed", "1", "--family", "wide"], "--family"),
+    (["trim", "--speed", "1", "--free-flight", "--model", "m.safetensors"], "--model"),
+    (["trim", "--speed", "1", "--free-flight", "--population", "10"], "--population"),
+    (["trim", "--speed", "1", "--free-flight", "--seed", "3"], "--seed"),
+    (["trim", "--speed", "1", "--free-flight", "--verify"], "--verify"),
+    (["trim", "--speed", "1", "--aero", "uvlm", "--population", "10"], "--aero"),
+    (["fly", "--speed", "1", "--cycles", "1", "--control", "none", "--sensing-delay", "1"], "--sensing-delay"),
+    (["fly", "--speed", "1", "--cycles", "1", "--aero", "surrogate", "--control", "none", "--sensing-delay", "0"],
+     "--sensing-delay"),
+])
+def test_an_option_that_does_not_apply_is_refused_naming_it(argv, option, tmp_path, capsys, monkeypatch):
+    import hawksim.flight.orbit
+    import hawksim.surrogate.dataset
+    import hawksim.surrogate.flights
+
+    monkeypatch.setattr(hawksim.surrogate.flights, "generate_flights", _no_work)
+    monkeypatch.setattr(hawksim.surrogate.dataset, "generate", _no_work)
+    monkeypatch.setattr(hawksim.flight.orbit, "periodic_orbit", _no_work)
+    if argv[0] == "dataset":
+        argv = [*argv, "--samples", "2", "--out", tmp_path / "d.sqlite", "--no-progress"]
+    code, out, lines = _run(argv, capsys)
+    assert code == 2 and out == ""
+    assert "does not apply" in _one_line(lines, option) or "applies to" in lines[0]
+    assert not (tmp_path / "d.sqlite").exists()
+
+
+def test_steps_per_cycle_of_a_uvlm_run_is_bounded(capsys):
+    from hawksim.cli import build_parser
+    from hawksim.cli.args import MAX_UVLM_STEPS_PER_CYCLE
+
+    code, out, lines = _run(["aero", "--speed", "1", "--kinematics", KIN, "--steps-per-cycle",
+                             MAX_UVLM_STEPS_PER_CYCLE + 1], capsys)
+    assert code == 2 and out == ""
+    _one_line(lines, "--steps-per-cycle", str(MAX_UVLM_STEPS_PER_CYCLE + 1), str(MAX_UVLM_STEPS_PER_CYCLE))
+    args = build_parser().parse_args(["aero", "--speed", "1", "--kinematics", KIN, "--steps-per-cycle",
+                                      str(MAX_UVLM_STEPS_PER_CYCLE)])
+    assert args.steps_per_cycle == MAX_UVLM_STEPS_PER_CYCLE
+
+
+TRAIN = ["train", "--data", TRAINING_DATA, "--speed", "1", "--hidden", "2", "--max-iter", "1", "--no-progress"]
+
+
+def test_a_failed_validation_figure_leaves_no_network(tmp_path, capsys, monkeypatch):
+    import errno
+
+    import hawksim.surrogate.plots
+
+    def full_disk(result, path, *a, **k):
+        Path(path).with_suffix(".png").write_bytes(b"half")  # the PNG written, then its PDF fails
+        raise OSError(errno.ENOSPC, f"cannot write figure {Path(path).with_suffix('.pdf')}: No space left on device")
+
+    monkeypatch.setattr(hawksim.surrogate.plots, "validation_figure", full_disk)
+    code, out, lines = _run([*TRAIN, "--out", tmp_path / "n.safetensors", "--validation-png", tmp_path / "v.png"],
+                            capsys)
+    assert code == 1 and out == ""
+    _one_line(lines, "No space left on device", "v.pdf")
+    assert sorted(p.name for p in tmp_path.iterdir()) == []  # no network, no temporary, no half figure
+
+
+def test_a_network_with_its_validation_figure_is_written_whole(tmp_path, capsys):
+    (tmp_path / "n.safetensors").symlink_to("target.safetensors")  # a link keeps being one
+    code, out, lines = _run([*TRAIN, "--out", tmp_path / "n.safetensors", "--validation-png", tmp_path / "v.png"],
+                            capsys)
+    assert code == 0, lines
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["n.safetensors", "target.safetensors", "v.pdf", "v.png"]
+    assert (tmp_path / "n.safetensors").is_symlink() and (tmp_path / "target.safetensors").stat().st_size > 0
+
+
+def test_validation_png_does_not_apply_to_the_step_network(tmp_path, capsys):
+    code, out, lines = _run(["train", "--kind", "step", "--data", tmp_path / "f.sqlite", "--out",
+                             tmp_path / "n.safetensors", "--validation-png", tmp_path / "v.png"], capsys)
+    assert code == 2
+    _one_line(lines, "--validation-png", "--kind step")
+
+
+def test_an_interrupted_table_is_not_under_its_final_name(tmp_path, monkeypatch):
+    import json
+
+    import hawksim.flight.orbit as orbit
+    from hawksim.paper.reproduce import orbits_all, partial_path
+
+    solved = []
+
+    def interrupted_at(stop):
+        def solve(v, aero, log=None):
+            if v == stop:
+                raise KeyboardInterrupt
+            solved.append(v)
+            return orbit.shipped_orbit(v, aero)
+        return solve
+
+    final = tmp_path / orbit.ORBIT_TABLE_FILES["quasi-steady"]
+    monkeypatch.setattr(orbit, "periodic_orbit", interrupted_at(1.0))
+    with pytest.raises(KeyboardInterrupt):
+        orbits_all(tmp_path, log=lambda m: None, aeros=("quasi-steady",), speeds=(0.5, 1.0, 1.5))
+    assert not final.exists()
+    assert [r["speed"] for r in json.loads(partial_path(final).read_text())["rows"]] == [0.5]
+    monkeypatch.setattr(orbit, "periodic_orbit", interrupted_at(None))
+    orbits_all(tmp_path, log=lambda m: None, aeros=("quasi-steady",), speeds=(0.5, 1.0, 1.5))
+    assert solved == [0.5, 1.0, 1.5]  # 0.5 solved once: the run resumed
+    assert [r["speed"] for r in json.loads(final.read_text())["rows"]] == [0.5, 1.0, 1.5]
+    assert not partial_path(final).exists()
