@@ -6,7 +6,8 @@ import pytest
 from aero.unsteady_theory import garrick_thrust, heave_lift, pitch_lift, theodorsen, wagner, wagner_jones
 
 THEODORSEN_TABLE = {0.1: 0.8319 - 0.1723j, 0.5: 0.5979 - 0.1507j, 1.0: 0.5394 - 0.1003j}
-"""C(k) = F + iG as tabulated by Theodorsen (1935, NACA Rep. 496, Table I), to four decimals."""
+"""C(k) = F + iG to four decimals, the values tabulated for Theodorsen's function (Theodorsen 1935, NACA Rep. 496;
+reprinted e.g. in Bisplinghoff, Ashley & Halfman 1955)."""
 
 TABLE_ATOL = 6e-5
 """Half a unit in the table's last place, plus its rounding."""
