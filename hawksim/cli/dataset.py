@@ -10,6 +10,16 @@ from hawksim.cli.args import (MAX_DATASET_SAMPLES, add_resolution_args, positive
 from hawksim.cli.progress import progress_for
 
 
+
+DEFAULT_RESOLUTION = "training"
+"""The named resolution of `hawksim dataset --kind samples` without --resolution (the shipped training sets')."""
+
+
+def samples_resolution(args):
+    """The resolution a samples data set is labelled at: --resolution's (default :data:`DEFAULT_RESOLUTION`) with the
+    single options given (--n-chord, ...) replacing its fields."""
+    return resolution_from(args, NAMED[args.resolution or DEFAULT_RESOLUTION])
+
 def cmd_flights(args) -> dict:
     """`hawksim dataset --kind flights`: UVLM-in-the-loop free flights recorded every UVLM update."""
     import sys
@@ -54,7 +64,7 @@ def cmd_dataset(args) -> dict:
     if args.speed is None:
         raise UsageError("--speed is required for --kind samples")
 
-    res = resolution_from(args, NAMED[args.resolution or "training"])
+    res = samples_resolution(args)
     progress = progress_for(args, f"dataset V={args.speed:g}", "sample", mininterval=1.0, smoothing=0.05)
     r = generate(args.out, args.speed, args.samples, seed=args.seed, resolution=res, scheduler=args.scheduler,
                  workers=args.workers, progress=progress)

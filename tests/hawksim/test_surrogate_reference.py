@@ -71,16 +71,15 @@ def test_fold_is_base_plus_correction(speed):
 
 def test_dataset_resolution_option_names_the_reference_lattice():
     """`hawksim dataset --resolution reference` labels at `hawksim aero`'s lattice; single options override it."""
-    from hawksim.backends.resolution import NAMED
     from hawksim.cli import build_parser
-    from hawksim.cli.args import resolution_from
+    from hawksim.cli.dataset import samples_resolution
 
     assert REFERENCE == DEFAULT
     p = build_parser()
     for argv, want in ((["--resolution", "reference"], REFERENCE), ([], TRAINING),
                        (["--resolution", "reference", "--n-chord", "5"], replace(DEFAULT, n_chord=5))):
         a = p.parse_args(["dataset", "--speed", "1", "--samples", "2", "--out", "x.sqlite", *argv])
-        assert resolution_from(a, NAMED[a.resolution]) == want
+        assert samples_resolution(a) == want
 
 
 have_reference = pytest.mark.skipif(
