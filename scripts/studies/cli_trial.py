@@ -32,11 +32,12 @@ discard notice; defect 7: the shipped network with every tensor x 1e300, `predic
 `PYTHONPATH=. python scripts/studies/cli_trial.py --only "i53 " --out results/cli/cli_trial_issue53.json`,
 25 of 25 as the contract says (2026-12-07, 18 s of commands; the 7 newer cases are not yet in the full run's
 results/cli/cli_trial.json). Not expressed here (left to tests/hawksim/test_reliability.py, 2 and 4, and
-test_disk_full.py, 3): a killed Dask scheduler (2: needs a real scheduler and workers started and killed mid-run), a full disk under
---kind flights (3: needs a 256 kB tmpfs sized to fill during the flights, timing-dependent), two writers creating
-one file (4: needs one writer paused between creating the file and its schema, which the CLI cannot be made to do
-from outside). Defect 8's `fly --cycles 300 --json | head -c 1` is expressed as a reader that closed before the
-command started, which is deterministic; a reader that leaves after one byte would depend on the pipe's buffer.
+test_disk_full.py, 3): a killed Dask scheduler (2: needs a real scheduler and workers started and killed
+mid-run), a full disk under --kind flights (3: needs a 256 kB tmpfs sized to fill during the flights,
+timing-dependent), two writers creating one file (4: needs one writer paused between creating the file and its
+schema, which the CLI cannot be made to do from outside). Defect 8's `fly --cycles 300 --json | head -c 1` is
+expressed as a reader that closed before the command started, which is deterministic; a reader that leaves after
+one byte would depend on the pipe's buffer.
 """
 
 from __future__ import annotations
