@@ -38,7 +38,7 @@ from aero.biot_savart import PRECISIONS, ring_influence
 from aero.lattice import Lattice, lattice_velocity, ring_lattice
 from aero.mesh import WingMesh
 from aero.treecode import TreeParams, lattice_tree
-from aero.wake import Wake
+from aero.wake import Wake, lump_near_wake
 
 
 def _cross(a, b) -> np.ndarray:
@@ -69,9 +69,8 @@ TIME_DERIVATIVES = ("bdf2", "euler")
 """The backward difference of the potential jump's time derivative (:class:`UVLMConfig` ``time_derivative``)."""
 
 LEGACY_0_2 = dict(shed_rule="ring", potential_jump="ring", time_derivative="euler")
-"""The UVLMConfig fields that give hawksim 0.2's UVLM (the one the shipped data sets, networks and tables were
-computed with, until they are regenerated): ``UVLMConfig(**LEGACY_0_2)``. Its unsteady loads exceed Theodorsen's
-by 10-40 % at k = 1 (docs/validation.md)."""
+"""``UVLMConfig(**LEGACY_0_2)`` is hawksim 0.2's UVLM, that of the shipped data sets, networks and tables until
+they are regenerated (its unsteady loads exceed Theodorsen's by 10-40 % at k = 1: docs/validation.md)."""
 
 WAKE_SUMMATIONS = ("direct", "tree", "auto")
 """How the wake-on-wake velocities that convect the free wake are summed (:class:`UVLMConfig` ``wake_summation``)."""
@@ -122,19 +121,15 @@ class UVLMConfig:
     own geometry) whatever the step's travel, which makes the loads depend on the step (the heave lift at k = 1,
     AR 20, 8 chordwise rings: 1.00, 1.09, 1.15 of 2D theory at 25, 50, 100 steps a period, against 0.99, 1.00,
     1.02 with "travel"; docs/validation.md). The collocation points, normals and areas stay those of the panels.
-    potential_jump: how the unsteady load term -rho d(jump)/dt A n reads each panel's potential jump: "panel"
-    (default since issue 48) the mean of the two ring circulations that bound the panel chordwise (the trapezoid
-    rule of the jump over the plate; ring i's circulation is the jump at the edge between panels i and i + 1),
-    "ring" (hawksim 0.2) ring i's own circulation over panel i (a right-endpoint sum that overstates the term by
-    half a panel of the trailing edge's jump, and made the heave lift exceed Theodorsen's by 10-40 %).
+    potential_jump: the panel's potential jump in the unsteady term -rho d(jump)/dt A n: "panel" (default since
+    issue 48) the mean of the two rings that bound it chordwise (the trapezoid rule over the plate), "ring"
+    (hawksim 0.2) ring i's own circulation (a right-endpoint sum: heave lift 10-40 % above Theodorsen's).
     time_derivative: that term's backward difference, "bdf2" (default since issue 48; second order, unequal
     steps allowed) or "euler" (hawksim 0.2; first order, half a step of lag). :data:`LEGACY_0_2` gives 0.2's
     three choices together.
-    near_wake_zones: opt-in, a study (0, the default: off): the wing sees the wake rows within this many
-    chordwise panels of the trailing edge lumped panel by panel (:func:`lump_near_wake`), as when the wake moves
-    one panel per step. With the "ring" rule and 2 zones a plate's heave lift stops depending on the step at a
-    fixed lattice (k = 1, AR 20, 8 rings: 0.990, 0.988, 0.990 of 2D at 25, 50, 100 steps a period); the hawkmoth's
-    L+ does not (scripts/studies/step_dependence.py, docs/validation.md section 3).
+    near_wake_zones: opt-in study (0: off): the wing sees the wake within this many chordwise panels of the
+    trailing edge lumped panel by panel (:func:`aero.wake.lump_near_wake`); with "ring" and 2 it makes a plate's
+    lift independent of the step, not the hawkmoth's (docs/validation.md section 3).
     The sensitivity of L+ and P+ to every tuned constant here: docs/fidelity.md (section 5).
     wake_precision: the pair evaluations of the wake-on-wake velocities that convect the free wake, "float64" or
     "mixed" (float32 evaluations, float64 sums: :data:`aero.biot_savart.PRECISIONS`; opt-in, its effect on the
@@ -255,31 +250,6 @@ class StepResult:
         P = -sum_i F_i . (v_i - (v_ref + omega_ref x (p_i - ref)))."""
         v_c = np.asarray(v_ref, float) + _cross(np.asarray(omega_ref, float), self.element_point - np.asarray(ref))
         return float(-(self.element_force * (self.element_velocity - v_c)).sum())
-
-
-def lump_near_wake(lat: Lattice, lengths: np.ndarray, r_attached2: float, zones: int) -> Lattice:
-    """The wake lattice as the wing sees it with ``UVLMConfig.near_wake_zones`` = zones >= 1 (opt-in, a study).
-
-    Each corner's distance d from the attached row (the newest wake vortex) is cut into zones of one chordwise
-    panel, ``lengths`` (ns+1,) [m] at each spanwise station; the corners in zone z < zones move onto the zone's
-    newest corner (zone 0: the attached row itself), so that the rows shed finer than the bound panels act as the
-    lattice lumps each panel's vorticity, as they do when the wake moves one panel per step. The corners moved into
-    zone 0 take the attached row's core (r_attached2 [m^2]). Returns a new Lattice; the wake itself is unchanged.
-    """
-    G = lat.G.copy()
-    d = np.linalg.norm(G[1:] - G[0], axis=-1)  # (rows, ns+1)
-    zone = np.floor(d / lengths).astype(int)
-    span_rc2 = np.array(lat.span_rc2, copy=True)
-    cols = np.arange(G.shape[1])
-    for z in range(zones):
-        inz = zone == z
-        if not inz.any():
-            continue
-        anchor = G[0] if z == 0 else G[1:][np.argmax(inz, axis=0), cols]  # newest corner of the zone
-        G[1:][inz] = np.broadcast_to(anchor, G[1:].shape)[inz]
-        if z == 0:
-            span_rc2[1:][inz[:, :-1] & inz[:, 1:]] = r_attached2
-    return Lattice(G, lat.span_gamma, span_rc2, lat.chord_gamma, lat.chord_rc2)
 
 
 def _reflect_points(x, point, normal):

@@ -1,4 +1,5 @@
-"""The free wake of one wing: a ring lattice in world coordinates whose vortex cores grow with age.
+"""The free wake of one wing: a ring lattice in world coordinates whose vortex cores grow with age; and the opt-in
+view of it the wing may take near the trailing edge (:func:`lump_near_wake`).
 
 Vortex cores (Ramasamy & Leishman 2007, J. Am. Helicopter Soc. 52:214): r_c^2 = r0^2 + 4 a_L delta nu t with
 a_L = 1.25643 (Lamb-Oseen), delta = 1 + a' |Gamma| / nu the turbulent-viscosity factor, t the age of the
@@ -72,3 +73,28 @@ class Wake:
         if r_attached is not None:
             span_rc2[0] = r_attached * r_attached
         return Lattice(self.vertices, span, span_rc2, chord, chord_rc2)
+
+
+def lump_near_wake(lat: Lattice, lengths: np.ndarray, r_attached2: float, zones: int) -> Lattice:
+    """The wake lattice as the wing sees it with ``UVLMConfig.near_wake_zones`` = zones >= 1 (opt-in, a study).
+
+    Each corner's distance d from the attached row (the newest wake vortex) is cut into zones of one chordwise
+    panel, ``lengths`` (ns+1,) [m] at each spanwise station; the corners in zone z < zones move onto the zone's
+    newest corner (zone 0: the attached row itself), so that the rows shed finer than the bound panels act as the
+    lattice lumps each panel's vorticity, as they do when the wake moves one panel per step. The corners moved into
+    zone 0 take the attached row's core (r_attached2 [m^2]). Returns a new Lattice; the wake itself is unchanged.
+    """
+    G = lat.G.copy()
+    d = np.linalg.norm(G[1:] - G[0], axis=-1)  # (rows, ns+1)
+    zone = np.floor(d / lengths).astype(int)
+    span_rc2 = np.array(lat.span_rc2, copy=True)
+    cols = np.arange(G.shape[1])
+    for z in range(zones):
+        inz = zone == z
+        if not inz.any():
+            continue
+        anchor = G[0] if z == 0 else G[1:][np.argmax(inz, axis=0), cols]  # newest corner of the zone
+        G[1:][inz] = np.broadcast_to(anchor, G[1:].shape)[inz]
+        if z == 0:
+            span_rc2[1:][inz[:, :-1] & inz[:, 1:]] = r_attached2
+    return Lattice(G, lat.span_gamma, span_rc2, lat.chord_gamma, lat.chord_rc2)

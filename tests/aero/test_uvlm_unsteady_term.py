@@ -6,7 +6,8 @@ import pytest
 
 from aero.lattice import ring_lattice
 from aero.mesh import wing_mesh
-from aero.uvlm import UVLM, UVLMConfig, lump_near_wake
+from aero.uvlm import UVLM, UVLMConfig
+from aero.wake import lump_near_wake
 
 EXACT_RTOL = 1e-12
 """The backward difference on three samples is exact for a quadratic in time (round-off only)."""
