@@ -19,7 +19,7 @@ correction is a series in 1/AR).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -140,16 +140,17 @@ def run_plate(grid: PlateGrid, motion: str, amplitude: float, k: float | None = 
     return PlateRun(t=t, s=SPEED * t / b, c_l=c_l, c_t=c_t)
 
 
-def first_harmonic(run: PlateRun, k: float, steps_per_cycle: int) -> tuple[complex, float]:
-    """(H, mean) of C_L over the run's last cycle for a drive amplitude * sin(omega t): C_L = mean + drift +
+def first_harmonic(run: PlateRun, k: float, steps_per_cycle: int) -> complex:
+    """H of C_L over the run's last cycle for a drive amplitude * sin(omega t): C_L = mean + drift +
     Re(H e^{i (omega t - pi/2)}), i.e. H is the complex response to the drive's phasor (the convention of
-    :mod:`aero.unsteady_theory`), fitted with a linear drift that absorbs what is left of the start's transient."""
+    :mod:`aero.unsteady_theory`), fitted with a mean and a linear drift that absorbs what is left of the start's
+    transient."""
     omega = k * SPEED / (0.5 * CHORD)
     t, y = run.t[-steps_per_cycle:], run.c_l[-steps_per_cycle:]
     tm = t - t.mean()
     X = np.column_stack([np.ones_like(t), tm, np.cos(omega * t), np.sin(omega * t)])
-    a0, _, ac, as_ = np.linalg.lstsq(X, y, rcond=None)[0]
-    return complex(as_, ac), float(a0)
+    _, _, ac, as_ = np.linalg.lstsq(X, y, rcond=None)[0]
+    return complex(as_, ac)
 
 
 def cycle_mean_thrust(run: PlateRun, steps_per_cycle: int) -> float:
@@ -167,11 +168,6 @@ def extrapolate_aspect_ratio(aspect_ratios, values, degree: int = 2):
     V = np.vander(x, degree + 1, increasing=True)
     coef = np.linalg.lstsq(V.astype(y.dtype), y, rcond=None)[0]
     return coef[0], coef
-
-
-def with_grid(grid: PlateGrid, **changes) -> PlateGrid:
-    """A copy of the grid with some fields changed."""
-    return replace(grid, **changes)
 
 
 def consistent_steps(k: float, n_chord: int) -> int:
@@ -201,7 +197,7 @@ def harmonic_response(grid: PlateGrid, motion: str, k: float, cycles: float = 3.
     (:data:`PITCH_AMPLITUDE`) at reduced frequency k, over the last of ``cycles`` periods."""
     amp, scale = (HEAVE_AMPLITUDE, HEAVE_AMPLITUDE / (0.5 * CHORD)) if motion == "heave" else (PITCH_AMPLITUDE,) * 2
     r = run_plate(grid, motion, amp, k=k, cycles=cycles, config=config)
-    return Harmonic(H=first_harmonic(r, k, grid.steps_per_cycle)[0] / scale,
+    return Harmonic(H=first_harmonic(r, k, grid.steps_per_cycle) / scale,
                     c_t=cycle_mean_thrust(r, grid.steps_per_cycle))
 
 

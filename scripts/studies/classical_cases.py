@@ -45,13 +45,13 @@ def case_key(motion, k, ar, nc):
     return f"{motion}|{k:g}|{ar:g}|{nc}"
 
 
-def run_case(motion, k, ar, nc):
+def run_case(motion, k, ar, nc, config):
     if motion == "start":
         grid = plate.PlateGrid(ar, nc, N_SPAN, plate.consistent_steps(1.0, nc))
-        r = plate.run_plate(grid, "start", plate.PITCH_AMPLITUDE, s_end=S_END)
+        r = plate.run_plate(grid, "start", plate.PITCH_AMPLITUDE, s_end=S_END, config=config)
         return {"s": r.s.tolist(), "c_l": r.c_l.tolist()}
     grid = plate.PlateGrid(ar, nc, N_SPAN, plate.consistent_steps(k, nc))
-    h = plate.harmonic_response(grid, motion, k, cycles=CYCLES)
+    h = plate.harmonic_response(grid, motion, k, cycles=CYCLES, config=config)
     return {"H": [h.H.real, h.H.imag], "c_t": h.c_t, "steps_per_cycle": grid.steps_per_cycle}
 
 
@@ -174,13 +174,13 @@ def main():
     data.setdefault("wake_core_chords", a.wake_core_chords)
     if data["wake_core_chords"] != a.wake_core_chords:
         ap.error(f"--out holds cases with wake core {data['wake_core_chords']} chords; use another file")
-    plate.PLAIN_CONFIG = replace(plate.PLAIN_CONFIG, wake_core_chords=a.wake_core_chords)
+    config = replace(plate.PLAIN_CONFIG, wake_core_chords=a.wake_core_chords)
     for motion, k, ar, nc in all_cases():
         key = case_key(motion, k, ar, nc)
         if key in cases or a.summary or (a.only_nc and nc != a.only_nc):
             continue
         t0 = time.perf_counter()
-        cases[key] = run_case(motion, k, ar, nc)
+        cases[key] = run_case(motion, k, ar, nc, config)
         cases[key]["wall_time_s"] = time.perf_counter() - t0
         cases[key]["host"] = host_info()
         print(f"{key}: {cases[key]['wall_time_s']:.1f} s", file=sys.stderr, flush=True)
