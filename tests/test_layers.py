@@ -1,4 +1,4 @@
-"""The import contract (README, "Layout"): ``aero`` <- ``hawksim`` <- scripts/tests, and
+"""The import contract (docs/layout.md): ``aero`` <- ``hawksim`` <- scripts/tests, and
 inside hawksim each subpackage imports only from the layers below it or its own. Every import statement counts,
 including those inside functions (the lazy imports that keep the CLI fast), so a cycle cannot hide in one."""
 

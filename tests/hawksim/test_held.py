@@ -32,7 +32,7 @@ CYCLE_RTOL = 1e-2
 
 HOLD_SPEED_TOL = 0.1
 """m/s: beat-mean ascent speed vs 1 m/s over 3 free beats from the shipped quasi-steady trim (the free body's
-recoil costs lift: the speed falls ~0.04 m/s per beat, README). Measured largest deviation 0.072 m/s."""
+recoil costs lift: the speed falls ~0.04 m/s per beat, docs/free_flight.md). Measured largest deviation 0.072 m/s."""
 
 HOLD_PITCH_TOL_DEG = 2.0
 """deg: beat-mean body angle vs chi over the same 3 beats; measured largest deviation 0.49 deg."""
@@ -76,7 +76,7 @@ def test_quasi_steady_trim_holds_over_three_wingbeats():
     """From the shipped quasi-steady trim (hawksim/data/trim_table_quasi_steady.json, balanced held-body to
     |L+ - 1|, |D+|, |M+| <= 0.01) the free flight keeps its ascent speed within 0.1 m/s and its cycle-mean body
     angle within 2 deg of chi for 3 beats. (The free body's recoil costs lift: the speed falls ~0.04 m/s per
-    beat, see README.)"""
+    beat, see docs/free_flight.md.)"""
     from hawksim.cli.fly import fly_named
 
     r = fly_named(1.0, 3, start="trim")

@@ -161,7 +161,7 @@ def test_uvlm_trim_holds_over_two_wingbeats():
     flight with the UVLM in the loop keeps its ascent speed within 0.1 m/s and its cycle-mean body angle within
     2 deg of chi for 2 beats (measured with hawksim 0.2: 1.007, 0.954 m/s; 0.1: 1.007, 0.950). It then keeps
     slowing, 0.89 m/s in beat 3: the held-body balance credits the wings with ~15 % more lift than the recoiling
-    free body gets (README), and the longitudinal mode is unstable (docs/stability.md)."""
+    free body gets (docs/results.md), and the longitudinal mode is unstable (docs/stability.md)."""
     from hawksim.cli.fly import fly_named
     from hawksim.trim.tables import trim_source
 
