@@ -282,9 +282,26 @@ def _fly_controlled(args, control: str, progress, guard) -> dict:
     times = {"controller_start_up_s": startup.get("s", flight_s), "flight_s": flight_s - startup.get("s", flight_s),
              "recording_s": time.perf_counter() - t_rec if args.rrd else 0.0}
     out = command_summary(cl, args.cycles, control, args.aero, rate)
-    out["start"] = {"from": "orbit", "source": cl.result.trim_source, "note": None}
+    out["start"] = {"from": "orbit", "source": _controlled_start(out, args), "note": None}
     out["rrd"] = rrd
     return report(args, out, cl.result, cl, times)
+
+
+def _controlled_start(out: dict, args) -> str:
+    """What a controlled flight starts from, in words: the schedule's orbit at the start speed (shipped for the UVLM
+    and the surrogate, solved in this process for the quasi-steady model), or the reference interpolated between two
+    of them."""
+    pts = out["control"]["schedule"]
+    how = "shipped" if args.aero in ("uvlm", "surrogate") else "solved here"
+    exact = [p for p in pts if abs(p["speed"] - args.speed) < 1e-9]
+    if exact:
+        p = exact[0]
+        return (f"the periodic orbit of the free body at {p['speed']:g} m/s ({how}; residual {p['orbit_residual']:.1e})"
+                f", {out['control']['mode']} control")
+    near = sorted(p["speed"] for p in sorted(pts, key=lambda p: abs(p["speed"] - args.speed))[:2])
+    return (f"the reference interpolated between the periodic orbits at "
+            f"{' and '.join(f'{v:g}' for v in near)} m/s ({how}), "
+            f"{out['control']['mode']} control")
 
 
 def _write_recording(args, result, guard, interrupted: bool, *, control=None, ghost: bool = True) -> str:

@@ -25,6 +25,10 @@ SCHEDULE_KEYS = ("speed", "aero", "rate", "orbit_f_hz", "orbit_residual", "open_
 multiplier)."""
 
 
+TIMING_LABELS = {"controller_start_up_s": "controller start-up", "flight_s": "flight", "recording_s": "recording",
+                 "out_file_s": "data file", "rest_s": "set-up"}
+
+
 def beat_table(result, control_beats: list[dict] | None) -> list[dict]:
     """The full per-beat table: :meth:`FlightResult.beats` (the contract's means) numbered from 1 with each beat's P+
     (:func:`hawksim.flight.power.P_plus` over the beat's steps), merged with the controlled flight's per-beat record
@@ -206,7 +210,8 @@ def render(out: dict) -> str:
         files.append(f"data {out['out']} (numpy .npz; docs/output.md)")
     lines.append("  files      " + ("; ".join(files) if files else
                                  "none (--rrd FILE records the flight, --out FILE saves its data)"))
-    t = out.get("timings_s") or {}
-    parts = ", ".join(f"{name[:-2].replace('_', ' ')} {v:.1f} s" for name, v in t.items() if v and v >= 0.05)
+    t = dict(out.get("timings_s") or {})
+    t["rest_s"] = out["wall_time_s"] - sum(t.values())  # set-up: the model, the backend, a first compile
+    parts = ", ".join(f"{TIMING_LABELS.get(name, name)} {v:.1f} s" for name, v in t.items() if v and v >= 0.05)
     lines.append(f"  wall time  {out['wall_time_s']:.1f} s" + (f" ({parts})" if parts else ""))
     return "\n".join(lines)
