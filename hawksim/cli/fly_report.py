@@ -113,7 +113,7 @@ def report(args, out: dict, result, cl, times: dict) -> dict:
     ``args.human`` to :func:`render` for the output without ``--json``."""
     full = bool(getattr(args, "json_full", False))
     rows = beat_table(result, cl.beats if cl is not None else None)
-    out["beats"] = rows if full else compact_beats(rows)
+    out["beats"] = compact_beats(rows)  # (--json-full: the controller's own record under control.beats)
     if "control" in out and not full:
         out["control"] = compact_control(out["control"])
     out["worst_beat_errors"] = worst_errors(rows, out["speed_target"])
