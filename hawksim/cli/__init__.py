@@ -49,13 +49,22 @@ def _unit(key: str, parent: str = "") -> str:
     return ""
 
 
+def _pair_list(v) -> bool:
+    return bool(v) and all(isinstance(x, list) and len(x) == 2 and all(isinstance(c, (int, float)) for c in x)
+                           for x in v)
+
+
 def _print_human(out: dict, prefix: str = "") -> None:
-    """``key: value unit`` lines; nested objects as dotted keys, long lists summarised (``--json`` has them all)."""
+    """``key: value unit`` lines; nested objects as dotted keys; lists of numbers (up to 16) in full, lists of
+    [re, im] pairs as complex numbers; longer or nested lists summarised (``--json`` has them all)."""
     for k, v in out.items():
         name = f"{prefix}{k}"
         if isinstance(v, dict):
             _print_human(v, name + ".")
-        elif isinstance(v, list) and (len(v) > 6 or any(isinstance(x, (dict, list)) for x in v)):
+        elif isinstance(v, list) and len(v) <= 16 and _pair_list(v):
+            text = ", ".join(f"{x[0]:.6g}" if x[1] == 0 else f"{x[0]:.6g}{x[1]:+.6g}i" for x in v)
+            print(f"{name:>32}: {text}")
+        elif isinstance(v, list) and (len(v) > 16 or any(isinstance(x, (dict, list)) for x in v)):
             print(f"{name:>32}: {len(v)} entries (see --json)")
         else:
             unit = _unit(k, prefix.rstrip("."))
@@ -104,11 +113,15 @@ def _preload(args) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    import time
+
+    t0 = time.perf_counter()  # the commands' wall_time_s counts from here (fly: recording and files included)
     try:
         check_environment()  # (also before numba's import when run as the command: hawksim.__main__)
         parser = build_parser()  # imports the subcommands' modules (mujoco, ...): a Ctrl-C may come here too
         apply_vector_width(strict=True)  # checks HAWKSIM_VECTOR_WIDTH (importing aero applied it)
         args = parser.parse_args(argv)
+        args.t0 = t0
         spc = getattr(args, "steps_per_cycle", None)
         if spc is not None and spc < MIN_STEPS_PER_CYCLE:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")
@@ -130,7 +143,7 @@ def main(argv: list[str] | None = None) -> int:
         code, line = failure(exc)
         print(line, file=sys.stderr)
         return code
-    return write_output(out, args.json)
+    return write_output(out, args.json, getattr(args, "human", None))
 
 
 EXIT_BROKEN_PIPE = 141
@@ -156,14 +169,16 @@ def _silence_stdout() -> None:
         os.close(devnull)
 
 
-def write_output(out: dict, as_json: bool) -> int:
-    """Print the result (one strict JSON object with ``--json``: no NaN or Infinity, ``allow_nan=False``; else
-    ``key: value unit`` lines) and flush it; the exit status. A reader that has gone (EPIPE) ends the command
-    quietly with :data:`EXIT_BROKEN_PIPE`; any other failure to write stdout (ENOSPC) is one line on stderr and
-    :data:`EXIT_STDOUT_FAILED`."""
+def write_output(out: dict, as_json: bool, human=None) -> int:
+    """Print the result (one strict JSON object with ``--json``: no NaN or Infinity, ``allow_nan=False``; else the
+    command's own summary ``human(out)``, or ``key: value unit`` lines) and flush it; the exit status. A reader that
+    has gone (EPIPE) ends the command quietly with :data:`EXIT_BROKEN_PIPE`; any other failure to write stdout
+    (ENOSPC) is one line on stderr and :data:`EXIT_STDOUT_FAILED`."""
     try:
         if as_json:
             print(json.dumps(out, allow_nan=False))
+        elif human is not None:
+            print(human(out))
         else:
             _print_human(out)
         sys.stdout.flush()

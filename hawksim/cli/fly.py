@@ -21,17 +21,91 @@ hawksim/data/orbit_table_*.json; the quasi-steady one is solved at other speeds)
 calibration wingbeat (where no orbit is available, or on request)."""
 
 
+class _Quiet:
+    """The stand-in of a progress stage (:func:`hawksim.cli.progress.stage_for`) when none is given."""
+
+    def __init__(self, desc: str = ""):
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        pass
+
+    def note(self, text: str) -> None:
+        pass
+
+
+def plan_start(speed: float, aero: str, kinematics=None, steps_per_cycle: int = STEPS_PER_CYCLE,
+               start: str | None = None):
+    """Where an open-loop `hawksim fly` starts, decided before any work: (start, shipped orbit or None, why).
+
+    start: 'orbit' (the free body's periodic orbit: the shipped one of ``aero`` at ``speed``, else solved here for
+    the quasi-steady model and the surrogate) or 'trim' (the held-body trim, or the given kinematics, with one
+    calibration wingbeat). why: None where the start is the one asked for or the default orbit; otherwise one line
+    saying what the flight starts from instead of an orbit, and why (the CLI prints it on stderr and in the
+    summary). ValueError / FloatingPointError for a start that cannot be had (``--start orbit`` without an orbit)."""
+    from hawksim.flight.orbit import shipped_orbit
+
+    shipped = shipped_orbit(speed, aero) if kinematics is None else None
+    unconverged = shipped is not None and not shipped.converged
+    if unconverged:
+        if start == "orbit":
+            raise FloatingPointError(f"the shipped {aero} orbit at {speed:g} m/s did not converge (residual "
+                                     f"{shipped.residual:.2e}, the wake's beat-to-beat floor {shipped.floor:.2e}): "
+                                     "fly with --start trim")
+        shipped = None
+    solvable = aero in ("quasi-steady", "surrogate")  # orbits solved in ~1 s (quasi-steady), ~10 s (surrogate)
+    why = None
+    if start is None:
+        start = ("orbit" if steps_per_cycle == STEPS_PER_CYCLE and kinematics is None and (shipped or solvable)
+                 else "trim")
+        if start == "trim":
+            what = ("the given kinematics (--kinematics)" if kinematics is not None
+                    else f"the held-body trim of {aero} at {speed:g} m/s")
+            if kinematics is not None:
+                reason = ("an orbit would change their f and phi0; --start orbit solves one from them"
+                          if solvable and steps_per_cycle == STEPS_PER_CYCLE else
+                          "no periodic orbit is shipped for given kinematics")
+            elif steps_per_cycle != STEPS_PER_CYCLE:
+                reason = (f"--steps-per-cycle {steps_per_cycle} has no periodic orbit (orbits are solved at "
+                          f"{STEPS_PER_CYCLE} steps per wingbeat)")
+            elif unconverged:
+                reason = f"the shipped {aero} orbit at {speed:g} m/s did not converge"
+            elif aero == "surrogate-mean":
+                reason = "the cycle-mean network has no within-beat loads, so no periodic orbit of the free body"
+            else:
+                reason = f"no {aero} periodic orbit is shipped at {speed:g} m/s and solving one takes minutes"
+            why = (f"starting from {what} with one calibration wingbeat, not from a periodic orbit of the free body "
+                   f"({reason}); such a start is not an equilibrium, so an open-loop flight leaves it within a few "
+                   "beats")
+    if start not in START_CHOICES:
+        raise ValueError(f"--start {start!r}: choose {', '.join(START_CHOICES)}")
+    if start == "orbit" and (steps_per_cycle != STEPS_PER_CYCLE or not (shipped or solvable)):
+        raise ValueError(f"--start orbit: no {aero} orbit at {speed:g} m/s and {steps_per_cycle} steps per cycle "
+                         f"(orbits are solved at {STEPS_PER_CYCLE}; `hawksim trim --free-flight --aero {aero}` "
+                         "solves one)")
+    if start == "orbit" and kinematics is not None:
+        why = ("solving the periodic orbit of the free body from the given kinematics (--start orbit): its f and "
+               "phi0 are solved, the other five parameters kept")
+    return start, shipped, why
+
+
 def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinematics=None, perturb=None,
               model_path=None, steps_per_cycle: int = STEPS_PER_CYCLE, keep_extras_every: int = 0,
               start: str | None = None, log=None, wake_cycles: int | None = None, wake_summation: str = "auto",
-              wake_precision: str = "float64", **kw):
+              wake_precision: str = "float64", note=None, stage=None, **kw):
     """`hawksim fly`'s flight: from the free body's periodic orbit (``start='orbit'``, the default where one is
     available: no given kinematics, the orbit solver's 200 steps per beat, and a shipped orbit of ``aero`` at
-    ``speed`` or the quasi-steady backend, whose orbit is solved in ~1 s) or from the shipped held-body trim of
-    ``aero`` at ``speed`` (or ``kinematics``) with a calibration beat (``start='trim'``), with the backend of that
-    name, then :func:`hawksim.flight.fly.fly`. wake_cycles: wingbeats of UVLM wake kept (default
-    :data:`hawksim.backends.resolution.FLY_WAKE_CYCLES`); wake_summation, wake_precision: the UVLM's
-    (:func:`hawksim.backends.flight_backend`)."""
+    ``speed`` or the quasi-steady backend or the surrogate, whose orbits are solved in seconds) or from the shipped
+    held-body trim of ``aero`` at ``speed`` (or ``kinematics``) with a calibration beat (``start='trim'``), with the
+    backend of that name, then :func:`hawksim.flight.fly.fly` (:func:`plan_start` decides). wake_cycles: wingbeats of
+    UVLM wake kept (default :data:`hawksim.backends.resolution.FLY_WAKE_CYCLES`); wake_summation, wake_precision:
+    the UVLM's (:func:`hawksim.backends.flight_backend`). ``note``: called with :func:`plan_start`'s line (what the
+    flight starts from when that is not the default orbit) once the inputs are checked, before the work; ``stage``:
+    a factory of progress stages (:func:`hawksim.cli.progress.stage_for`'s signature without args) for the orbit
+    solve; ``log``: also gets the orbit solver's lines."""
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
     from hawksim.flight.start import is_lateral, parse_perturbations
@@ -40,50 +114,53 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
     from hawksim.trim.tables import shipped_trim
 
     perturb = parse_perturbations(perturb or {})
-    from hawksim.flight.orbit import periodic_orbit, shipped_orbit
+    from hawksim.flight.orbit import periodic_orbit
 
-    shipped = shipped_orbit(speed, aero) if kinematics is None else None
-    if shipped is not None and not shipped.converged:
-        if start == "orbit":
-            raise FloatingPointError(f"the shipped {aero} orbit at {speed:g} m/s did not converge (residual "
-                                     f"{shipped.residual:.2e}, the wake's beat-to-beat floor {shipped.floor:.2e}): "
-                                     "fly with --start trim")
-        shipped = None
-    solvable = aero in ("quasi-steady", "surrogate")  # orbits solved in ~1 s (quasi-steady), ~10 s (surrogate)
-    if start is None:
-        start = ("orbit" if steps_per_cycle == STEPS_PER_CYCLE and kinematics is None and (shipped or solvable)
-                 else "trim")
-    if start not in START_CHOICES:
-        raise ValueError(f"--start {start!r}: choose {', '.join(START_CHOICES)}")
-    if start == "orbit" and (steps_per_cycle != STEPS_PER_CYCLE or not (shipped or solvable)):
-        raise ValueError(f"--start orbit: no {aero} orbit at {speed:g} m/s and {steps_per_cycle} steps per cycle "
-                         f"(orbits are solved at {STEPS_PER_CYCLE}; `hawksim trim --free-flight --aero {aero}` "
-                         "solves one)")
+    start, shipped, why = plan_start(speed, aero, kinematics, steps_per_cycle, start)
+    model = load_model(model_path)
+    if why is not None and note is not None:
+        note(why)
+    stage = stage or _Quiet
     start_state = None
     if start == "orbit":
-        orbit = shipped if shipped is not None else periodic_orbit(speed, aero, kinematics=kinematics, log=log)
+        if shipped is not None:
+            orbit = shipped
+        else:
+            with stage("fly: solving the periodic orbit") as st:
+                def lines(m):
+                    st.note(m)
+                    if log is not None:
+                        log(m)
+
+                orbit = periodic_orbit(speed, aero, kinematics=kinematics, log=lines, model=model)
         if not orbit.converged:
             raise FloatingPointError(f"the periodic orbit at {speed:g} m/s did not converge "
                                      f"(residual {orbit.residual:.2e}); fly with --start trim")
+        given = ""
+        if kinematics is not None:
+            given = (f"; f {kinematics.f:.4g} -> {orbit.kinematics.f:.4g} Hz, phi0 {kinematics.to_edge()['phi0']:.4g} "
+                     f"-> {orbit.kinematics.to_edge()['phi0']:.4g} deg")
         trim = Trim(float(speed), orbit.kinematics, model=aero, source=(
             f"{'shipped ' if shipped is not None else ''}periodic orbit of the free body ({orbit.iterations} Newton "
             f"iterations, residual {orbit.residual:.1e}) from the "
-            f"{'given kinematics' if kinematics is not None else 'held-body trim'}"))
+            f"{'given kinematics' if kinematics is not None else 'held-body trim'}{given}"))
         start_state = (orbit.launch_state.as_array(), orbit.chi_ref)
     else:
-        trim = (Trim(float(speed), kinematics, model=aero, source="given") if kinematics is not None
-                else shipped_trim(speed, aero))
+        trim = (Trim(float(speed), kinematics, model=aero, source="given kinematics, one calibration wingbeat")
+                if kinematics is not None else shipped_trim(speed, aero))
     backend = flight_backend(aero, kinematics=trim.kinematics, symmetric=not is_lateral(perturb),
                              keep_panels=keep_extras_every > 0, wake_summation=wake_summation,
                              wake_precision=wake_precision,
                              **({} if wake_cycles is None else {"wake_cycles": wake_cycles}))
     if start_state is not None:
         orbit.seed(backend)  # a history network's orbit: the flight starts with its record
-    return fly(trim, backend, cycles, perturb=perturb, model=load_model(model_path), steps_per_cycle=steps_per_cycle,
+    return fly(trim, backend, cycles, perturb=perturb, model=model, steps_per_cycle=steps_per_cycle,
                keep_extras_every=keep_extras_every, start_state=start_state, **kw)
 
 
 def cmd_fly(args) -> dict:
+    if args.json_full:
+        args.json = True
     if args.cycles * args.steps_per_cycle > MAX_FLY_STEPS:
         raise UsageError(f"--cycles {args.cycles} x --steps-per-cycle {args.steps_per_cycle} exceeds the limit of "
                          f"{MAX_FLY_STEPS:g} steps (the recorded series would not fit in memory)")
@@ -119,11 +196,29 @@ def cmd_fly(args) -> dict:
             guard.__exit__(None, None, None)
 
 
+def _note(text: str) -> None:
+    import sys
+
+    from hawksim.cli.progress import close_all
+
+    close_all()  # a stage's bar ends its line first, on a terminal
+    print(f"fly: {text}", file=sys.stderr)
+
+
 def _fly_open_loop(args, progress, guard) -> dict:
     import sys
+    import time
     from types import SimpleNamespace
 
+    from hawksim.cli.fly_report import report
+    from hawksim.cli.progress import stage_for
     from hawksim.flight.simulator import aero_every_for
+
+    notes = []
+
+    def note(text):
+        notes.append(text)
+        _note(text)
 
     result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
                        kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
@@ -131,38 +226,82 @@ def _fly_open_loop(args, progress, guard) -> dict:
                        keep_extras_every=(aero_every_for(SimpleNamespace(name="uvlm"), args.steps_per_cycle)
                                           if args.rrd and args.aero == "uvlm" else 0),
                        progress=progress, start=args.start, wake_cycles=getattr(args, "wake_cycles", None),
-                       wake_precision=getattr(args, "wake_precision", None) or "float64",
+                       wake_precision=getattr(args, "wake_precision", None) or "float64", note=note,
+                       stage=lambda desc: stage_for(args, desc),
                        **({"partial_on_interrupt": True} if args.rrd else {}))
     interrupted = len(result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
+    t_rec = time.perf_counter()
     rrd = _write_recording(args, result, guard, interrupted) if args.rrd else None  # first: a failure says one line
+    times = {"flight_s": result.wall_time_s, "recording_s": time.perf_counter() - t_rec if args.rrd else 0.0}
     out = result.summary()
+    start = "orbit" if "periodic orbit" in result.trim_source else "trim"
+    out["start"] = {"from": start, "source": result.trim_source, "note": notes[0] if notes else None}
     if out["departed_at_beat"] is not None:
         b = out["beats"][out["departed_at_beat"] - 1]
+        left = ("its periodic orbit" if start == "orbit" else
+                "its start (given kinematics, not an orbit)" if args.kinematics is not None else
+                "its start (the held-body trim, not an orbit)")
         print(f"fly: departed at beat {out['departed_at_beat']} of {args.cycles} (mean vertical speed "
               f"{b['mean_vertical_speed']:.3f} m/s against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): "
-              "an open-loop flight of this unstable model leaves its trim", file=sys.stderr)
+              f"an open-loop flight of this unstable model leaves {left}", file=sys.stderr)
     out["rrd"] = rrd
-    return out
+    return report(args, out, result, None, times)
 
 
 def _fly_controlled(args, control: str, progress, guard) -> dict:
     """The closed-loop flight of hawksim.control (--control lqr, or a gust / profile open loop); with --rrd an
-    interrupt writes the beats flown (exit 130), as the open-loop flight does."""
-    from hawksim.control.command import command_summary, fly_command
+    interrupt writes the beats flown (exit 130), as the open-loop flight does. The controller's start-up (orbits,
+    maps, gains: seconds the first time) shows as a stage until the first beat."""
+    import time
 
+    from hawksim.cli.fly_report import report
+    from hawksim.cli.progress import stage_for
+    from hawksim.control.command import command_summary, fly_command
     from hawksim.control.schedule import default_rate
 
     rate = getattr(args, "control_rate", None) or ("beat" if control == "clqr" else default_rate(args.aero))
-    cl = fly_command(args.speed, args.cycles, control=control, profile=getattr(args, "ascent_profile", None),
-                     gusts=getattr(args, "gust", None) or [], delay=args.sensing_delay or 0,
-                     perturb=dict(args.perturb or []), model_path=args.model, progress=progress,
-                     partial_on_interrupt=bool(args.rrd), aero=args.aero, rate=rate)
+    t0 = time.perf_counter()
+    startup = {}
+    with stage_for(args, "fly: controller start-up") as st:
+        def first(k, n):  # the start-up ends at the first beat's progress call
+            if "s" not in startup:
+                startup["s"] = time.perf_counter() - t0
+                st.close()
+            if progress is not None:
+                progress(k, n)
+
+        cl = fly_command(args.speed, args.cycles, control=control, profile=getattr(args, "ascent_profile", None),
+                         gusts=getattr(args, "gust", None) or [], delay=args.sensing_delay or 0,
+                         perturb=dict(args.perturb or []), model_path=args.model, progress=first,
+                         partial_on_interrupt=bool(args.rrd), aero=args.aero, rate=rate, log=st.note)
+    flight_s = time.perf_counter() - t0
     interrupted = len(cl.result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
+    t_rec = time.perf_counter()
     rrd = (_write_recording(args, cl.result, guard, interrupted, control=cl.beats, ghost=False)
            if args.rrd else None)  # first: a failure (disk full) says one line, not a verdict and then the error
+    times = {"controller_start_up_s": startup.get("s", flight_s), "flight_s": flight_s - startup.get("s", flight_s),
+             "recording_s": time.perf_counter() - t_rec if args.rrd else 0.0}
     out = command_summary(cl, args.cycles, control, args.aero, rate)
+    out["start"] = {"from": "orbit", "source": _controlled_start(out, args), "note": None}
     out["rrd"] = rrd
-    return out
+    return report(args, out, cl.result, cl, times)
+
+
+def _controlled_start(out: dict, args) -> str:
+    """What a controlled flight starts from, in words: the schedule's orbit at the start speed (shipped for the UVLM
+    and the surrogate, solved in this process for the quasi-steady model), or the reference interpolated between two
+    of them."""
+    pts = out["control"]["schedule"]
+    how = "shipped" if args.aero in ("uvlm", "surrogate") else "solved here"
+    exact = [p for p in pts if abs(p["speed"] - args.speed) < 1e-9]
+    if exact:
+        p = exact[0]
+        return (f"the periodic orbit of the free body at {p['speed']:g} m/s ({how}; residual {p['orbit_residual']:.1e})"
+                f", {out['control']['mode']} control")
+    near = sorted(p["speed"] for p in sorted(pts, key=lambda p: abs(p["speed"] - args.speed))[:2])
+    return (f"the reference interpolated between the periodic orbits at "
+            f"{' and '.join(f'{v:g}' for v in near)} m/s ({how}), "
+            f"{out['control']['mode']} control")
 
 
 def _write_recording(args, result, guard, interrupted: bool, *, control=None, ghost: bool = True) -> str:
@@ -187,7 +326,9 @@ def _write_recording(args, result, guard, interrupted: bool, *, control=None, gh
             interrupted = True
             print("fly: interrupted while computing the linear prediction; recording without the ghost",
                   file=sys.stderr)
-    with guard.deferred():
+    from hawksim.cli.progress import stage_for
+
+    with guard.deferred(), stage_for(args, f"fly: writing the recording {args.rrd}"):
         path = str(write_rrd(args.rrd, result, prediction=prediction, control=control))
     if interrupted or guard.signum is not None:  # the CLI's one line (exit 130) says where and what was saved
         n = len(result.t)
@@ -310,6 +451,13 @@ def register(sub) -> None:
     f.add_argument("--sensing-delay", type=_control_type(_delay),
                    metavar="BEATS", help="the controller senses the state this many wingbeats late (default 0; "
                                          "--control lqr or clqr only)")
+    f.add_argument("--out", type=writable_file, metavar="FILE",
+                   help="save the whole flight to FILE (numpy .npz, read without hawksim: per-step arrays, the "
+                        "per-beat table, units and the command in its metadata; docs/output.md)")
     f.add_argument("--no-progress", action="store_true", help="no progress bar")
-    f.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    f.add_argument("--json", action="store_true",
+                   help="print one compact JSON object on stdout (docs/output.md lists its keys)")
+    f.add_argument("--json-full", action="store_true",
+                   help="like --json, with the controller's gains, every closed-loop multiplier of its (augmented) "
+                        "states and each beat's end state and half-stroke commands")
     f.set_defaults(func=cmd_fly)

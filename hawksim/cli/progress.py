@@ -50,3 +50,70 @@ def close_all() -> None:
 def progress_for(args, desc: str, unit: str = "step", **kw) -> Progress | None:
     """The bar of a subcommand, or None with ``--no-progress``."""
     return None if getattr(args, "no_progress", False) else Progress(desc, unit, **kw)
+
+
+class Stage:
+    """A bar for a stage with no step count (an orbit solve, the controller's start-up, writing a file): its name,
+    the seconds elapsed (redrawn twice a second by a daemon thread, so that a long silent computation shows that
+    it runs) and the last note (``stage.note(text)``, e.g. a library ``log`` line). A context manager; like
+    :class:`Progress`, drawn on a terminal's stderr only."""
+
+    def __init__(self, desc: str, interval: float = 0.5):
+        self.desc, self.interval = desc, interval
+        self.bar = None
+        self._stop = None
+
+    def __enter__(self) -> Stage:
+        import threading
+
+        from tqdm import tqdm
+
+        self.bar = tqdm(total=None, desc=self.desc, file=sys.stderr, disable=None,
+                        bar_format="{desc}: {elapsed}{postfix}")
+        _OPEN.add(self)
+        if not self.bar.disable:
+            self._stop = threading.Event()
+            threading.Thread(target=self._tick, daemon=True).start()
+        return self
+
+    def _tick(self) -> None:
+        while not self._stop.wait(self.interval):
+            try:
+                self.bar.refresh()
+            except Exception:  # the bar closed under us: stop quietly
+                return
+
+    def note(self, text: str) -> None:
+        """Show ``text`` after the elapsed time (the stage's last news)."""
+        if self.bar is not None:
+            self.bar.set_postfix_str(str(text)[:80], refresh=True)
+
+    def close(self) -> None:
+        if self._stop is not None:
+            self._stop.set()
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+        _OPEN.discard(self)
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+class _NoStage:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        pass
+
+    def note(self, text: str) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+def stage_for(args, desc: str):
+    """A :class:`Stage` for a subcommand, or a silent stand-in with ``--no-progress``."""
+    return _NoStage() if getattr(args, "no_progress", False) else Stage(desc)

@@ -28,6 +28,9 @@ def _averaged(args, kin, client=None) -> dict:
 
 
 def cmd_stability(args) -> dict:
+    from hawksim.cli.stability_report import render
+
+    args.human = render
     from hawksim.cluster import dask_client
     from hawksim.trim.tables import shipped_trim
 
@@ -40,14 +43,18 @@ def cmd_stability(args) -> dict:
 
         from hawksim.flight.orbit import shipped_orbit
 
+        from hawksim.cli.progress import stage_for
+
         orbit = shipped_orbit(args.speed, args.aero) if kin is None else None
         if orbit is None:
-            orbit = periodic_orbit(args.speed, args.aero, kinematics=kin, log=None if args.no_progress else (
-                lambda m: print(f"orbit: {m}", file=sys.stderr)))
+            with stage_for(args, "stability: solving the periodic orbit") as st:
+                orbit = periodic_orbit(args.speed, args.aero, kinematics=kin, log=st.note)
         if not orbit.converged:
             print(f"hawksim stability: the periodic orbit did not converge (residual {orbit.residual:.2e}); "
                   "the multipliers are of the nearest state found", file=sys.stderr)
         fl = monodromy(orbit)
+        if args.kinematics is not None:
+            print(f"stability: {solved_note(orbit, args.kinematics)['note']}", file=sys.stderr)
         kin = orbit.kinematics
         # issue 20: the control derivatives (B matrices) beside the monodromy: the surrogate's and the UVLM's
         # shipped models (hawksim reproduce --only control_surrogate / control_uvlm) about the shipped orbit, else
@@ -64,7 +71,7 @@ def cmd_stability(args) -> dict:
         control = None if lin is None else {**lin.to_json(), "source": source}
         chart = ("level heading axes (u, v horizontal; the averaged A's eigenvectors are in body-fixed stability "
                  "axes: u_b = u - w_e theta, v_b = v + w_e phi)")
-        out_orbit = {"orbit": orbit_json(orbit), "control_derivatives": control,
+        out_orbit = {"orbit": orbit_json(orbit, given=args.kinematics), "control_derivatives": control,
                      "floquet": {**floquet_json(fl), "chart": chart}}
         if orbit.record is not None:  # a history network: the flight's modes are the augmented map's
             from hawksim.stability.history_floquet import history_monodromy
@@ -89,9 +96,23 @@ def cmd_stability(args) -> dict:
     return {**out, **(out_orbit or {})}
 
 
-def orbit_json(orbit) -> dict:
+def solved_note(orbit, given) -> dict | None:
+    """Where the orbit was solved from given kinematics: its f and phi0 are unknowns of the Newton solve
+    (:func:`hawksim.flight.orbit.periodic_orbit`), so they move; the given and solved values (Hz, deg) and one line
+    saying so (printed on stderr, kept in the JSON as ``orbit.kinematics_solved``). None without given kinematics."""
+    if given is None:
+        return None
+    g, o = given.to_edge(), orbit.kinematics.to_edge()
+    note = (f"the periodic orbit solves f and phi0 from the given kinematics (the other five kept): f {g['f']:.5g} -> "
+            f"{o['f']:.5g} Hz, phi0 {g['phi0']:.4g} -> {o['phi0']:.4g} deg; the multipliers are of that orbit")
+    return {"note": note, "f_given": g["f"], "f_solved": o["f"], "phi0_given_deg": g["phi0"],
+            "phi0_solved_deg": o["phi0"]}
+
+
+def orbit_json(orbit, given=None) -> dict:
     """The CLI contract's orbit keys (edge units: Hz, deg, deg/s, m/s); a history network's orbit also says how many
-    calls its record holds and how much that record changes over the periodic beat (normalized)."""
+    calls its record holds and how much that record changes over the periodic beat (normalized); solved from
+    ``given`` kinematics, ``kinematics_solved`` (:func:`solved_note`)."""
     s = orbit.initial_state
     deg = 180 / math.pi
     return {"speed": orbit.speed, "aero": orbit.aero, "kinematics": orbit.kinematics.to_edge(),
@@ -104,7 +125,8 @@ def orbit_json(orbit) -> dict:
             "P_plus": orbit.P_plus, "iterations": orbit.iterations, "converged": orbit.converged,
             "floor": orbit.floor, "warm_beats": orbit.warm_beats, "wall_time_s": orbit.wall_time_s} | (
                 {} if orbit.record is None else {"record_calls": int(len(orbit.record)),
-                                                 "record_change": orbit.record_change})
+                                                 "record_change": orbit.record_change}) | (
+                {} if given is None else {"kinematics_solved": solved_note(orbit, given)})
 
 
 def _preload(args) -> tuple[str, ...]:

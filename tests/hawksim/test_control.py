@@ -205,11 +205,11 @@ def test_cli_control_json(capsys):
     assert main(["fly", "--speed", "1", "--cycles", "4", "--gust", "0,0.5,0@2:1", "--json", "--no-progress"]) == 0
     cap = capsys.readouterr()
     out = json.loads(cap.out)
-    ctl = out["control"]
-    assert ctl["mode"] == "lqr" and len(ctl["beats"]) == 4 and out["departed_at_beat"] is None
-    b = ctl["beats"][2]
+    ctl = out["control"]  # issue 52: the controller's per-beat record is merged into the one per-beat table
+    assert ctl["mode"] == "lqr" and len(out["beats"]) == 4 and out["departed_at_beat"] is None
+    b = out["beats"][2]
     assert {"speed_command", "speed_error", "pitch_error_deg", "roll_deg", "horizontal_drift_m", "commands"} <= b.keys()
-    assert ctl["beats"][1]["air_velocity"] == [0.0, 0.5, 0.0] and ctl["beats"][2]["air_velocity"] == [0.0, 0.0, 0.0]
+    assert out["beats"][1]["air_velocity"] == [0.0, 0.5, 0.0] and out["beats"][2]["air_velocity"] == [0.0, 0.0, 0.0]
     assert abs(b["commands"]["dphi0_deg"]) > 0.1  # the gust was answered by an antisymmetric command
     assert all(p["closed_loop_spectral_radius_long"] < 1 for p in ctl["schedule"])
     assert "held under LQR control" in cap.err
@@ -252,7 +252,7 @@ def test_cli_uvlm_under_control_json(capsys):
     ctl = out["control"]
     assert out["aero"] == "uvlm" and ctl["mode"] == "lqr" and ctl["update_rate"] == "beat"
     assert [p["speed"] for p in ctl["schedule"]] == [2.0] and ctl["schedule"][0]["aero"] == "uvlm"
-    assert all(_within(b) for b in ctl["beats"])
+    assert all(_within(b) for b in out["beats"])  # issue 52: one per-beat table
     assert "held under LQR control" in cap.err and "uvlm" in cap.err
 
 

@@ -192,7 +192,7 @@ def test_cli_half_stroke_json(capsys):
     from hawksim.cli import main
 
     assert main(["fly", "--speed", "1", "--cycles", "3", "--control-rate", "half-stroke", "--gust", "0,0.5,0@2:1",
-                 "--json", "--no-progress"]) == 0
+                 "--json-full", "--no-progress"]) == 0  # issue 52: the gains and half-stroke commands on request
     cap = capsys.readouterr()
     ctl = json.loads(cap.out)["control"]
     assert ctl["update_rate"] == "half-stroke" and all("commands_half_stroke" in b for b in ctl["beats"])

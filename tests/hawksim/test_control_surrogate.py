@@ -170,7 +170,7 @@ def test_cli_surrogate_under_control(capsys):
     assert out["aero"] == "surrogate" and ctl["mode"] == "lqr"
     assert [p["speed"] for p in ctl["schedule"]] == [0.5] and ctl["schedule"][0]["aero"] == "surrogate"
     assert ctl["schedule"][0]["inputs_long"] == ["f", "phi0", "alpha0"]  # theta0 on its bound: left out
-    assert all(_within(b) for b in ctl["beats"]) and "held under LQR control" in cap.err
+    assert all(_within(b) for b in out["beats"]) and "held under LQR control" in cap.err  # issue 52: one table
 
 
 def test_cli_surrogate_refusals(capsys, monkeypatch):
