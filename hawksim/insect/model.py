@@ -29,7 +29,7 @@ REPO_MODEL_PATH = Path(__file__).resolve().parents[2] / "models" / "hawkmoth" / 
 
 MODEL_PATHS = {"default": REPO_MODEL_PATH, "sourced": REPO_MODEL_PATH.with_name("hawkmoth_sourced.xml")}
 """The committed MJCF of each named morphology (:data:`hawksim.insect.morphology.MORPHOLOGIES`); the "sourced"
-one is issue 22's alternative, not used by any command unless passed as ``--model``."""
+one is issue 49's sourced hawkmoth, not yet used by any command unless passed as ``--model``."""
 
 
 def _f(x) -> str:

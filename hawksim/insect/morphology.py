@@ -13,15 +13,21 @@ Sources
 * Table 1 of Nguyen et al. (2020), "Study of vertically ascending flight of a hawkmoth model", Acta Mech.
   Sin. 36: total mass m = 1578.70 mg, wing length R = 48.50 mm, mean chord 16.81 mm, wing area
   S = 815.33 mm^2 (one wing), r2/R = 0.53.
-* Wing mass 47 mg each: Berman & Wang (2007), J. Fluid Mech. 582:153-168, Table 1 (hawkmoth).
+* Wing mass 47 mg each, the wing's moment of inertia about its root, the wing-base spacing and the body length:
+  the rows of ../shared/sources/insect-morphology.md (Berman & Wang 2007, J. Fluid Mech. 582:153-168, Table 2;
+  Palaoro et al.'s hemolymph data set), the constants below (BW2007_*, PALAORO_*).
 * Chord distribution: Ellington (1984), Phil. Trans. R. Soc. B 305:17-40 ("The aerodynamics of hovering
   insect flight. II. Morphological parameters"): the chord follows a beta distribution in r/R whose
   first moment r1 relates to the second by r2 = 0.929 r1^0.732.
 * Feathering-axis position and wing mass distribution: ``Morphology()`` (the default, every shipped table,
-  network and test) keeps the model choices of hawksim 0.2 (axis at 25 % of the local chord, uniform areal
-  density); :meth:`Morphology.sourced` is the named alternative of issue 22 (axis on the leading edge, areal
-  density falling toward the tip and the trailing edge). What the literature search found for each, and which
-  of the alternative's values are sourced and which are still provisional: docs/fidelity.md.
+  network and test until the pipeline is regenerated) keeps the model choices of hawksim 0.2 (axis at 25 % of
+  the local chord, uniform areal density, 47 mg wings); :meth:`Morphology.sourced` is issue 49's hawkmoth (wing
+  mass and its radius of gyration from Berman & Wang 2007, the wing-base spacing from Palaoro et al., the axis
+  calibrated to the seed paper's Table 4 lift).
+
+Every number says its source class: quoted (from a cited table), measured (class (a) of the sources file: read in
+the measuring authors' data), derived (arithmetic on those), model choice (no source), or calibrated (fitted to a
+result of the seed paper, with the rule and the residual).
 * Body segments (head, thorax, abdomen) and the hinge position are the paper's "left out" quantities.
   Lengths and diameters are representative of adult *M. sexta* (body length ~ 45-50 mm, thorax ~ 10 mm
   wide; Willmott & Ellington 1997, J. Exp. Biol. 200:2693-2704; O'Hara & Palazotto 2012,
@@ -173,14 +179,65 @@ class WingMassModel:
 UNIFORM_WING = WingMassModel()
 """Uniform areal density: hawksim 0.2's wing (centre of mass at 0.465 R, the planform's r1)."""
 
-VEINED_WING = WingMassModel("veined", span_decay=1.0, chord_decay=1.0)
-"""PROVISIONAL areal density of :meth:`Morphology.sourced`: e times denser at the root than at the tip and at
-the leading than at the trailing edge. The direction is sourced (see :class:`WingMassModel`); the two decay
-constants are NOT: the measured Manduca forewing centre of mass and moments of inertia (O'Hara & Palazotto 2012,
-Bioinspir. Biomim. 7:046011; Ellington 1984) were not available to this session, and these constants are to be
-replaced by a fit to them before the alternative becomes the default (docs/fidelity.md). On the hawkmoth
-planform: centre of mass at 0.401 R (uniform: 0.465 R), the mass on average 42 % of the local chord behind the
-leading edge (uniform: 50 %), radius of the second moment of wing mass 0.471 R (uniform: 0.530 R, the area's)."""
+BW2007_WING_MASS = 47e-6
+"""Mass of one forewing [kg] of Berman & Wang's (2007, J. Fluid Mech. 582:153-168, Table 2) hawkmoth; source class
+(b): quoted with that citation by public code (../shared/sources/insect-morphology.md)."""
+
+BW2007_TOTAL_MASS = 1648e-6
+"""Total mass [kg] of the same individual; class (b), same source."""
+
+BW2007_R = 51.9e-3
+"""Wing length [m] of the same individual; class (b), same source."""
+
+BW2007_WING_INERTIA = 1.84e-8
+"""Moment of inertia [kg m^2] of one forewing about its root, the flapping axis (0.184 g cm^2); class (b), same
+source. Read here as the moment about the wing-frame x axis through the hinge, the integral of r^2 dm (see
+:data:`WING_GYRATION_HAT`)."""
+
+WING_GYRATION_HAT = math.sqrt(BW2007_WING_INERTIA / BW2007_WING_MASS) / BW2007_R
+"""Mass radius of gyration of the wing about its root in units of R: sqrt(I / m) / R = 0.381; class (c), derived
+from the three rows above (a uniform-areal-density wing of the hawkmoth planform gives 0.530: the measured wing is
+root-heavy). Carried over to the seed paper's individual in units of R (:meth:`Morphology.sourced`)."""
+
+WING_MASS_FRACTION = 2 * BW2007_WING_MASS / BW2007_TOTAL_MASS
+"""Two forewings' share of the total mass, 0.0570; class (c), from Berman & Wang's individual. The rule that carries
+the 47 mg over to the seed paper's lighter individual (1578.70 mg): same fraction, 45.02 mg a wing (a wing scales
+with the body; the absolute 47 mg would make the lighter moth's wings relatively heavier)."""
+
+ROOT_HEAVY_SPAN_DECAY = 2.6347
+"""span_decay of :data:`ROOT_HEAVY_WING`, class (c): the value for which the seed planform's mass radius of gyration
+about the root (wing-frame x through the hinge) is :data:`WING_GYRATION_HAT` (fitted by bisection; the test
+tests/hawksim/test_morphology.py recomputes it to 1e-4). About the axis normal to the wing plane the same fit would
+give about 3.2 (the chordwise extent adds x^2 dm): the flapping-axis reading is the model's."""
+
+ROOT_HEAVY_WING = WingMassModel("root-heavy", span_decay=ROOT_HEAVY_SPAN_DECAY, chord_decay=0.0)
+"""The wing of :meth:`Morphology.sourced`: areal density exp(-2.635 r/R), fitted to the measured radius of gyration
+(:data:`ROOT_HEAVY_SPAN_DECAY`): centre of mass at 0.310 R (uniform: 0.465 R), radius of gyration 0.381 R. The
+chordwise distribution is a model choice: uniform across the chord (no source gives the Manduca forewing's
+chordwise centre of mass; ../shared/sources/insect-morphology.md)."""
+
+PALAORO_WING_BASE_SPACING = 11.08e-3
+"""Distance between the two forewing bases [m] of *M. sexta*, mean of N = 19 (SD 0.61 mm); class (a): Palaoro et al.,
+hemolymph-viscosity data set (``data/hemolymph_data.csv``, column ``body.width``)."""
+
+PALAORO_FOREWING = 52.8e-3
+"""Forewing length [m] of the same 19 moths (SD 5.2 mm); class (a), same data set."""
+
+PALAORO_BODY_LENGTH = 45.5e-3
+"""Body length [m], head to abdomen tip, of the same 19 moths (SD 4.9 mm); class (a), same data set. Scaled to the
+seed paper's wing (R / :data:`PALAORO_FOREWING`): 41.8 mm; the model's segments span 42.5 mm (a model choice,
+:func:`_default_segments`, within 2 %)."""
+
+
+CALIBRATED_AXIS_FRACTION = 0.06
+"""Feathering axis of :meth:`Morphology.sourced`, as a fraction of the local chord behind the leading edge: a
+CALIBRATED model parameter (no reachable source gives it; the seed paper does not state it). Rule: the least-squares
+fit of the current UVLM's held-body L+ at Table 3's kinematics to Table 4's L+ at 0, 1 and 2 m/s (the seed paper's
+own UVLM lift; one parameter, three targets), at `hawksim aero`'s default resolution (6 x 12 rings, 40 steps, the
+resolution of the reference labels), rounded to 0.005 (fit 0.0585). It moves L+ by about -0.5 per unit of chord
+fraction (so 0.02 of the chord is 1 % of L+) and P+, the trims and the stability results with it; those are
+predictions, not fits. Command, residuals and the check at 8 x 16 rings / 80 steps (where the same rule gives 0.03):
+``python scripts/studies/axis_calibration.py --out results/axis_calibration.json``, docs/results.md."""
 
 
 def _default_segments() -> tuple[Ellipsoid, ...]:
@@ -205,19 +262,30 @@ class Morphology:
     """
 
     total_mass: float = 1578.70e-6
+    """Total mass [kg], wings included; quoted: Nguyen et al. 2020, Table 1 (the seed paper's individual)."""
     wing_mass: float = 47e-6
+    """Mass of one wing [kg]; quoted: Berman & Wang 2007 (a 1648 mg moth) taken as is (hawksim 0.2's choice;
+    :meth:`sourced` scales it by the wing-mass fraction)."""
     R: float = 48.50e-3
+    """Wing length [m]; quoted: Nguyen et al. 2020, Table 1."""
     cbar: float = 16.81e-3
+    """Mean chord [m]; quoted: Nguyen et al. 2020, Table 1."""
     r2_hat: float = 0.53
+    """Radius of the second moment of wing area / R; quoted: Nguyen et al. 2020, Table 1."""
     wing_thickness: float = 0.1e-3
+    """Wing thickness [m]; model choice (it only keeps the wing's inertia tensor positive definite)."""
     segments: tuple[Ellipsoid, ...] = field(default_factory=_default_segments)
+    """Head, thorax, abdomen; model choice (:func:`_default_segments`; 42.5 mm long, :data:`PALAORO_BODY_LENGTH`)."""
     hinge_from_thorax: tuple[float, float, float] = (0.0010, 0.0040, 0.0035)
-    """Left hinge relative to the thorax centre [m]: near the front of the thorax, on its dorsolateral edge."""
+    """Left hinge relative to the thorax centre [m]: near the front of the thorax, on its dorsolateral edge; model
+    choice (:meth:`sourced` takes the lateral offset from the measured wing-base spacing)."""
     axis_fraction: float = 0.25
     """Feathering (pitching) axis as a fraction of the local chord behind the leading edge (0: on the leading
-    edge). 0.25 is hawksim 0.2's model choice (issue 22: it sets L+ and P+ by up to 10 %; docs/fidelity.md)."""
+    edge). 0.25 is hawksim 0.2's model choice (it sets L+ and P+ by up to 10 %; docs/fidelity.md); :meth:`sourced`
+    takes the calibrated :data:`CALIBRATED_AXIS_FRACTION`."""
     wing_mass_model: WingMassModel = UNIFORM_WING
-    """Areal density of the wing mass (:class:`WingMassModel`; default uniform)."""
+    """Areal density of the wing mass (:class:`WingMassModel`); default uniform, a model choice (:meth:`sourced`:
+    fitted to the measured radius of gyration)."""
     name: str = "default"
     """Label of the variant (tables, reports, :data:`MORPHOLOGIES`)."""
 
@@ -231,17 +299,25 @@ class Morphology:
 
     @classmethod
     def sourced(cls) -> Morphology:
-        """Issue 22's alternative: the feathering axis on the leading edge and the :data:`VEINED_WING` mass
-        distribution; everything else as the default. NOT the default: every shipped table, network and test is
-        built on ``Morphology()``; switching needs the pipeline regenerated (issue 22, item 4).
+        """Issue 49's hawkmoth: the seed paper's individual (Table 1: mass, R, mean chord, r2) with every other number
+        sourced or derived where the literature allows, and labelled where it does not. NOT yet the default: every
+        shipped table, network and test is built on ``Morphology()`` until the pipeline is regenerated on it.
 
-        Sources: the axis on the leading edge follows the hawkmoth wing's structure, whose leading-edge veins form
-        the spar about which the wing pronates and supinates, with the centre of mass behind the torsional axis
-        (Wootton 1993, J. Exp. Biol. 180:105, on Lepidoptera forewings: "its centre of mass is commonly located
-        behind the torsional axis"); the axis positions of the paper's UVLM (Nguyen et al. 2016) and the other
-        hawkmoth models could not be read in this session's sources (docs/fidelity.md). The mass distribution's
-        constants are provisional (:data:`VEINED_WING`). Wing mass 47 mg as the default (Berman & Wang 2007)."""
-        return cls(axis_fraction=0.0, wing_mass_model=VEINED_WING, name="sourced")
+        Differs from the default in:
+
+        * wing mass: :data:`WING_MASS_FRACTION` of the total mass, 45.02 mg a wing (derived, class (c), from Berman &
+          Wang 2007's 47 mg of a 1648 mg moth);
+        * wing mass distribution: :data:`ROOT_HEAVY_WING`, fitted to the measured radius of gyration 0.381 R
+          (derived); uniform across the chord (model choice);
+        * wing hinges: :data:`PALAORO_WING_BASE_SPACING` apart, scaled by R / :data:`PALAORO_FOREWING` to this
+          individual's wing (derived: 10.18 mm; the default's 8.00 mm was a model choice); their height and fore-aft
+          position stay the default's (model choice);
+        * feathering axis: :data:`CALIBRATED_AXIS_FRACTION`, a calibrated parameter (no source gives it).
+        """
+        spacing = PALAORO_WING_BASE_SPACING * cls.R / PALAORO_FOREWING
+        hx, _, hz = cls.hinge_from_thorax
+        return cls(wing_mass=WING_MASS_FRACTION * cls.total_mass / 2, wing_mass_model=ROOT_HEAVY_WING,
+                   hinge_from_thorax=(hx, spacing / 2, hz), axis_fraction=CALIBRATED_AXIS_FRACTION, name="sourced")
 
     @cached_property
     def planform(self) -> Planform:

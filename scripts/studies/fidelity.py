@@ -59,12 +59,15 @@ from hawksim.backends.uvlm import UVLMBackend
 from hawksim.flight.fly import fly
 from hawksim.insect.kinematics import Kinematics, bounds_si, table3_kinematics
 from hawksim.insect.model import load_model
-from hawksim.insect.morphology import P0_W, RHO_AIR, UNIFORM_WING, VEINED_WING, Morphology
+from hawksim.insect.morphology import P0_W, RHO_AIR, UNIFORM_WING, Morphology, WingMassModel
 from hawksim.jsonout import host_info
 from hawksim.trim.search import fitness
 from hawksim.trim.tables import shipped_trim
 
 SPEEDS = (0.0, 1.0, 2.0)
+VEINED_WING = WingMassModel("veined", span_decay=1.0, chord_decay=1.0)
+"""Issue 22's provisional areal density (exp(-r/R) exp(-s)), kept here so that the study reproduces its table;
+issue 49 replaced it in Morphology.sourced() by ROOT_HEAVY_WING, fitted to the measured radius of gyration."""
 AXES = {"25 % (default)": 0.25, "10 %": 0.10, "leading edge (sourced)": 0.0}
 MASSES = {
     "uniform 47 mg (default)": {"wing_mass_model": UNIFORM_WING},

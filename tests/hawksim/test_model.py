@@ -107,7 +107,7 @@ def test_bad_model_files(tmp_path):
 
 
 def test_committed_sourced_xml_is_the_generated_one():
-    """Issue 22's alternative morphology has its own committed MJCF; loading by morphology gives the same model."""
+    """The sourced hawkmoth (issue 49) has its own committed MJCF; loading by morphology gives the same model."""
     from hawksim.insect.model import MODEL_PATHS
     from hawksim.insect.morphology import Morphology
     sourced = Morphology.sourced()

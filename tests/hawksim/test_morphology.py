@@ -96,6 +96,8 @@ VARIANT_RTOL = 1e-3
 """Relative: the centre of mass, r2 of mass and mean chord position of the wing mass models vs the values their
 docstrings state (3 digits). The quadrature (400 x 60 midpoints) is converged far below that: measured 2e-4 at
 worst (rounding of the stated digits)."""
+GYRATION_FIT_ATOL = 2e-4
+"""The fitted span decay (4 decimals) reproduces the measured radius of gyration 0.381 R to this (in R)."""
 
 
 def _mass_moments(m):
@@ -119,21 +121,43 @@ def test_default_is_hawksim_0_2s_wing():
 
 
 def test_sourced_variant():
-    from hawksim.insect.morphology import VEINED_WING, Morphology, morphology
+    """Issue 49's hawkmoth: the measured radius of gyration (Berman & Wang 2007: I = 1.84e-8 kg m^2, 47 mg,
+    R = 51.9 mm, sqrt(I/m)/R = 0.381), the wing-mass fraction 2 x 47 / 1648, the wing-base spacing 11.08 mm scaled
+    by 48.5 / 52.8 (Palaoro et al.); ../shared/sources/insect-morphology.md."""
+    from hawksim.insect.morphology import (CALIBRATED_AXIS_FRACTION, ROOT_HEAVY_WING, WING_GYRATION_HAT, Morphology,
+                                           morphology)
     m = Morphology.sourced()
     assert m.name == "sourced" and morphology("sourced") == m
-    assert m.axis_fraction == 0.0 and m.wing_mass_model == VEINED_WING
-    r = np.linspace(0, m.R, 7)
-    np.testing.assert_array_equal(m.planform.leading_edge(r), 0.0)  # axis on the leading edge
-    np.testing.assert_allclose(-m.planform.trailing_edge(r), m.planform.chord(r), atol=EDGE_ATOL)
-    # only the axis and the density differ: same mass, area, body
-    assert m.wing_mass == HAWKMOTH.wing_mass and m.wing_area == HAWKMOTH.wing_area
-    np.testing.assert_array_equal(m.body_inertia, HAWKMOTH.body_inertia)
+    assert m.axis_fraction == CALIBRATED_AXIS_FRACTION and m.wing_mass_model == ROOT_HEAVY_WING
+    assert WING_GYRATION_HAT == pytest.approx(0.381, abs=5e-4)
     com, r2, s = _mass_moments(m)
-    assert (com, r2, s) == pytest.approx((0.401, 0.471, 0.42), rel=VARIANT_RTOL * 10)  # VEINED_WING's docstring
+    assert r2 == pytest.approx(WING_GYRATION_HAT, abs=GYRATION_FIT_ATOL)
+    assert s == pytest.approx(0.5, rel=VARIANT_RTOL)  # uniform across the chord (model choice)
+    assert m.wing_mass == pytest.approx(2 * 47 / 1648 * 1578.70e-6 / 2, rel=1e-12)  # 45.02 mg
+    assert 2 * m.hinge_left[1] == pytest.approx(11.08e-3 * 48.5 / 52.8, rel=1e-12)  # 10.18 mm apart
+    # the body and the planform's area are the seed paper's
+    assert m.total_mass == HAWKMOTH.total_mass and m.wing_area == HAWKMOTH.wing_area
+    r = np.linspace(0, m.R, 7)
+    np.testing.assert_allclose(m.planform.leading_edge(r), m.axis_fraction * m.planform.chord(r), atol=EDGE_ATOL)
     ev = np.linalg.eigvalsh(m.wing_inertia)
     assert np.all(ev > 0) and ev[0] + ev[1] >= ev[2] * (1 - INERTIA_TRIANGLE_RTOL)
-    assert m.wing_com[0] < HAWKMOTH.wing_com[0] < 0  # axis moved forward of the centre of mass
+
+
+def test_root_heavy_decay_is_the_fit():
+    """ROOT_HEAVY_SPAN_DECAY is the bisection root of r_gyration(decay) = 0.381 R on the seed planform, to 1e-4."""
+    from dataclasses import replace
+
+    from hawksim.insect.morphology import ROOT_HEAVY_SPAN_DECAY, WING_GYRATION_HAT, Morphology, WingMassModel
+
+    def gyration(decay):
+        m = replace(Morphology.sourced(), wing_mass_model=WingMassModel("fit", span_decay=decay))
+        return _mass_moments(m)[1]
+
+    lo, hi = 0.0, 10.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if gyration(mid) > WING_GYRATION_HAT else (lo, mid)
+    assert ROOT_HEAVY_SPAN_DECAY == pytest.approx(0.5 * (lo + hi), abs=1e-4)
 
 
 def test_mass_model_moves_the_mass_inboard_and_forward():
