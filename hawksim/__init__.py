@@ -2,4 +2,4 @@
 
 import aero  # noqa: F401  (first: applies the opt-in HAWKSIM_VECTOR_WIDTH before numba is imported)
 
-__version__ = "0.2.0"
+__version__ = "0.3.0.dev0"
