@@ -295,7 +295,7 @@ def _panel_mesh(vertices: np.ndarray, pressure: np.ndarray, limit: float) -> rr.
 WAKE_DIM, WAKE_BRIGHT = np.array([70, 95, 150], dtype=float), np.array([255, 255, 255], dtype=float)
 """Wake filament colours: weak dim blue-grey, strong white (brighter = stronger)."""
 
-WAKE_MIN_FRACTION = 0.25
+WAKE_MIN_FRACTION = 0.5
 """Wake filaments weaker than this fraction of the scale's end are not drawn (the lattice's interior lines, whose
 neighbouring rings nearly cancel), so that the vortex structures stand out."""
 
@@ -356,12 +356,10 @@ def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
     (p_lim, p_max), (g_lim, g_max) = sc["pressure"], sc["gamma"]
     pct = f"{ROBUST_PERCENTILE:g}th percentile"
     rec.log("world/uvlm/legend", rr.TextDocument(
-        f"Wing panels: pressure jump (force per area toward the wing's dorsal side, so red lifts the dorsal "
-        f"side), blue -{p_lim:.3g} Pa .. grey 0 .. red +{p_lim:.3g} Pa: the {pct} of |value| over the flight; "
-        f"beyond it clipped (largest {p_max:.3g} Pa).\n"
-        f"Wake lines: vortex filaments by strength |Gamma| (the net circulation of each lattice edge), dim "
-        f"{WAKE_MIN_FRACTION * g_lim:.2g} .. white {g_lim:.3g} m^2/s ({pct}; largest {g_max:.3g} m^2/s); "
-        f"weaker ones not drawn."), static=True)
+        f"Panels: pressure jump, force per area toward the wing's dorsal side: blue -{p_lim:.3g} Pa .. grey 0 .. "
+        f"red +{p_lim:.3g} Pa (the {pct} of |value|; beyond it clipped; largest {p_max:.3g} Pa).\n"
+        f"Wake: vortex filaments by strength |Gamma|, dim {WAKE_MIN_FRACTION * g_lim:.2g} .. white "
+        f"{g_lim:.3g} m^2/s ({pct}; largest {g_max:.3g}); weaker ones not drawn."), static=True)
     for i, e in kept:
         rec.set_time("step", sequence=i)
         rec.set_time("time", duration=float(res.t[i]))

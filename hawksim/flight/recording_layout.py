@@ -161,15 +161,11 @@ def scene_legend(morph_weight: float, uvlm: bool) -> str:
     """The 3D view's legend (``world/legend``): what each thing is, its colour, the force scale."""
     mn = 1e3 * morph_weight
     return (
-        "3D view: follows the moth (centre of mass at the view's origin, axes parallel to the world's, z up); "
-        "the grey line is the centre-of-mass path, fixed in the world, so it slides past as the moth climbs.\n"
-        "Body: brown (head, thorax, abdomen). Wings: left gold, right teal "
-        f"{'(outlines; filled by the pressure colours)' if uvlm else '(translucent)'}.\n"
-        f"Force arrows: aerodynamic force of each wing (left gold, right teal) from its mid-span point; "
-        f"{100 * FORCE_SCALE_M_PER_WEIGHT:g} cm = body weight W = {mn:.1f} mN "
-        f"({100 * FORCE_SCALE_M_PER_WEIGHT / mn:.3g} cm per mN); the white arrow ahead of the head is W itself."
-        + ("\nUVLM: wing panels coloured by pressure jump, wake lines by circulation (scales: UVLM colour scales)."
-           if uvlm else ""))
+        "View follows the moth (centre of mass at its origin, world axes, z up). Grey: centre-of-mass path and a "
+        "height ruler (1 cm ticks), fixed in the world.\n"
+        f"Wings and force arrows: left gold, right teal. Arrow scale: {100 * FORCE_SCALE_M_PER_WEIGHT:g} cm = "
+        f"body weight W = {mn:.1f} mN (white arrow)."
+        + ("\nWing panels: pressure; wake: vortex filaments (see UVLM colour scales)." if uvlm else ""))
 
 
 def default_blueprint(*, uvlm: bool = False, prediction: bool = False, control=()) -> rrb.Blueprint:
@@ -200,5 +196,5 @@ def default_blueprint(*, uvlm: bool = False, prediction: bool = False, control=(
         eye_controls=rrb.EyeControls3D(kind=rrb.components.Eye3DKind.Orbital, position=eye,
                                        look_target=look, eye_up=(0.0, 0.0, 1.0)),
         line_grid=rrb.LineGrid3D(visible=False))
-    left = rrb.Vertical(view3d, rrb.Horizontal(*texts), row_shares=[5, 1])
+    left = rrb.Vertical(view3d, rrb.Horizontal(*texts), row_shares=[3, 1])
     return rrb.Blueprint(rrb.Horizontal(left, side, column_shares=[3, 2]), collapse_panels=True)

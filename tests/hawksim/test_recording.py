@@ -375,7 +375,7 @@ def test_interrupt_writes_the_steps_flown(tmp_path, monkeypatch, capsys, signame
                  "--no-progress"]) == 130
     assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before  # handlers restored
     assert [p.name for p in tmp_path.iterdir()] == ["cut.rrd"]
-    steps, _ = temporal_column(read_chunks(path), "/world/moth", "Transform3D:quaternion")
+    steps, _ = temporal_column(read_chunks(path), "/world/moth", "Transform3D:translation")
     assert calls and at <= len(steps) <= at + 2 and np.array_equal(steps, np.arange(len(steps)))
     err = capsys.readouterr()
     assert err.out == "" and "interrupted at step" in err.err and str(path) in err.err
@@ -412,7 +412,7 @@ def test_interrupt_of_a_controlled_flight_writes_the_beats_flown(tmp_path, monke
     assert calls[0] == (0, 5, "beat") and calls[-1][0] == at  # the hook raised in the call after the signal
     assert [p.name for p in tmp_path.iterdir()] == ["cut.rrd"]
     chunks = read_chunks(path)
-    steps, _ = temporal_column(chunks, "/world/moth", "Transform3D:quaternion")
+    steps, _ = temporal_column(chunks, "/world/moth", "Transform3D:translation")
     assert len(steps) == (at + 1) * spc and np.array_equal(steps, np.arange(len(steps)))
     beats, _ = temporal_column(chunks, "/plots/control/commands/f_hz", "Scalars:scalars")
     np.testing.assert_array_equal(beats, np.arange(1, at + 2) * spc)
