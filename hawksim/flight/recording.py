@@ -1,22 +1,31 @@
-"""Rerun recording of a flight: `write_rrd` writes an offline ``.rrd`` file (open it with ``rerun FILE``).
+"""Rerun recording of a flight: `write_rrd` writes an offline ``.rrd`` file (open it with ``rerun FILE``; how to read
+it: docs/recording.md).
 
 Timelines: ``time`` (duration [s], the step start time ``FlightResult.t``) and ``step`` (sequence, the row
-index). World frame: z up, SI (m, s, N, W). Entity paths:
+index). World frame: z up, SI (m, s, N) unless a series name says otherwise. Entity paths:
 
-* ``world/moth`` - body pose per step (Transform3D: translation [m], quaternion xyzw, body -> world);
-  ``world/moth/body`` - head, thorax, abdomen as Ellipsoids3D in the body frame (static).
-* ``world/wings/{left,right}`` - wing pose per step (Transform3D, wing frame -> world, origin at the hinge);
-  ``world/wings/{left,right}/mesh`` - triangulated planform in the wing frame (Mesh3D, static).
-* ``world/forces/{left,right}`` - aerodynamic force of each wing (Arrows3D) drawn from the wing's mid-span
-  point on the feathering axis, scaled by ``FORCE_SCALE_M_PER_WEIGHT`` = 2 cm per body weight W.
-* ``world/trajectory`` - body centre-of-mass path (LineStrips3D, static).
-* ``plots/...`` - Scalars per step (:data:`SERIES`: entity, series name with its unit, view): forces/{lift,drag}
-  [N], forces_nd/{L_plus,D_plus} [-] (/W), moment/pitching [N m], moment_nd/M_plus [-] (/(W cbar)),
-  power/{aero,joint} [W], velocity/{vx,vy,vz} [m/s] world, attitude/{pitch,roll} [deg].
-* ``world/uvlm/...`` - only when ``result.extras`` holds UVLM data (see `_log_extras`): ``panels`` (pressure-
-  coloured Mesh3D), ``wake/{left,right}`` (LineStrips3D coloured by circulation), ``legend`` (colour scales).
-  They are logged at the steps the backend was called (every UVLM update when the flight kept extras every
-  ``aero_every`` steps, as `hawksim fly --rrd` does); in between they hold, as the simulator holds the loads.
+* ``world/moth`` - the body's centre-of-mass position per step (Transform3D, translation only [m]): the frame the
+  3D view follows (its origin; :mod:`hawksim.flight.recording_layout`). Under it, with offsets from the centre of
+  mass in world axes:
+  ``world/moth/body`` - body attitude per step (Transform3D, quaternion xyzw, body -> world) with head, thorax and
+  abdomen as Ellipsoids3D in the body frame (static), ``world/moth/body/labels`` their names (Points3D placed apart
+  so that they do not overlap); ``world/moth/wings/{left,right}`` - wing pose per step (Transform3D, wing frame ->
+  world axes, origin at the hinge) with ``.../outline`` (LineStrips3D) and, without UVLM panels, ``.../mesh``
+  (translucent Mesh3D) in the wing frame (static); ``world/moth/forces/{left,right}`` - aerodynamic force of each
+  wing (Arrows3D) from the wing's mid-span point on the feathering axis, scaled by ``FORCE_SCALE_M_PER_WEIGHT`` =
+  2 cm per body weight W; ``world/moth/weight`` - the scale arrow: W itself, pointing down, ahead of the head.
+* ``world/trajectory`` - body centre-of-mass path (LineStrips3D, static); ``world/ruler`` - a vertical scale
+  beside the path, a tick per cm, labelled every 10 cm (static): the world-fixed references that slide past.
+* ``world/legend`` - the 3D view's legend (TextDocument: colours, arrow scale).
+* ``plots/...`` - Scalars per step (:data:`SERIES`: entity, series name with its unit, view):
+  forces/{lift,drag} [N], forces_nd/{L_plus,D_plus} [-] (/W), moment/pitching [mN m], moment_nd/M_plus [-]
+  (/(W cbar)), power/{aero,joint} [mW], velocity/{vx,vy,vz} [m/s] world, attitude/{pitch,roll,yaw} [deg]
+  (:meth:`FlightResult.attitude`, the JSON's angles: pitch-first, unwrapped).
+* ``world/uvlm/...`` - only when ``result.extras`` holds UVLM data (see `_log_extras`): ``panels/{left,right}``
+  (Mesh3D coloured by the pressure jump), ``wake/{left,right}`` (LineStrips3D coloured by circulation), ``legend``
+  (the colour scales: symmetric, ending at the 95th percentile of |value|, :func:`robust_limit`). World
+  coordinates. They are logged at the steps the backend was called (every UVLM update when the flight kept extras
+  every ``aero_every`` steps, as `hawksim fly --rrd` does); in between they hold, as the simulator holds the loads.
 * With a :class:`hawksim.stability.prediction.Prediction` (a perturbed flight from a periodic orbit):
   ``world/ghost`` - the ghost body, pose per step (Transform3D) = the unperturbed flight's pose plus the Floquet
   prediction of the deviation, shifted by :data:`GHOST_OFFSET_M` so that it stands beside the nonlinear body;
@@ -24,9 +33,12 @@ index). World frame: z up, SI (m, s, N, W). Entity paths:
   ghost body, the prescribed wing motion) with ``.../mesh``; ``world/ghost_trajectory`` (static);
   ``world/ghost_legend`` (TextDocument); ``plots/beats/{u,w,q,theta,v,p,r,phi}/{nonlinear,floquet,averaged}`` -
   the per-beat state deviations at phase 0 (t = k T) in edge units (:data:`BEAT_STATES`).
+* With a controlled flight's beats: ``plots/control/{commands,tracking}/KEY`` (:func:`control_views`), tracking
+  errors in mm/s, deg, mm rounded to a stated resolution (:data:`CONTROL_TRACKING`).
 
-A default blueprint is stored in the file: the 3D view beside tabs of time-series views, each series named with
-its unit, one view per group (:func:`default_blueprint`), plus a text view of each legend present.
+A default blueprint is stored in the file (:func:`default_blueprint`): the 3D view following the moth, with its
+legend, beside tabs of time-series views, one per group, each series named with its unit and a colour of its own
+within its view.
 """
 
 from __future__ import annotations
@@ -38,68 +50,30 @@ from pathlib import Path
 
 import numpy as np
 import rerun as rr
-import rerun.blueprint as rrb
 
 from hawksim.atomic import ENVIRONMENT_ERRNOS, keep_mode, output_target, temporary_beside
 from hawksim.flight.orbit import STATE_NAMES
+from hawksim.flight.recording_layout import (  # noqa: F401  (re-exported: the recording's public names)
+    BEAT_KINDS, BEAT_STATES, BODY_COLOR, CONTROL_TRACKING, EYE_POSITION_M, FORCE_SCALE_M_PER_WEIGHT, GHOST_COLOR,
+    GHOST_OFFSET_M, MOTH, PALETTE, ROBUST_PERCENTILE, SERIES, SIDE_COLORS, TRAJECTORY_COLOR, VIEWS,
+    WEIGHT_ARROW_ORIGIN_M, control_values, control_views, default_blueprint, diverging_colors, robust_limit,
+    scene_legend, series_colors)
 from hawksim.flight.result import FlightResult
 from hawksim.frames import quat_from_matrices
 from hawksim.insect.accessors import WING_SIDES as SIDES
 from hawksim.insect.morphology import HAWKMOTH, Morphology
 
-FORCE_SCALE_M_PER_WEIGHT = 0.02
-"""Force arrows: an arrow of length 2 cm is a force equal to the body weight W = m g."""
-
 N_SPAN, N_CHORD = 21, 4
 """Wing mesh resolution: spanwise stations (cosine spaced, tips included) and chordwise divisions."""
 
-GHOST_OFFSET_M = (0.0, 0.15, 0.0)
-"""World offset [m] of the ghost body (the linear prediction) from the nonlinear one: 15 cm to the left (+y;
-the wingspan is ~10 cm), fixed, so that both are visible side by side."""
-
-SERIES = (
-    ("forces/lift", "lift [N]"), ("forces/drag", "drag [N]"),
-    ("forces_nd/L_plus", "L+ = L/W [-]"), ("forces_nd/D_plus", "D+ = D/W [-]"),
-    ("moment/pitching", "pitching moment [N m]"), ("moment_nd/M_plus", "M+ = M/(W cbar) [-]"),
-    ("power/aero", "aerodynamic power [W]"), ("power/joint", "joint power [W]"),
-    ("velocity/vx", "vx [m/s]"), ("velocity/vy", "vy [m/s]"), ("velocity/vz", "vz [m/s]"),
-    ("attitude/pitch", "pitch [deg]"), ("attitude/roll", "roll [deg]"),
-)
-"""Per-step series under ``plots/``: (entity, series name with its unit)."""
-
-VIEWS = (
-    ("plots/forces", "Lift, drag [N]"), ("plots/forces_nd", "L+, D+ [-]"),
-    ("plots/moment", "Pitching moment [N m]"), ("plots/moment_nd", "M+ [-]"), ("plots/power", "Power [W]"),
-    ("plots/velocity", "Velocity, world [m/s]"), ("plots/attitude", "Pitch, roll [deg]"),
-)
-"""Time-series views of the per-step series: (origin, name with the unit)."""
-
-BEAT_STATES = (
-    ("u", "m/s", 1.0), ("w", "m/s", 1.0), ("q", "deg/s", 180 / np.pi), ("theta", "deg", 180 / np.pi),
-    ("v", "m/s", 1.0), ("p", "deg/s", 180 / np.pi), ("r", "deg/s", 180 / np.pi), ("phi", "deg", 180 / np.pi),
-)
-"""Per-beat deviation plots: (state, edge unit, factor from SI). States of the orbit's chart
-(:mod:`hawksim.flight.orbit`): u, v, w in the level heading axes (forward, right, down), p, q, r the body rates in
-them, theta the pitch (nose up), phi the bank (right wing down)."""
-
-_BEAT_KINDS = (("nonlinear", "nonlinear flight", (20, 20, 20)), ("floquet", "Floquet M^k x0", (31, 119, 180)),
-               ("averaged", "averaged expm(A k) x0", (214, 39, 40)))
-_GHOST_COLOR = (120, 200, 255)
-_SIDE_COLORS = {"left": (230, 120, 40), "right": (40, 140, 230)}
-_DIVERGING = np.array([[59, 76, 192], [221, 221, 221], [180, 4, 38]], dtype=float)  # blue-white-red
+LABEL_GAP_M = 0.006
+"""Body-part labels stand this far [m] beyond the part (ahead of the head, behind the abdomen, above the thorax),
+so that the three names never overlap."""
 
 
 def _xyzw(q_wxyz: np.ndarray) -> np.ndarray:
     """MuJoCo (w, x, y, z) quaternions (..., 4) -> Rerun (x, y, z, w)."""
     return np.concatenate([q_wxyz[..., 1:], q_wxyz[..., :1]], axis=-1)
-
-
-def diverging_colors(value: np.ndarray, limit: float) -> np.ndarray:
-    """RGB uint8 (..., 3) of ``value`` on a blue (-limit) - white (0) - red (+limit) scale, clipped."""
-    s = np.clip(np.asarray(value, dtype=float) / (limit if limit > 0 else 1.0), -1.0, 1.0) + 1.0  # in [0, 2]
-    i = np.minimum(s.astype(int), 1)
-    f = (s - i)[..., None]
-    return np.round(_DIVERGING[i] * (1 - f) + _DIVERGING[i + 1] * f).astype(np.uint8)
 
 
 def wing_mesh(morph: Morphology = HAWKMOTH, side: str = "left") -> tuple[np.ndarray, np.ndarray]:
@@ -168,9 +142,10 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
         with fh:
             stream = rec.binary_stream()
             views = control_views(control) if control else []
+            uvlm = any("panels" in e for _, e in _uvlm_extras(result))
             rec.send_blueprint(default_blueprint(uvlm=_uvlm_extras(result) != [], prediction=prediction is not None,
                                                  control=views), make_active=False, make_default=True)
-            _log_flight(rec, result, morph)
+            _log_flight(rec, result, morph, uvlm=uvlm)
             _log_extras(rec, result)
             if prediction is not None:
                 _log_prediction(rec, result, prediction, morph)
@@ -191,29 +166,106 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
     return path
 
 
-CONTROL_TRACKING = {"speed_error": "m/s", "pitch_error_deg": "deg", "roll_deg": "deg", "yaw_deg": "deg",
-                    "horizontal_drift_m": "m"}
-"""Tracking errors of a controlled flight's beats that the recording plots, with their units."""
+def wing_outline(morph: Morphology = HAWKMOTH, side: str = "left") -> np.ndarray:
+    """Closed planform outline in the wing frame (2 N_SPAN + 1, 3) [m]: leading edge root to tip, trailing edge
+    back to the root (the stations of :func:`wing_mesh`)."""
+    verts, _ = wing_mesh(morph, side)
+    grid = verts.reshape(N_SPAN, N_CHORD + 1, 3)
+    return np.concatenate([grid[:, 0], grid[::-1, -1], grid[:1, 0]])
 
-_SUFFIX_UNITS = (("_hz", "Hz"), ("_deg", "deg"), ("_m", "m"))
+
+def body_labels(morph: Morphology = HAWKMOTH) -> tuple[np.ndarray, list[str]]:
+    """Label positions (3, 3) [m] in the body frame and the names: ahead of the head, above the thorax and behind
+    the abdomen, :data:`LABEL_GAP_M` beyond each part's surface."""
+    c = morph.segment_centres()
+    ax = {s.name: s.semi_axes for s in morph.segments}
+    pos = [c["head"] + [ax["head"][0] + LABEL_GAP_M, 0, 0], c["thorax"] + [0, 0, ax["thorax"][2] + LABEL_GAP_M],
+           c["abdomen"] - [ax["abdomen"][0] + LABEL_GAP_M, 0, 0]]
+    return np.array(pos), ["head", "thorax", "abdomen"]
 
 
-def control_views(beats: list[dict]) -> list[tuple[str, str, str, str]]:
-    """(entity path, key, kind, view name with unit) of every command and tracking error in ``beats``; a command's
-    unit comes from its key's suffix (``f_hz``, ``phi0_deg``)."""
-    out = []
-    for key in beats[0].get("commands", {}):
-        unit = next((u for s, u in _SUFFIX_UNITS if key.endswith(s)), "-")
-        out.append((f"plots/control/commands/{key}", key, "commands", f"command {key} [{unit}]"))
-    for key, unit in CONTROL_TRACKING.items():
-        if key in beats[0]:
-            out.append((f"plots/control/tracking/{key}", key, "tracking", f"{key} [{unit}]"))
-    return out
+def _ruler(body_pos: np.ndarray, offset=(-0.06, 0.0)) -> rr.LineStrips3D:
+    """A vertical scale [m] beside the path (``offset`` in world x, y from the start): a line over the climb with a
+    4 mm tick every cm and a 1 cm tick, labelled with its height, every 10 cm."""
+    x0, y0 = body_pos[0, 0] + offset[0], body_pos[0, 1] + offset[1]
+    lo = np.floor(body_pos[:, 2].min() * 100) / 100 - 0.02
+    hi = np.ceil(body_pos[:, 2].max() * 100) / 100 + 0.02
+    strips, labels = [np.array([[x0, y0, lo], [x0, y0, hi]])], [""]
+    for k in range(int(round(lo * 100)), int(round(hi * 100)) + 1):
+        z, big = k / 100, k % 10 == 0
+        strips.append(np.array([[x0, y0, z], [x0, y0 - (0.01 if big else 0.004), z]]))
+        labels.append(f"z = {z:g} m" if big else "")
+    return rr.LineStrips3D(strips, colors=[(110, 110, 110)], radii=rr.Radius.ui_points(1.0), labels=labels,
+                           show_labels=True)
+
+
+def _log_flight(rec: rr.RecordingStream, res: FlightResult, morph: Morphology, *, uvlm: bool = False) -> None:
+    n = len(res.t)
+    idx = [rr.TimeColumn("time", duration=np.asarray(res.t, dtype=float)),
+           rr.TimeColumn("step", sequence=np.arange(n))]
+    rec.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+    rec.log("world/trajectory", rr.LineStrips3D([res.body_pos], colors=[TRAJECTORY_COLOR],
+                                                radii=rr.Radius.ui_points(1.0)), static=True)
+    rec.log("world/ruler", _ruler(res.body_pos), static=True)
+    rec.log("world/legend", rr.TextDocument(scene_legend(morph.weight, uvlm)), static=True)
+
+    # the followed frame (translation only) and the body's attitude in it
+    pos = np.asarray(res.body_pos, dtype=float)
+    rec.send_columns(MOTH, idx, rr.Transform3D.columns(translation=pos))
+    rec.send_columns(f"{MOTH}/body", idx, rr.Transform3D.columns(quaternion=_xyzw(res.body_quat)))
+    centres = morph.segment_centres()
+    rec.log(f"{MOTH}/body", rr.Ellipsoids3D(
+        centers=[centres[s.name] for s in morph.segments], half_sizes=[s.semi_axes for s in morph.segments],
+        colors=[BODY_COLOR], fill_mode="solid"), static=True)
+    where, names = body_labels(morph)
+    rec.log(f"{MOTH}/body/labels", rr.Points3D(where, labels=names, radii=rr.Radius.ui_points(0.0),
+                                                 colors=[(230, 230, 230)], show_labels=True), static=True)
+    scale = FORCE_SCALE_M_PER_WEIGHT / morph.weight
+    rec.log(f"{MOTH}/weight", rr.Arrows3D(origins=[WEIGHT_ARROW_ORIGIN_M], vectors=[[0, 0, -FORCE_SCALE_M_PER_WEIGHT]],
+                                          colors=[(235, 235, 235)], radii=[1.5e-4],
+                                          labels=[f"W = {1e3 * morph.weight:.1f} mN"], show_labels=True), static=True)
+
+    # wings and force arrows, relative to the centre of mass
+    for i, side in enumerate(SIDES):
+        R = res.wing_R[:, i]
+        rec.send_columns(f"{MOTH}/wings/{side}", idx, rr.Transform3D.columns(
+            translation=res.wing_origin[:, i] - pos, quaternion=_xyzw(quat_from_matrices(R))))
+        rec.log(f"{MOTH}/wings/{side}/outline", rr.LineStrips3D(
+            [wing_outline(morph, side)], colors=[SIDE_COLORS[side]], radii=rr.Radius.ui_points(1.5)), static=True)
+        if not uvlm:  # with UVLM panels, they fill the wing (two surfaces in one place would flicker)
+            verts, tris = wing_mesh(morph, side)
+            rec.log(f"{MOTH}/wings/{side}/mesh", rr.Mesh3D(
+                vertex_positions=verts, triangle_indices=tris,
+                vertex_normals=np.tile([0.0, 0.0, 1.0], (len(verts), 1)),
+                albedo_factor=(*SIDE_COLORS[side], 110)), static=True)
+        span = R[:, :, 1] * (0.5 * morph.R * (1.0 if side == "left" else -1.0))
+        rec.log(f"{MOTH}/forces/{side}", rr.Arrows3D.from_fields(colors=[SIDE_COLORS[side]], radii=[2e-4]),
+                static=True)
+        rec.send_columns(f"{MOTH}/forces/{side}", idx, rr.Arrows3D.columns(
+            vectors=res.force[:, i] * scale, origins=res.wing_origin[:, i] + span - pos))
+
+    # time series
+    W, cbar = morph.weight, morph.cbar
+    lift, drag = res.lift_drag()
+    M = res.pitching_moment()
+    att = np.rad2deg(res.attitude())
+    values = {
+        "forces/lift": lift, "forces/drag": drag, "forces_nd/L_plus": lift / W, "forces_nd/D_plus": drag / W,
+        "moment/pitching": 1e3 * M, "moment_nd/M_plus": M / (W * cbar),
+        "power/aero": 1e3 * res.power_aero, "power/joint": 1e3 * res.power_joint,
+        "velocity/vx": res.body_v[:, 0], "velocity/vy": res.body_v[:, 1], "velocity/vz": res.body_v[:, 2],
+        "attitude/pitch": att[:, 0], "attitude/roll": att[:, 1], "attitude/yaw": att[:, 2],
+    }
+    colors = series_colors()
+    for name, label, _ in SERIES:
+        rec.log(f"plots/{name}", rr.SeriesLines(names=label, colors=[colors[name]]), static=True)
+        rec.send_columns(f"plots/{name}", idx, rr.Scalars.columns(scalars=np.asarray(values[name], dtype=float)))
 
 
 def _log_control(rec: rr.RecordingStream, res: FlightResult, beats: list[dict], views) -> None:
-    """Each beat's tracking errors at its end; its commands there too, or, for a controller updated per half-stroke
-    (``commands_half_stroke`` in the beats), the phase-0 commands at mid-beat and the phase-0.5 ones at its end."""
+    """Each beat's tracking errors at its end (in the units of :data:`CONTROL_TRACKING`, rounded to its resolution);
+    its commands there too, or, for a controller updated per half-stroke (``commands_half_stroke`` in the beats),
+    the phase-0 commands at mid-beat and the phase-0.5 ones at its end."""
     n = res.steps_per_cycle
     T = n * (res.t[1] - res.t[0])
     k = np.arange(len(beats)) + 1
@@ -223,86 +275,10 @@ def _log_control(rec: rr.RecordingStream, res: FlightResult, beats: list[dict], 
         kk = np.ravel(np.column_stack([k - 0.5, k]))
         idx_c = [rr.TimeColumn("time", duration=kk * T), rr.TimeColumn("step", sequence=np.rint(kk * n).astype(int))]
     for path, key, kind, name in views:
-        if kind == "commands" and half:
-            vals = np.ravel([[b["commands"][key], b["commands_half_stroke"][key]] for b in beats])
-        else:
-            vals = [b["commands"][key] if kind == "commands" else b[key] for b in beats]
-        rec.log(path, rr.SeriesPoints(names=name, markers=["circle"], marker_sizes=[3.0]), static=True)
-        rec.send_columns(path, idx_c if kind == "commands" and half else idx,
-                         rr.Scalars.columns(scalars=np.asarray(vals, dtype=float)))
-
-
-def default_blueprint(*, uvlm: bool = False, prediction: bool = False, control=()) -> rrb.Blueprint:
-    """The 3D view beside tabs: the per-step time series (:data:`VIEWS`), with ``prediction`` the per-beat state
-    deviations (one view per :data:`BEAT_STATES` entry, named with its unit) and the ghost's legend, with ``uvlm``
-    the colour legend of the panels and wake."""
-    tabs = [rrb.Grid(*[rrb.TimeSeriesView(origin=o, name=n) for o, n in VIEWS], name="Per step")]
-    if control:
-        tabs.append(rrb.Grid(*[rrb.TimeSeriesView(origin=path, name=name) for path, _, _, name in control],
-                             name="Control: commands (per update) and tracking (per beat)"))
-    if prediction:
-        tabs.append(rrb.Grid(*[rrb.TimeSeriesView(origin=f"plots/beats/{k}", name=f"Δ{k} per beat [{u}]")
-                               for k, u, _ in BEAT_STATES], name="Per beat: nonlinear vs linear"))
-    texts = ([rrb.TextDocumentView(origin="world/ghost_legend", name="Ghost")] if prediction else []) + (
-        [rrb.TextDocumentView(origin="world/uvlm/legend", name="UVLM colour scales")] if uvlm else [])
-    side = rrb.Tabs(*tabs) if len(tabs) > 1 else tabs[0]
-    right = rrb.Vertical(side, *texts, row_shares=[6] + [1] * len(texts)) if texts else side
-    return rrb.Blueprint(
-        rrb.Horizontal(
-            rrb.Spatial3DView(origin="world", name="Hawkmoth", contents=["+ /world/**", "- /world/uvlm/legend",
-                                                                         "- /world/ghost_legend"]),
-            right,
-            column_shares=[3, 2],
-        ),
-        collapse_panels=True,
-    )
-
-
-def _log_flight(rec: rr.RecordingStream, res: FlightResult, morph: Morphology) -> None:
-    n = len(res.t)
-    idx = [rr.TimeColumn("time", duration=np.asarray(res.t, dtype=float)),
-           rr.TimeColumn("step", sequence=np.arange(n))]
-    rec.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
-    rec.log("world/trajectory", rr.LineStrips3D([res.body_pos], colors=[(120, 120, 120)]), static=True)
-
-    # body
-    rec.send_columns("world/moth", idx, rr.Transform3D.columns(
-        translation=res.body_pos, quaternion=_xyzw(res.body_quat)))
-    centres = morph.segment_centres()
-    rec.log("world/moth/body", rr.Ellipsoids3D(
-        centers=[centres[s.name] for s in morph.segments], half_sizes=[s.semi_axes for s in morph.segments],
-        colors=[(110, 90, 70)], fill_mode="solid", labels=[s.name for s in morph.segments]), static=True)
-
-    # wings and force arrows
-    scale = FORCE_SCALE_M_PER_WEIGHT / morph.weight
-    for i, side in enumerate(SIDES):
-        R = res.wing_R[:, i]
-        rec.send_columns(f"world/wings/{side}", idx, rr.Transform3D.columns(
-            translation=res.wing_origin[:, i], quaternion=_xyzw(quat_from_matrices(R))))
-        verts, tris = wing_mesh(morph, side)
-        rec.log(f"world/wings/{side}/mesh", rr.Mesh3D(
-            vertex_positions=verts, triangle_indices=tris, vertex_normals=np.tile([0.0, 0.0, 1.0], (len(verts), 1)),
-            albedo_factor=(*_SIDE_COLORS[side], 180)), static=True)
-        span = R[:, :, 1] * (0.5 * morph.R * (1.0 if side == "left" else -1.0))
-        rec.log(f"world/forces/{side}", rr.Arrows3D.from_fields(
-            colors=[_SIDE_COLORS[side]], radii=[2e-4]), static=True)
-        rec.send_columns(f"world/forces/{side}", idx, rr.Arrows3D.columns(
-            vectors=res.force[:, i] * scale, origins=res.wing_origin[:, i] + span))
-
-    # time series
-    W, cbar = morph.weight, morph.cbar
-    lift, drag = res.lift_drag()
-    M = res.pitching_moment()
-    values = {
-        "forces/lift": lift, "forces/drag": drag, "forces_nd/L_plus": lift / W, "forces_nd/D_plus": drag / W,
-        "moment/pitching": M, "moment_nd/M_plus": M / (W * cbar),
-        "power/aero": res.power_aero, "power/joint": res.power_joint,
-        "velocity/vx": res.body_v[:, 0], "velocity/vy": res.body_v[:, 1], "velocity/vz": res.body_v[:, 2],
-        "attitude/pitch": np.rad2deg(res.pitch()), "attitude/roll": np.rad2deg(res.roll()),
-    }
-    for name, label in SERIES:
-        rec.log(f"plots/{name}", rr.SeriesLines(names=label), static=True)
-        rec.send_columns(f"plots/{name}", idx, rr.Scalars.columns(scalars=np.asarray(values[name], dtype=float)))
+        vals = control_values(beats, key, kind, half=half and kind == "commands")
+        rec.log(path, rr.SeriesPoints(names=name, colors=[PALETTE[0]], markers=["circle"], marker_sizes=[3.0]),
+                static=True)
+        rec.send_columns(path, idx_c if kind == "commands" and half else idx, rr.Scalars.columns(scalars=vals))
 
 
 def _panel_mesh(vertices: np.ndarray, pressure: np.ndarray, limit: float) -> rr.Mesh3D:
@@ -316,14 +292,39 @@ def _panel_mesh(vertices: np.ndarray, pressure: np.ndarray, limit: float) -> rr.
                      face_rendering="DoubleSided")
 
 
-def _wake_strips(vertices: np.ndarray, gamma: np.ndarray, limit: float) -> rr.LineStrips3D:
-    """The wake lattice (rows+1, ns+1, 3) as LineStrips3D: each ring's upstream spanwise segment coloured by
-    its circulation gamma (rows, ns); the streamwise lines (ns+1 strips) in grey."""
-    seg = np.stack([vertices[:-1, :-1], vertices[:-1, 1:]], 2).reshape(-1, 2, 3)
-    strips = list(seg) + list(np.swapaxes(vertices, 0, 1))
-    colors = np.concatenate([diverging_colors(gamma.reshape(-1), limit),
-                             np.full((vertices.shape[1], 3), 150, dtype=np.uint8)])
-    return rr.LineStrips3D(strips, colors=colors, radii=5e-5)
+WAKE_DIM, WAKE_BRIGHT = np.array([70, 95, 150], dtype=float), np.array([255, 255, 255], dtype=float)
+"""Wake filament colours: weak dim blue-grey, strong white (brighter = stronger)."""
+
+WAKE_MIN_FRACTION = 0.5
+"""Wake filaments weaker than this fraction of the scale's end are not drawn (the lattice's interior lines, whose
+neighbouring rings nearly cancel), so that the vortex structures stand out."""
+
+
+def wake_filaments(vertices: np.ndarray, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The wake lattice's edges as two-point segments (m, 2, 3) [m] with their net circulation |Gamma| (m,)
+    [m^2/s]: an edge shared by two rings carries the difference of their circulations, an edge on the lattice's
+    border (tip, root, oldest row) the circulation of its one ring. vertices (rows+1, ns+1, 3), gamma (rows, ns).
+    The newest row's upstream edges (at the trailing edge, where the Kutta condition makes the net nearly zero)
+    are left out."""
+    rows, ns = gamma.shape
+    g = np.zeros((rows + 2, ns + 2))
+    g[1:-1, 1:-1] = gamma
+    span = np.abs(g[2:, 1:-1] - g[1:-1, 1:-1])  # (rows, ns): edges at rows 1 .. rows, between rings r-1 and r
+    stream = np.abs(g[1:-1, 1:] - g[1:-1, :-1])  # (rows, ns + 1): edges at columns 0 .. ns
+    seg_span = np.stack([vertices[1:, :-1], vertices[1:, 1:]], 2).reshape(-1, 2, 3)
+    seg_stream = np.stack([vertices[:-1, :], vertices[1:, :]], 2).reshape(-1, 2, 3)
+    return np.concatenate([seg_span, seg_stream]), np.concatenate([span.ravel(), stream.ravel()])
+
+
+def wake_strips(vertices: np.ndarray, gamma: np.ndarray, limit: float) -> rr.LineStrips3D:
+    """LineStrips3D of the wake's filaments (:func:`wake_filaments`) at least :data:`WAKE_MIN_FRACTION` of
+    ``limit`` [m^2/s], coloured from dim (weak) to white (``limit`` and above). One (m, 2, 3) array, which Rerun
+    converts in one piece (a list of strips of different lengths is converted strip by strip, ~100 times slower)."""
+    seg, strength = wake_filaments(vertices, gamma)
+    keep = strength >= WAKE_MIN_FRACTION * limit
+    f = np.clip(strength[keep] / (limit if limit > 0 else 1.0), 0.0, 1.0)[:, None]
+    colors = np.round(WAKE_DIM * (1 - f) + WAKE_BRIGHT * f).astype(np.uint8)
+    return rr.LineStrips3D(seg[keep], colors=colors, radii=rr.Radius.ui_points(0.75))
 
 
 def _uvlm_extras(res: FlightResult) -> list:
@@ -332,20 +333,33 @@ def _uvlm_extras(res: FlightResult) -> list:
             if isinstance(e, dict) and ("panels" in e or "wake" in e) and 0 <= int(i) < len(res.t)]
 
 
+def uvlm_scales(kept: list) -> dict[str, tuple[float, float]]:
+    """Colour-scale ends of the kept UVLM extras (:func:`robust_limit`): {"pressure": (limit, largest) [Pa],
+    "gamma": (limit, largest) [m^2/s]}."""
+    return {"pressure": robust_limit([e["pressure"] for _, e in kept if "pressure" in e]),
+            "gamma": robust_limit([wake_filaments(np.asarray(v, dtype=float), np.asarray(g, dtype=float))[1]
+                                   for _, e in kept for v, g in e.get("wake", []) if np.size(g)])}
+
+
 def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
     """UVLM extras (step, dict): ``panels`` (2, nc+1, ns+1, 3) world [m] with ``pressure`` (2, nc, ns) [Pa]
-    (pressure jump across the wing), and ``wake``: per wing (vertices (rows+1, ns+1, 3) [m], gamma (rows, ns)
-    [m^2/s]). Colour scales are symmetric, blue (negative) - white - red (positive), with limits the largest
-    |pressure| and |gamma| over all kept steps; they are written to ``world/uvlm/legend``."""
+    (pressure jump across the wing: the panel's force per area along the wing frame's +z, which is the dorsal side
+    on both wings, so positive pushes the wing toward its dorsal side), and ``wake``: per wing (vertices
+    (rows+1, ns+1, 3) [m], ring circulations gamma (rows, ns) [m^2/s]). Pressure: a symmetric scale, blue
+    (negative) - light grey - red (positive); wake: filaments (:func:`wake_strips`) by strength, dim to white.
+    Both scales end at the 95th percentile of |value| over all kept steps (:func:`uvlm_scales`); they are written to
+    ``world/uvlm/legend`` with the largest values."""
     kept = _uvlm_extras(res)
     if not kept:
         return
-    p_lim = max([float(np.abs(e["pressure"]).max()) for _, e in kept if "pressure" in e] + [0.0])
-    g_lim = max([float(np.abs(g).max()) for _, e in kept for _, g in e.get("wake", []) if np.size(g)] + [0.0])
+    sc = uvlm_scales(kept)
+    (p_lim, p_max), (g_lim, g_max) = sc["pressure"], sc["gamma"]
+    pct = f"{ROBUST_PERCENTILE:g}th percentile"
     rec.log("world/uvlm/legend", rr.TextDocument(
-        f"Panel colour: pressure jump, blue -{p_lim:.4g} Pa .. white 0 .. red +{p_lim:.4g} Pa.\n"
-        f"Wake colour: ring circulation, blue -{g_lim:.4g} m^2/s .. white 0 .. red +{g_lim:.4g} m^2/s."),
-        static=True)
+        f"Panels: pressure jump, force per area toward the wing's dorsal side: blue -{p_lim:.3g} Pa .. grey 0 .. "
+        f"red +{p_lim:.3g} Pa (the {pct} of |value|; beyond it clipped; largest {p_max:.3g} Pa).\n"
+        f"Wake: vortex filaments by strength |Gamma|, dim {WAKE_MIN_FRACTION * g_lim:.2g} .. white "
+        f"{g_lim:.3g} m^2/s ({pct}; largest {g_max:.3g}); weaker ones not drawn."), static=True)
     for i, e in kept:
         rec.set_time("step", sequence=i)
         rec.set_time("time", duration=float(res.t[i]))
@@ -356,7 +370,7 @@ def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
         for w, (V, g) in enumerate(e.get("wake", [])):
             V, g = np.asarray(V, dtype=float), np.asarray(g, dtype=float)
             if g.size:
-                rec.log(f"world/uvlm/wake/{SIDES[w]}", _wake_strips(V, g, g_lim))
+                rec.log(f"world/uvlm/wake/{SIDES[w]}", wake_strips(V, g, g_lim))
     rec.reset_time()
 
 
@@ -370,11 +384,11 @@ def _log_prediction(rec: rr.RecordingStream, res: FlightResult, pred, morph: Mor
     pos = pred.ghost_pos[:n] + off
     rec.send_columns("world/ghost", idx, rr.Transform3D.columns(translation=pos,
                                                                  quaternion=_xyzw(pred.ghost_quat[:n])))
-    rec.log("world/ghost_trajectory", rr.LineStrips3D([pos], colors=[(*_GHOST_COLOR, 160)]), static=True)
+    rec.log("world/ghost_trajectory", rr.LineStrips3D([pos], colors=[(*GHOST_COLOR, 160)]), static=True)
     centres = morph.segment_centres()
     rec.log("world/ghost/body", rr.Ellipsoids3D(
         centers=[centres[s.name] for s in morph.segments], half_sizes=[s.semi_axes for s in morph.segments],
-        colors=[(*_GHOST_COLOR, 90)], fill_mode="solid"), static=True)
+        colors=[(*GHOST_COLOR, 90)], fill_mode="solid"), static=True)
     Rb = ref.body_R[:n]
     for i, side in enumerate(SIDES):  # the prescribed wing motion relative to the body (the same in both flights)
         R_rel = np.einsum("nji,njk->nik", Rb, ref.wing_R[:n, i])
@@ -384,7 +398,7 @@ def _log_prediction(rec: rr.RecordingStream, res: FlightResult, pred, morph: Mor
         verts, tris = wing_mesh(morph, side)
         rec.log(f"world/ghost/wings/{side}/mesh", rr.Mesh3D(
             vertex_positions=verts, triangle_indices=tris, vertex_normals=np.tile([0.0, 0.0, 1.0], (len(verts), 1)),
-            albedo_factor=(*_GHOST_COLOR, 90)), static=True)
+            albedo_factor=(*GHOST_COLOR, 90)), static=True)
     rec.log("world/ghost_legend", rr.TextDocument(
         "Ghost (pale blue, translucent): the LINEAR prediction of this perturbed flight - the unperturbed orbit "
         "flight's pose plus the Floquet prediction of the deviation (M^k x0 at phase 0 of each beat, linearly "
@@ -397,7 +411,7 @@ def _log_prediction(rec: rr.RecordingStream, res: FlightResult, pred, morph: Mor
     series = {"nonlinear": pred.nonlinear, "floquet": pred.floquet, "averaged": pred.averaged}
     for name, unit, factor in BEAT_STATES:
         j = STATE_NAMES.index(name)  # the first 8 are the prediction's states (hawksim.stability.prediction)
-        for kind, label, color in _BEAT_KINDS:
+        for kind, label, color in BEAT_KINDS:
             d = np.asarray(series[kind], dtype=float)
             k = np.arange(len(d))
             ent = f"plots/beats/{name}/{kind}"

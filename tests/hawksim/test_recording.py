@@ -41,6 +41,14 @@ MESH_AREA_RTOL = 0.03
 """Relative: area of the recorded wing mesh (N_SPAN x N_CHORD = 21 x 4 quads, straight edges) vs the planform's
 wing area: polygonal approximation of the curved edges; the round value's source is not recorded; measured 4.2e-3."""
 
+POS_ATOL = 1e-8
+"""m: positions stored as float32 (|x| < 0.1 m here, half an ulp ~4e-9 m)."""
+
+ANGLE_ATOL_DEG = 1e-4
+"""deg: plotted attitude angles (float64, from float64 quaternions) vs the constructed ones: trigonometric round-off
+only (~1e-13); the round value is a loose bound, so that only a wrong angle definition fails (the old one was off by
+180 deg)."""
+
 NORMAL_ATOL = 1e-15
 """m^2: triangle normals' z component (twice the area) may be this far below zero; the mesh lies in z = 0, so only
 round-off; measured min 0 (no negative component)."""
@@ -86,31 +94,35 @@ def test_recording_contents(result, tmp_path):
     reader = RrdReader(path)
     assert len(reader.recordings()) == 1 and len(reader.blueprints()) == 1
     chunks = read_chunks(path)
-    expected = ["/world/moth", "/world/moth/body", "/world/trajectory"]
-    expected += [f"/world/{kind}/{side}" for kind in ("wings", "forces") for side in ("left", "right")]
-    expected += [f"/world/wings/{side}/mesh" for side in ("left", "right")]
+    expected = ["/world/moth", "/world/moth/body", "/world/moth/body/labels", "/world/moth/weight",
+                "/world/trajectory", "/world/ruler", "/world/legend"]
+    expected += [f"/world/moth/{kind}/{side}" for kind in ("wings", "forces") for side in ("left", "right")]
+    expected += [f"/world/moth/wings/{side}/{part}" for side in ("left", "right") for part in ("mesh", "outline")]
     expected += [f"/plots/{name}" for name in (
         "forces/lift", "forces/drag", "forces_nd/L_plus", "forces_nd/D_plus", "moment/pitching",
         "moment_nd/M_plus", "power/aero", "power/joint", "velocity/vx", "velocity/vy", "velocity/vz",
-        "attitude/pitch", "attitude/roll")]
+        "attitude/pitch", "attitude/roll", "attitude/yaw")]
     missing = [e for e in expected if e not in chunks]
     assert not missing, missing
     assert not any(e.startswith("/world/uvlm") for e in chunks)
 
     n = len(result.t)
-    steps, quats = temporal_column(chunks, "/world/moth", "Transform3D:quaternion")
+    steps, quats = temporal_column(chunks, "/world/moth/body", "Transform3D:quaternion")
     np.testing.assert_array_equal(steps, np.arange(n))
     q = np.array([v[0] for v in quats])  # xyzw, stored as float32
     np.testing.assert_allclose(q, result.body_quat[:, [1, 2, 3, 0]], atol=QUAT_ATOL)
     for i, side in enumerate(("left", "right")):
-        _, wq = temporal_column(chunks, f"/world/wings/{side}", "Transform3D:quaternion")
+        _, wq = temporal_column(chunks, f"/world/moth/wings/{side}", "Transform3D:quaternion")
         assert len(wq) == n
-        x, y, z, w = np.array([v[0] for v in wq], dtype=float).T  # wing frame -> world, xyzw
+        x, y, z, w = np.array([v[0] for v in wq], dtype=float).T  # wing frame -> world axes, xyzw
         R = np.stack([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                       [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                       [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]).transpose(2, 0, 1)
         np.testing.assert_allclose(R, result.wing_R[:, i], atol=WING_R_ATOL)
-        assert len(temporal_column(chunks, f"/world/forces/{side}", "Arrows3D:vectors")[0]) == n
+        _, wt = temporal_column(chunks, f"/world/moth/wings/{side}", "Transform3D:translation")
+        np.testing.assert_allclose(np.array([v[0] for v in wt]), result.wing_origin[:, i] - result.body_pos,
+                                   atol=POS_ATOL)
+        assert len(temporal_column(chunks, f"/world/moth/forces/{side}", "Arrows3D:vectors")[0]) == n
 
     lift = result.lift_drag()[0]
     steps, values = temporal_column(chunks, "/plots/forces/lift", "Scalars:scalars")
@@ -203,6 +215,7 @@ def test_uvlm_extras(result, tmp_path):
     nc, ns, rows = 3, 5, 4
     steps = (10, 60)
     extras = [(k, synthetic_extras(result, k, nc, ns, rows)) for k in steps]
+    extras[0][1]["pressure"][0, 1, 2] = 672.0  # one outlier panel [Pa] among values of ~5 Pa
     res = dataclasses.replace(result, extras=extras)
     chunks = read_chunks(write_rrd(tmp_path / "uvlm.rrd", res))
     for side in ("left", "right"):
@@ -215,16 +228,24 @@ def test_uvlm_extras(result, tmp_path):
     # the panel with the largest |pressure| over the recording is at the end of the scale
     _, colors = temporal_column(chunks, "/world/uvlm/panels/left", "Mesh3D:vertex_colors")
     p = extras[0][1]["pressure"]
-    p_lim = max(np.abs(e["pressure"]).max() for _, e in extras)
+    p_lim = np.percentile(np.abs([e["pressure"] for _, e in extras]), recording.ROBUST_PERCENTILE)
     rgb = np.array([unpack_rgb(c) for c in colors[0][::4]])
     np.testing.assert_array_equal(rgb, recording.diverging_colors(p[0].reshape(-1), p_lim))
-    k = np.argmax(np.abs(p[0]))
-    if np.abs(p[0]).max() == p_lim:
-        assert tuple(rgb[k]) == ((180, 4, 38) if p[0].flat[k] > 0 else (59, 76, 192))
+    assert p_lim < 20  # the scale is set by the bulk of the panels, not by the outlier (issue 52)
+    assert tuple(rgb[1 * ns + 2]) == (180, 4, 38)  # the outlier clipped to the end colour
+    assert len(np.unique(rgb, axis=0)) > nc * ns // 2  # the other panels keep distinct colours
+    legend = [rb.column("TextDocument:text").to_pylist()[0][0] for st, rb in chunks["/world/uvlm/legend"]
+              if "TextDocument:text" in rb.schema.names][0]
+    assert f"+{p_lim:.3g} Pa" in legend and "largest 672 Pa" in legend
 
     got_steps, strips = temporal_column(chunks, "/world/uvlm/wake/right", "LineStrips3D:strips")
     np.testing.assert_array_equal(got_steps, steps)
-    assert len(strips[0]) == rows * ns + ns + 1  # ring segments + streamwise lines
+    v, g = extras[0][1]["wake"][1]
+    _, strength = recording.wake_filaments(v, g)
+    g_lim = recording.uvlm_scales(extras)["gamma"][0]
+    expected = int((strength >= recording.WAKE_MIN_FRACTION * g_lim).sum())
+    assert len(strength) == rows * ns + rows * (ns + 1) and 0 < expected < len(strength)
+    assert len(strips[0]) == expected and all(len(p) == 2 for p in strips[0])  # two-point filaments
 
 
 def test_diverging_colors():
@@ -280,7 +301,7 @@ def test_every_series_in_a_view_with_its_unit(result, tmp_path):
     views = check_units_and_views(path, chunks)
     assert "/plots/moment_nd/M_plus" in series_names(chunks)
     names = {o: n for c, o, n in views}
-    assert names["/plots/forces_nd"] == "L+, D+ [-]" and names["/plots/moment_nd"] == "M+ [-]"
+    assert names["/plots/forces_nd"] == "L+, D+ (/ weight) [-]" and names["/plots/moment_nd"] == "M+ [-]"
 
 
 def test_uvlm_legend_in_a_view(result, tmp_path):
@@ -354,7 +375,7 @@ def test_interrupt_writes_the_steps_flown(tmp_path, monkeypatch, capsys, signame
                  "--no-progress"]) == 130
     assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before  # handlers restored
     assert [p.name for p in tmp_path.iterdir()] == ["cut.rrd"]
-    steps, _ = temporal_column(read_chunks(path), "/world/moth", "Transform3D:quaternion")
+    steps, _ = temporal_column(read_chunks(path), "/world/moth", "Transform3D:translation")
     assert calls and at <= len(steps) <= at + 2 and np.array_equal(steps, np.arange(len(steps)))
     err = capsys.readouterr()
     assert err.out == "" and "interrupted at step" in err.err and str(path) in err.err
@@ -391,7 +412,7 @@ def test_interrupt_of_a_controlled_flight_writes_the_beats_flown(tmp_path, monke
     assert calls[0] == (0, 5, "beat") and calls[-1][0] == at  # the hook raised in the call after the signal
     assert [p.name for p in tmp_path.iterdir()] == ["cut.rrd"]
     chunks = read_chunks(path)
-    steps, _ = temporal_column(chunks, "/world/moth", "Transform3D:quaternion")
+    steps, _ = temporal_column(chunks, "/world/moth", "Transform3D:translation")
     assert len(steps) == (at + 1) * spc and np.array_equal(steps, np.arange(len(steps)))
     beats, _ = temporal_column(chunks, "/plots/control/commands/f_hz", "Scalars:scalars")
     np.testing.assert_array_equal(beats, np.arange(1, at + 2) * spc)
@@ -497,3 +518,142 @@ def test_a_link_is_followed_and_a_fifo_refused(result, tmp_path):
         write_rrd(tmp_path / "fifo.rrd", result)
     assert stat.S_ISFIFO(os.stat(tmp_path / "fifo.rrd").st_mode)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fifo.rrd", "flight.rrd", "link.rrd"]
+
+
+# ---- a recording a reader understands at a glance (issue 52 item 2) ------------------------------------------
+def blueprint_components(path: Path, suffix: str) -> dict[str, dict]:
+    """Blueprint entity (ending with ``suffix``) -> {component: last value} of the file's blueprint store."""
+    reader = RrdReader(path)
+    out: dict[str, dict] = {}
+    for ch in reader.stream(store=reader.blueprints()[0]).to_chunks():
+        if ch.entity_path.endswith(suffix):
+            rb = ch.to_record_batch()
+            out.setdefault(ch.entity_path, {}).update(
+                {c: rb.column(c).to_pylist()[-1] for c in rb.schema.names if ":" in c})
+    return out
+
+
+def series_styles(chunks: dict) -> dict[str, tuple]:
+    """Scalars entity -> its colour (r, g, b) from SeriesLines / SeriesPoints (None where it has none)."""
+    out = {}
+    for e, lst in chunks.items():
+        if not any("Scalars:scalars" in rb.schema.names for _, rb in lst):
+            continue
+        cols = [rb.column(c).to_pylist()[0] for _, rb in lst for c in rb.schema.names
+                if c in ("SeriesLines:colors", "SeriesPoints:colors")]
+        out[e] = unpack_rgb(cols[0][0]) if cols and cols[0] else None
+    return out
+
+
+def check_distinct_colours(path: Path, chunks: dict) -> dict[str, list]:
+    """Every Scalars entity is in exactly one time-series view and has a colour of its own within that view, far
+    from the dark background; returns view origin -> its series."""
+    ts = [o for c, o, _ in blueprint_views(path) if c == "TimeSeries"]
+    by_view: dict[str, list] = {}
+    for e, rgb in series_styles(chunks).items():
+        views = [o for o in ts if e == o or e.startswith(o + "/")]
+        assert len(views) == 1, (e, views)
+        assert rgb is not None and max(rgb) >= 120, (e, rgb)  # visible on the viewer's dark background
+        by_view.setdefault(views[0], []).append((e, rgb))
+    for view, lst in by_view.items():
+        colours = [rgb for _, rgb in lst]
+        assert len(set(colours)) == len(colours), (view, lst)
+    return by_view
+
+
+def test_blueprint_series_colours_distinct_in_every_view(result, tmp_path):
+    path = write_rrd(tmp_path / "flight.rrd", result)
+    by_view = check_distinct_colours(path, read_chunks(path))
+    assert len(by_view["/plots/forces"]) == 2 and len(by_view["/plots/power"]) == 2
+    assert len(by_view["/plots/velocity"]) == 3 and len(by_view["/plots/attitude"]) == 3  # pitch, roll, yaw
+
+
+def test_3d_view_follows_the_body(result, tmp_path):
+    """The 3D view's origin is /world/moth, whose transform is the centre-of-mass position (translation only); the
+    body, wings and force arrows hang under it; the eye looks at the origin from 2-4 times the insect's extent, so
+    the whole insect (wing tips included) is in frame wherever the moth flies."""
+    path = write_rrd(tmp_path / "flight.rrd", result)
+    views = blueprint_views(path)
+    spatial = [o for c, o, _ in views if c == "3D"]
+    assert spatial == ["/world/moth"]
+    chunks = read_chunks(path)
+    steps, tr = temporal_column(chunks, "/world/moth", "Transform3D:translation")
+    np.testing.assert_array_equal(steps, np.arange(len(result.t)))
+    np.testing.assert_allclose(np.array([v[0] for v in tr]), result.body_pos, atol=POS_ATOL)
+    assert not any(c in rb.schema.names for _, rb in chunks["/world/moth"]
+                   for c in ("Transform3D:quaternion", "Transform3D:mat3x3", "Transform3D:rotation_axis_angle"))
+    for e in ("body", "wings/left", "wings/right", "forces/left", "forces/right"):
+        assert f"/world/moth/{e}" in chunks
+    assert not any(e.startswith("/world/wings") or e.startswith("/world/forces") for e in chunks)
+
+    eye = next(iter(blueprint_components(path, "/EyeControls3D").values()))
+    target = np.array(eye["EyeControls3D:look_target"][0])
+    position = np.array(eye["EyeControls3D:position"][0])
+    np.testing.assert_allclose(target, 0.0, atol=1e-12)
+    tips = result.wing_origin[:, 0] + result.wing_R[:, 0, :, 1] * HAWKMOTH.R - result.body_pos
+    extent = np.linalg.norm(tips, axis=1).max()  # m: the farthest wing tip from the centre of mass
+    assert 2.0 * extent <= np.linalg.norm(position - target) <= 4.0 * extent
+
+
+def test_attitude_series_as_the_json_past_90_deg_pitch(result, tmp_path):
+    """Issue 52 bug: `fly --perturb q=100 --control none` showed roll jumping to ~175 deg once the pitch passed
+    90 deg (Z-Y-X Euler angles), while the JSON says roll 0. The recording plots FlightResult.attitude() (the
+    JSON's pitch-first angles, unwrapped): a pure pitch-over from 60 to 300 deg stays a pitch with roll and yaw 0."""
+    n = len(result.t)
+    pitch = np.deg2rad(np.linspace(60.0, 300.0, n))
+    # body -> world for a nose-up pitch about the world's -y (body x up from the heading +x)
+    quat = np.stack([np.cos(pitch / 2), 0 * pitch, -np.sin(pitch / 2), 0 * pitch], 1)  # w, x, y, z
+    res = dataclasses.replace(result, body_quat=quat)
+    chunks = read_chunks(write_rrd(tmp_path / "over.rrd", res))
+    got = {k: np.array([v[0] for v in temporal_column(chunks, f"/plots/attitude/{k}", "Scalars:scalars")[1]])
+           for k in ("pitch", "roll", "yaw")}
+    np.testing.assert_allclose(got["pitch"], np.rad2deg(pitch), atol=ANGLE_ATOL_DEG)
+    np.testing.assert_allclose(got["roll"], 0.0, atol=ANGLE_ATOL_DEG)
+    np.testing.assert_allclose(got["yaw"], 0.0, atol=ANGLE_ATOL_DEG)
+    np.testing.assert_allclose(got["pitch"], np.rad2deg(res.attitude()[:, 0]), rtol=SCALAR_RTOL)
+
+
+def test_wake_filaments():
+    """A uniform sheet of rings: the interior edges cancel, the border carries the rings' circulation; the newest
+    row's upstream edges (at the trailing edge) are left out."""
+    rows, ns = 3, 4
+    x, y = np.meshgrid(-np.arange(rows + 1.0), np.arange(ns + 1.0), indexing="ij")
+    v = np.stack([x, y, 0 * x], -1)
+    seg, strength = recording.wake_filaments(v, np.full((rows, ns), 2.0))
+    assert seg.shape == (rows * ns + rows * (ns + 1), 2, 3)
+    mid = seg.mean(1)
+    border = (np.isclose(mid[:, 0], -rows)) | np.isclose(mid[:, 1], 0) | np.isclose(mid[:, 1], ns)
+    np.testing.assert_allclose(strength[border], 2.0)
+    np.testing.assert_allclose(strength[~border], 0.0)
+    assert not np.any(np.isclose(mid[:, 0], 0.0) & ~np.isclose(mid[:, 1] % 1, 0))  # no trailing-edge edges
+
+
+def test_control_errors_in_sensible_units_without_round_off():
+    """Issue 52: the Control tab plotted round-off (tick labels like 0.000 000 000 000 3). Tracking errors are
+    plotted in mm/s, deg and mm, rounded to 1 um/s, 1e-4 deg and 1 um; commands to 1e-6 of their unit."""
+    beats = [{"commands": {"f_hz": 28.53 + 3e-13, "dphi0_deg": -2e-14}, "speed_error": 3e-16,
+              "pitch_error_deg": -4e-15, "roll_deg": 0.25, "horizontal_drift_m": 0.0123456}]
+    views = {key: name for _, key, _, name in recording.control_views(beats)}
+    assert views["speed_error"] == "speed error [mm/s]" and views["horizontal_drift_m"] == "horizontal drift [mm]"
+    assert views["f_hz"] == "command f_hz [Hz]"
+    assert recording.control_values(beats, "speed_error", "tracking")[0] == 0.0
+    assert recording.control_values(beats, "pitch_error_deg", "tracking")[0] == 0.0
+    assert recording.control_values(beats, "roll_deg", "tracking")[0] == pytest.approx(0.25, abs=1e-12)
+    assert recording.control_values(beats, "horizontal_drift_m", "tracking")[0] == pytest.approx(12.346, abs=1e-9)
+    assert recording.control_values(beats, "f_hz", "commands")[0] == pytest.approx(28.53, abs=1e-12)
+    assert recording.control_values(beats, "dphi0_deg", "commands")[0] == 0.0
+
+
+def test_side_colours_stay_off_the_pressure_scale(result, tmp_path):
+    """Issue 52 bug: the UVLM recording showed the pressure colours opposite on the left and right wings of a
+    symmetric flight: the wings' own fills (orange left, blue right) lay over the pressure panels in the colours of
+    the pressure scale's two ends. With panels the wings are outlines only, and the side colours are far from every
+    colour of the blue-grey-red scale."""
+    scale = recording.diverging_colors(np.linspace(-1, 1, 201), 1.0).astype(float)
+    for rgb in recording.SIDE_COLORS.values():
+        assert np.linalg.norm(scale - rgb, axis=1).min() > 100
+    res = dataclasses.replace(result, extras=[(k, synthetic_extras(result, k)) for k in (0, 5)])
+    chunks = read_chunks(write_rrd(tmp_path / "uvlm.rrd", res))
+    meshes = [e for e, lst in chunks.items() if any("Mesh3D:vertex_positions" in rb.schema.names for _, rb in lst)]
+    assert sorted(meshes) == ["/world/uvlm/panels/left", "/world/uvlm/panels/right"]
+    assert "/world/moth/wings/left/outline" in chunks
