@@ -22,7 +22,7 @@ README = ROOT / "README.md"
 GUIDE = sorted((ROOT / "docs" / "guide").glob("*.md"))
 PAGES = [README, *(ROOT / "docs" / n for n in ("index.md", "cli.md", "layout.md")), *GUIDE]
 
-PENDING = {"docs/recording.md", "docs/output.md", "docs/images/recording.png"}
+PENDING: set[str] = set()
 """Pages the README and the guide link to that other work in progress writes; a link to one of them may dangle."""
 
 README_MAX_LINES = 115
