@@ -192,8 +192,8 @@ def aligned_scratch(size):
     """Six float64 arrays of ``size`` whose first elements lie on 64-byte (cache-line) boundaries, carved from one
     :func:`aligned_buffer`: the corner-block kernels' per-target corner vectors. On AMD Zen 5 with 512-bit
     vectors the edge sums otherwise load many vectors across two cache lines: the edge pass alone ran 1.2x faster
-    on aligned scratch there (scripts/studies/kernel_variants.py, ``edges_only`` against ``edges_shifted``,
-    2026-12-04). The alignment moves no arithmetic, so no bits."""
+    on aligned scratch there (scripts/studies/kernel_variants.py, ``edges_only`` against ``edges_shifted``;
+    docs/performance.md). The alignment moves no arithmetic, so no bits."""
     pad = (size + 7) // 8 * 8
     raw = aligned_buffer(6 * pad)
     return (raw[:size], raw[pad:pad + size], raw[2 * pad:2 * pad + size], raw[3 * pad:3 * pad + size],
@@ -244,8 +244,8 @@ def _edge_terms_mixed(m, x1, y1, z1, e1, f1, g1, x2, y2, z2, e2, f2, g2, gamma, 
     """:func:`_edge_sum`'s terms (times 4 pi) on float32 distances, unit vectors, circulations and rr, evaluated
     in float32 and stored in tx, ty, tz [k < m] (float32) for :func:`_sum_terms` to add in float64. (Storing the
     terms and summing them in a second loop lets LLVM vectorise both loops; adding each float32 term straight to
-    float64 sums kept the fused loop scalar: 1.34x slower on the kernel benchmark with 256-bit vectors, at the
-    same arithmetic, 2026-12-03. Summing the terms in float32 was 1.75x faster but moved the reference case's
+    float64 sums kept the fused loop scalar, slower on the kernel benchmark with 256-bit vectors at the same
+    arithmetic: docs/performance.md. Summing the terms in float32 was 1.75x faster but moved the reference case's
     lift by 6.5e-4 and power by 9.6e-4 relative against 1.5e-4 and 9e-6: scripts/studies/mixed_precision.py.)"""
     for k in range(m):
         ax, ay, az = x1[k], y1[k], z1[k]
@@ -336,7 +336,7 @@ def _lattice_chunks_mixed(targets, vx, vy, vz, stride, span_gamma, span_rr, chor
 RING_PAIR_COST = 24
 """Cost of one ring-target evaluation of :func:`ring_influence` in lattice-kernel pair evaluations, the unit of
 :data:`aero.scheduling.MIN_PARALLEL_WORK` (four edges, two square roots and two divisions each, not vectorised:
-36 ns against 1.5 ns per lattice pair on one core, 2026-12-03, so an influence matrix of 144 x 72 rings is split
+measured on one core: docs/performance.md; so an influence matrix of 144 x 72 rings is split
 over the threads). Measured, not tuned; it only decides whether a call is split."""
 
 

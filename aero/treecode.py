@@ -449,7 +449,7 @@ NEAR_COST = 1.6
 """Cost of one near-field edge-target pair of the treecode (a block's edges, padding included) in direct-sum pairs
 (the lattice kernel's). Tuned: first measured 0.22 s against 0.13 s for the same 10-beat wake with theta = 0 (one
 thread, the corner-block kernel); re-fitted with the targets-in-lanes kernel by ``scripts/studies/tree_cost.py``
-(2026-12-05, an AVX-512 Xeon: 1.55 at 256 bits, 1.64 at 512; results/tree_cost_2026-12-05*.json). It moves where
+(1.55 at 256 bits, 1.64 at 512 on an AVX-512 Xeon: results/tree_cost_*.json). It moves where
 ``wake_summation="auto"`` switches to the tree: with it the plan chose the faster sum in all 13 crossover cases at
 both widths."""
 

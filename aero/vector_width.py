@@ -3,7 +3,7 @@
 LLVM, and so numba, picks the width of the vectors it compiles loops for by the host CPU's tuning. On the first
 AVX-512 server CPUs (Intel Skylake-SP, Cascade Lake) and the Xeons after them it prefers 256-bit registers (the
 tuning flag ``prefer-256-bit``), because those CPUs lower their clock while 512-bit instructions run; on AMD Zen 5
-(``znver5``: an EPYC KVM guest here, 2026-12-04) and Zen 4 (``znver4``, 2026-12-06) it uses 512-bit registers
+(``znver5``) and Zen 4 (``znver4``; both seen on this project's hosts, docs/performance.md) it uses 512-bit registers
 already by default (the compiled kernels hold zmm registers). The default width therefore depends on the host.
 The default float64 UVLM gives the same bits at both widths: its lattice kernel (:mod:`aero.lattice_lanes`) puts
 targets in the lanes, so a target's arithmetic does not depend on the lane count (tests/aero/test_vector_width.py);

@@ -3,9 +3,8 @@
 ``dask_client(scheduler, workers)`` yields a client of a running scheduler (e.g. dask-jobqueue on SLURM) or of a
 LocalCluster of single-threaded worker processes. Each worker runs numba, OpenMP, MKL and OpenBLAS on one thread:
 the UVLM's small problems scale poorly over threads, so one process per core is faster than one process with a
-thread per core (measured for the data set: 0.65 s per sample against 1.9 s when the workers kept 2 numba
-threads; measured with numba's GNU-OpenMP parallel kernels, before the kernels moved to aero.scheduling's thread
-pool on 2026-12-02, which removed the spinning threads behind most of that gap: not re-measured since).
+thread per core (the measurement, made before the kernels moved to aero.scheduling's thread pool and not
+repeated since: docs/performance.md).
 """
 
 from __future__ import annotations

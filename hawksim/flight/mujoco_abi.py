@@ -200,5 +200,4 @@ class Trampoline:
         self.no_timer = ctypes.CFUNCTYPE(ctypes.c_double)(self._engine.get_function_address("hawksim_mjcb_time"))
         """An ``mjcb_time`` that returns 0: MuJoCo's stage timers (``mjData.timer``, which nothing here reads) cost
         nothing. The mujoco package's own default clock, a call into its bindings and ``clock_gettime`` per timer,
-        took 26 % of an RK4 step of the hawkmoth without aerodynamics (0.0289 -> 0.0212 s for 4000 steps, measured
-        2026-12-02 with ``mujoco.set_mjcb_time``)."""
+        took about a quarter of an RK4 step of the hawkmoth without aerodynamics (docs/performance.md)."""

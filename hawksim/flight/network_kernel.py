@@ -41,8 +41,8 @@ def tanh32(v):
 def _rows8(c0, c1, buf, base, a, bias, out0, out1):
     """Eight consecutive outputs of one layer for both wings (c0, c1: the inputs (a,)): the rows of ``buf`` at
     base, base + a, ... base + 7 a dotted with c0 and c1, plus bias (8,), into out0, out1 (8,). Sixteen sums in one
-    loop, so each input element is loaded once for eight rows (20-25 % faster than one row at a time, measured on
-    the shipped network 2026-12-02)."""
+    loop, so each input element is loaded once for eight rows (faster than one row at a time on the shipped network:
+    docs/performance.md)."""
     w0, w1 = buf[base:base + a], buf[base + a:base + 2 * a]
     w2, w3 = buf[base + 2 * a:base + 3 * a], buf[base + 3 * a:base + 4 * a]
     w4, w5 = buf[base + 4 * a:base + 5 * a], buf[base + 5 * a:base + 6 * a]
@@ -84,8 +84,8 @@ def mlp(x, buf, K, n_in, h, L):
     layer's biases are the members' zeros), then the output bias (6). The arithmetic of the numpy evaluation up to
     the order of the float32 sums (``fastmath`` lets them vectorise; ~1e-7 relative) and tanh's last bit; each
     weight row is read once for both wings, and each input element once for eight rows (:func:`_rows8`): the
-    shipped 3 x 192^3 network's 466 000 multiply-adds take ~20 us a call, against 73-95 us with row-major axpy
-    sums and libm's tanh (measured 2026-12-02).
+    shipped 3 x 192^3 network's 466 000 multiply-adds take a fraction of the time of row-major axpy sums with
+    libm's tanh (docs/performance.md).
     The callback that calls it (:mod:`hawksim.flight.native`) is never loaded from the cache compiled against an
     older version of it: :mod:`aero.numba_cache` keeps one cache folder per version of the sources."""
     out = np.zeros((2, 6), np.float32)

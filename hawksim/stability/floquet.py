@@ -50,8 +50,8 @@ be set), so the monodromy is B A^-1 with A = d x(w)/d x0 over the warm-up beats;
 sigma_max(A) is how strongly the launch family reaches the mode's direction v at the periodic beat, relative to
 its best-reached direction. A mode reached only through a small singular value of A is the launch family's
 extrapolation (its wake is not the one a continued flight carries), not a mode of the flight. Measured
-(2026-12-01, shipped orbits, step 1e-3; validation.json): every mode the perturbed flights confirm has reach
->= 0.12 (1 m/s: 0.37 longitudinal, 0.48 lateral; 2 m/s: 0.64, 0.20, 0.12 longitudinal, 0.29 lateral), every
+(shipped orbits, step 1e-3; results/free_flight/validation.json): every mode the perturbed flights confirm has
+reach >= 0.12 (1 m/s: 0.37 longitudinal, 0.48 lateral; 2 m/s: 0.64, 0.20, 0.12 longitudinal, 0.29 lateral), every
 one they do not has reach <= 0.042 (1 m/s: -0.176+-0.234i 0.026, 1.185+-2.589i 0.042; 2 m/s: -1.299 0.005,
 1.559 0.0003, -1.376 0.020). A quasi-steady orbit (state settable, A = I) has reach 1 for every mode."""
 
