@@ -316,15 +316,33 @@ def wake_filaments(vertices: np.ndarray, gamma: np.ndarray) -> tuple[np.ndarray,
     return np.concatenate([seg_span, seg_stream]), np.concatenate([span.ravel(), stream.ravel()])
 
 
-def wake_strips(vertices: np.ndarray, gamma: np.ndarray, limit: float) -> rr.LineStrips3D:
-    """LineStrips3D of the wake's filaments (:func:`wake_filaments`) at least :data:`WAKE_MIN_FRACTION` of
-    ``limit`` [m^2/s], coloured from dim (weak) to white (``limit`` and above). One (m, 2, 3) array, which Rerun
-    converts in one piece (a list of strips of different lengths is converted strip by strip, ~100 times slower)."""
-    seg, strength = wake_filaments(vertices, gamma)
+def wake_strips(vertices: np.ndarray, gamma: np.ndarray, limit: float,
+                filaments: tuple[np.ndarray, np.ndarray] | None = None) -> rr.LineStrips3D:
+    """LineStrips3D of the wake's filaments (:func:`wake_filaments`, or ``filaments`` when already computed) at least
+    :data:`WAKE_MIN_FRACTION` of ``limit`` [m^2/s], coloured from dim (weak) to white (``limit`` and above). One
+    (m, 2, 3) array, which Rerun converts in one piece (a list of strips of different lengths is converted strip by
+    strip, ~100 times slower)."""
+    seg, strength = filaments if filaments is not None else wake_filaments(vertices, gamma)
     keep = strength >= WAKE_MIN_FRACTION * limit
     f = np.clip(strength[keep] / (limit if limit > 0 else 1.0), 0.0, 1.0)[:, None]
     colors = np.round(WAKE_DIM * (1 - f) + WAKE_BRIGHT * f).astype(np.uint8)
     return rr.LineStrips3D(seg[keep], colors=colors, radii=rr.Radius.ui_points(0.75))
+
+
+WAKE_FRAMES_PER_BEAT = 20
+"""The wake is drawn at most this many times per wingbeat (at the first kept step and then at kept steps at least
+steps_per_cycle / 20 steps after the last one drawn); the panels at every kept step. The wake moves little within
+a twentieth of a beat, and drawing it is most of a UVLM recording's cost (it grows by a row per update)."""
+
+
+def wake_steps(steps: list[int], steps_per_cycle: int) -> set[int]:
+    """The kept steps at which the wake is drawn (:data:`WAKE_FRAMES_PER_BEAT`)."""
+    gap, out, last = max(1, steps_per_cycle // WAKE_FRAMES_PER_BEAT), set(), None
+    for i in sorted(steps):
+        if last is None or i - last >= gap:
+            out.add(i)
+            last = i
+    return out
 
 
 def _uvlm_extras(res: FlightResult) -> list:
@@ -333,12 +351,15 @@ def _uvlm_extras(res: FlightResult) -> list:
             if isinstance(e, dict) and ("panels" in e or "wake" in e) and 0 <= int(i) < len(res.t)]
 
 
-def uvlm_scales(kept: list) -> dict[str, tuple[float, float]]:
+def uvlm_scales(kept: list, filaments: dict | None = None) -> dict[str, tuple[float, float]]:
     """Colour-scale ends of the kept UVLM extras (:func:`robust_limit`): {"pressure": (limit, largest) [Pa],
-    "gamma": (limit, largest) [m^2/s]}."""
+    "gamma": (limit, largest) [m^2/s]}. filaments: {(step, wing): :func:`wake_filaments`'s pair} where already
+    computed (the wake's scale is then taken over those steps)."""
+    if filaments is None:
+        filaments = {(i, w): wake_filaments(np.asarray(v, dtype=float), np.asarray(g, dtype=float))
+                     for i, e in kept for w, (v, g) in enumerate(e.get("wake", [])) if np.size(g)}
     return {"pressure": robust_limit([e["pressure"] for _, e in kept if "pressure" in e]),
-            "gamma": robust_limit([wake_filaments(np.asarray(v, dtype=float), np.asarray(g, dtype=float))[1]
-                                   for _, e in kept for v, g in e.get("wake", []) if np.size(g)])}
+            "gamma": robust_limit([strength for _, strength in filaments.values()])}
 
 
 def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
@@ -347,12 +368,16 @@ def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
     on both wings, so positive pushes the wing toward its dorsal side), and ``wake``: per wing (vertices
     (rows+1, ns+1, 3) [m], ring circulations gamma (rows, ns) [m^2/s]). Pressure: a symmetric scale, blue
     (negative) - light grey - red (positive); wake: filaments (:func:`wake_strips`) by strength, dim to white.
-    Both scales end at the 95th percentile of |value| over all kept steps (:func:`uvlm_scales`); they are written to
-    ``world/uvlm/legend`` with the largest values."""
+    The wake is drawn at most :data:`WAKE_FRAMES_PER_BEAT` times a beat. Both scales end at the 95th percentile of
+    |value| over the steps drawn (:func:`uvlm_scales`); they are written to ``world/uvlm/legend`` with the largest
+    values."""
     kept = _uvlm_extras(res)
     if not kept:
         return
-    sc = uvlm_scales(kept)
+    drawn = wake_steps([i for i, _ in kept], res.steps_per_cycle)
+    filaments = {(i, w): wake_filaments(np.asarray(v, dtype=float), np.asarray(g, dtype=float))
+                 for i, e in kept if i in drawn for w, (v, g) in enumerate(e.get("wake", [])) if np.size(g)}
+    sc = uvlm_scales(kept, filaments)
     (p_lim, p_max), (g_lim, g_max) = sc["pressure"], sc["gamma"]
     pct = f"{ROBUST_PERCENTILE:g}th percentile"
     rec.log("world/uvlm/legend", rr.TextDocument(
@@ -367,10 +392,9 @@ def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
             P, p = np.asarray(e["panels"], dtype=float), np.asarray(e["pressure"], dtype=float)
             for w, side in enumerate(SIDES):
                 rec.log(f"world/uvlm/panels/{side}", _panel_mesh(P[w], p[w], p_lim))
-        for w, (V, g) in enumerate(e.get("wake", [])):
-            V, g = np.asarray(V, dtype=float), np.asarray(g, dtype=float)
-            if g.size:
-                rec.log(f"world/uvlm/wake/{SIDES[w]}", wake_strips(V, g, g_lim))
+        for w in range(len(e.get("wake", []))):
+            if (i, w) in filaments:
+                rec.log(f"world/uvlm/wake/{SIDES[w]}", wake_strips(None, None, g_lim, filaments[(i, w)]))
     rec.reset_time()
 
 

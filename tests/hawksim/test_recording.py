@@ -341,8 +341,14 @@ def test_uvlm_extras_every_update(result, tmp_path, monkeypatch):
     assert main(["fly", "--speed", "1", "--cycles", "2", "--aero", "uvlm", "--rrd", str(path), "--json",
                  "--no-progress"]) == 0
     assert seen["keep_extras_every"] == every == 5
-    steps, _ = temporal_column(read_chunks(path), "/world/uvlm/panels/left", "Mesh3D:vertex_positions")
+    chunks = read_chunks(path)
+    steps, _ = temporal_column(chunks, "/world/uvlm/panels/left", "Mesh3D:vertex_positions")
     np.testing.assert_array_equal(steps, np.arange(0, len(result.t), every))
+    # the wake at most WAKE_FRAMES_PER_BEAT times a beat: every other update at 200 steps a beat
+    wake, _ = temporal_column(chunks, "/world/uvlm/wake/left", "LineStrips3D:strips")
+    gap = result.steps_per_cycle // recording.WAKE_FRAMES_PER_BEAT
+    np.testing.assert_array_equal(wake, np.arange(0, len(result.t), max(gap, every)))
+    assert len(wake) <= recording.WAKE_FRAMES_PER_BEAT * len(result.t) / result.steps_per_cycle + 1
     verify(path)
 
 
