@@ -281,15 +281,47 @@ def _log_control(rec: rr.RecordingStream, res: FlightResult, beats: list[dict], 
         rec.send_columns(path, idx_c if kind == "commands" and half else idx, rr.Scalars.columns(scalars=vals))
 
 
+def _panel_arrays(vertices: np.ndarray, pressure: np.ndarray, limit: float
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A panel lattice (nc+1, ns+1, 3) as flat-coloured quads (4 own vertices per panel): vertex positions
+    (4 nc ns, 3), vertex colours (4 nc ns, 4) and triangle indices (2 nc ns, 3)."""
+    quads = np.stack([vertices[:-1, :-1], vertices[:-1, 1:], vertices[1:, 1:], vertices[1:, :-1]], 2)  # nc,ns,4,3
+    base = 4 * np.arange(pressure.size)[:, None]
+    tris = np.concatenate([base + [0, 1, 2], base + [0, 2, 3]]).astype(np.uint32)
+    return quads.reshape(-1, 3), np.repeat(diverging_colors(pressure.reshape(-1), limit), 4, axis=0), tris
+
+
 def _panel_mesh(vertices: np.ndarray, pressure: np.ndarray, limit: float) -> rr.Mesh3D:
     """Mesh3D of a panel lattice (nc+1, ns+1, 3), one flat-coloured quad (4 own vertices) per panel."""
-    quads = np.stack([vertices[:-1, :-1], vertices[:-1, 1:], vertices[1:, 1:], vertices[1:, :-1]], 2)  # nc,ns,4,3
-    verts = quads.reshape(-1, 3)
-    base = 4 * np.arange(pressure.size)[:, None]
-    tris = np.concatenate([base + [0, 1, 2], base + [0, 2, 3]])
-    colors = np.repeat(diverging_colors(pressure.reshape(-1), limit), 4, axis=0)
-    return rr.Mesh3D(vertex_positions=verts, triangle_indices=tris.astype(np.uint32), vertex_colors=colors,
+    verts, colors, tris = _panel_arrays(vertices, pressure, limit)
+    return rr.Mesh3D(vertex_positions=verts, triangle_indices=tris, vertex_colors=colors,
                      face_rendering="DoubleSided")
+
+
+def _log_panels(rec: rr.RecordingStream, res: FlightResult, kept: list, limit: float) -> None:
+    """The pressure-coloured panels of every kept step, one column per wing (one call, not one per step: the
+    lattice's topology is the same at every step; a flight whose lattice changed is logged step by step)."""
+    pan = [(i, np.asarray(e["panels"], dtype=float), np.asarray(e["pressure"], dtype=float))
+           for i, e in kept if "panels" in e and "pressure" in e]
+    if not pan:
+        return
+    steps = np.array([i for i, _, _ in pan])
+    idx = [rr.TimeColumn("step", sequence=steps), rr.TimeColumn("time", duration=np.asarray(res.t, float)[steps])]
+    for w, side in enumerate(SIDES):
+        path = f"world/uvlm/panels/{side}"
+        arrays = [_panel_arrays(P[w], p[w], limit) for _, P, p in pan]
+        if any(a[2].shape != arrays[0][2].shape for a in arrays):
+            for (i, P, p) in pan:
+                rec.set_time("step", sequence=i)
+                rec.set_time("time", duration=float(res.t[i]))
+                rec.log(path, _panel_mesh(P[w], p[w], limit))
+            rec.reset_time()
+            continue
+        rec.log(path, rr.Mesh3D.from_fields(triangle_indices=arrays[0][2], face_rendering="DoubleSided"),
+                static=True)
+        rec.send_columns(path, idx, rr.Mesh3D.columns(
+            vertex_positions=np.concatenate([a[0] for a in arrays]),
+            vertex_colors=np.concatenate([a[1] for a in arrays])).partition([len(a[0]) for a in arrays]))
 
 
 WAKE_DIM, WAKE_BRIGHT = np.array([70, 95, 150], dtype=float), np.array([255, 255, 255], dtype=float)
@@ -385,13 +417,12 @@ def _log_extras(rec: rr.RecordingStream, res: FlightResult) -> None:
         f"red +{p_lim:.3g} Pa (the {pct} of |value|; beyond it clipped; largest {p_max:.3g} Pa).\n"
         f"Wake: vortex filaments by strength |Gamma|, dim {WAKE_MIN_FRACTION * g_lim:.2g} .. white "
         f"{g_lim:.3g} m^2/s ({pct}; largest {g_max:.3g}); weaker ones not drawn."), static=True)
+    _log_panels(rec, res, kept, p_lim)
     for i, e in kept:
+        if i not in drawn:
+            continue
         rec.set_time("step", sequence=i)
         rec.set_time("time", duration=float(res.t[i]))
-        if "panels" in e and "pressure" in e:
-            P, p = np.asarray(e["panels"], dtype=float), np.asarray(e["pressure"], dtype=float)
-            for w, side in enumerate(SIDES):
-                rec.log(f"world/uvlm/panels/{side}", _panel_mesh(P[w], p[w], p_lim))
         for w in range(len(e.get("wake", []))):
             if (i, w) in filaments:
                 rec.log(f"world/uvlm/wake/{SIDES[w]}", wake_strips(None, None, g_lim, filaments[(i, w)]))
