@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from hawksim.cli.summary import LOADS, line, num, resolution_text
 
-STOPPED_BY = {"max_iter": "NOT converged: stopped at --max-iter", "early_stopping": "stopped early (the validation "
-              "error stopped falling)", "mu_max": "stopped: the damping reached its limit (a local minimum)",
+STOPPED_BY = {"max_iter": "NOT converged: stopped at --max-iter", "early_stopping": "stopped early: the validation "
+              "error stopped falling", "mu_max": "stopped: the damping reached its limit (a local minimum)",
               "time_limit": "NOT converged: stopped at --time-limit"}
 """Levenberg-Marquardt's ``stopped_by`` (hawksim.surrogate.train) in words."""
 

@@ -78,7 +78,7 @@ def render_orbit(out: dict) -> str:
     """`hawksim trim --free-flight`'s summary: the periodic orbit (hawksim.cli.stability.orbit_json's object)."""
     s = out["initial_state"]
     conv = "converged" if out["converged"] else "NOT converged"
-    v = out["mean_velocity"]
+    v = ", ".join(f"{x:.3f}".replace("-0.000", "0.000") for x in out["mean_velocity"])
     floor = f" (the wake's beat-to-beat floor {num(out['floor'], 2)})" if out.get("floor") else ""
     return "\n".join([
         f"hawksim trim --free-flight: periodic orbit of the free body at {out['speed']:g} m/s ascent, "
@@ -88,6 +88,6 @@ def render_orbit(out: dict) -> str:
         line("residual", f"{num(out['residual'], 2)} after {out['iterations']} Newton iterations: {conv}{floor}"),
         line("start", f"u {num(s['u'])}, w {num(s['w'])} m/s, q {num(s['q_deg_s'])} deg/s, pitch "
                       f"{num(s['theta_deg'])} deg (heading axes: x forward, z down; at the beat's start)"),
-        line("mean", f"velocity ({', '.join(f'{x + 0.0:.3f}' for x in v)}) m/s (world, z up), pitch "
+        line("mean", f"velocity ({v}) m/s (world, z up), pitch "
                      f"{num(out['mean_pitch_deg'])} deg; P+ {num(out['P_plus'])}"),
         line("wall time", f"{out['wall_time_s']:.1f} s")])
