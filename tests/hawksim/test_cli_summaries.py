@@ -282,3 +282,27 @@ def test_json_is_unchanged_by_the_summary(capsys):
     out = json.loads(capsys.readouterr().out)
     assert {"L_plus", "D_plus", "M_plus", "P_plus", "speed", "kinematics", "chi_deg", "model", "network",
             "model_speed"} == set(out)
+
+
+def test_flights_and_step_network_summaries():
+    """`dataset --kind flights` and `train --kind step` (hours of UVLM flights to run for real): their summaries of
+    objects with the keys those commands return (hawksim.cli.dataset.cmd_flights, hawksim.cli.train.cmd_train_step)."""
+    from hawksim.cli.surrogate_report import render_dataset, render_train
+
+    flights = {"path": "f.sqlite", "kind": "flights", "family": "orbit", "samples": 12, "new": 5, "diverged_new": 2,
+               "rows_new": 4000, "seed": 3, "wall_time_s": 61.25}
+    lines = only_the_summary(render_dataset(flights) + "\n", "dataset --kind flights")
+    assert labelled(lines, "file") == "f.sqlite: 12 flights"
+    assert labelled(lines, "this run") == "5 new flights (4000 rows) in 61.2 s"
+    assert labelled(lines, "diverged").startswith("2 of the new flights DIVERGED")
+    step = {"kind": "step", "n_train": 9000, "n_val": 1000, "n_test": 1200, "test_flights": 4, "r2": {},
+            "r2_min": 0.9712, "cycle_mean_abs_error": {"L_plus": 0.0123, "D_plus": 0.0045, "M_plus": 0.0067,
+                                                       "P_plus": 0.0089},
+            "cycle_mean_max_error": {"L_plus": 0.05, "D_plus": 0.02, "M_plus": 0.03, "P_plus": 0.04},
+            "r2_body": {}, "epochs": 40, "out": "s.safetensors", "wall_time_s": 300.0}
+    lines = only_the_summary(render_train(step) + "\n", "train --kind step")
+    check(labelled(lines, "held-out R^2"), "worst output", 0.9712)
+    means = labelled(lines, "cycle means")
+    check(means.split("; largest")[0], "L+", 0.0123)
+    check(means.split("; largest")[1], "P+", 0.04)
+    assert labelled(lines, "written") == "s.safetensors"
