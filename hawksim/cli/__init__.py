@@ -8,7 +8,9 @@ Exit status: 0 success; 2 a bad input (named); 3 a numerical failure (step, time
 1 the environment (disk full, unreachable scheduler, out of memory); 130 interrupted.
 
 Each subcommand is one module of this package exposing ``register(subparsers)``, which adds its parser and sets
-``func`` (args -> dict, the JSON output); :data:`SUBCOMMANDS` lists them in help order.
+``func`` (args -> dict, the JSON output) and ``human`` (that dict -> the summary printed without ``--json``, a
+function of the JSON object alone: its ``*_report`` module; a command may set ``args.human`` while it runs instead);
+:data:`SUBCOMMANDS` lists them in help order.
 """
 
 from __future__ import annotations
@@ -28,53 +30,6 @@ from hawksim.environment import check_environment
 
 SUBCOMMANDS = (fly, aero, stability, dataset, train, predict, trim, reproduce, warmup)
 """The subcommand modules, in the order `hawksim --help` lists them."""
-
-
-UNIT_SUFFIXES = (("_deg_s", "deg/s"), ("_deg", "deg"), ("_hz", "Hz"), ("_m_s", "m/s"), ("_m", "m"), ("_s", "s"),
-                 ("_W", "W"), ("_N", "N"))
-"""Key suffix -> unit of the human-readable output (the JSON keys carry their units the same way)."""
-KEY_UNITS = {"speed": "m/s", "speed_target": "m/s", "mean_vertical_speed": "m/s", "horizontal_drift": "m",
-             "horizontal_speed": "m/s", "mean_velocity": "m/s", "f": "Hz", "u": "m/s", "v": "m/s", "w": "m/s"}
-"""Units of the keys without a suffix (angles of ``kinematics`` are in degrees, see the --help)."""
-
-
-def _unit(key: str, parent: str = "") -> str:
-    if key in KEY_UNITS:
-        return KEY_UNITS[key]
-    if parent.endswith("kinematics") and key != "f":
-        return "deg"
-    for suffix, unit in UNIT_SUFFIXES:
-        if key.endswith(suffix):
-            return unit
-    return ""
-
-
-def _pair_list(v) -> bool:
-    return bool(v) and all(isinstance(x, list) and len(x) == 2 and all(isinstance(c, (int, float)) for c in x)
-                           for x in v)
-
-
-def _print_human(out: dict, prefix: str = "") -> None:
-    """``key: value unit`` lines; nested objects as dotted keys; lists of numbers (up to 16) in full, lists of
-    [re, im] pairs as complex numbers; longer or nested lists summarised (``--json`` has them all)."""
-    for k, v in out.items():
-        name = f"{prefix}{k}"
-        if isinstance(v, dict):
-            _print_human(v, name + ".")
-        elif isinstance(v, list) and len(v) <= 16 and _pair_list(v):
-            text = ", ".join(f"{x[0]:.6g}" if x[1] == 0 else f"{x[0]:.6g}{x[1]:+.6g}i" for x in v)
-            print(f"{name:>32}: {text}")
-        elif isinstance(v, list) and (len(v) > 16 or any(isinstance(x, (dict, list)) for x in v)):
-            print(f"{name:>32}: {len(v)} entries (see --json)")
-        else:
-            unit = _unit(k, prefix.rstrip("."))
-            if isinstance(v, float):
-                text = f"{v:.6g}"
-            elif isinstance(v, list):
-                text = "[" + ", ".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in v) + "]"
-            else:
-                text = str(v)
-            print(f"{name:>32}: {text}{' ' + unit if unit else ''}")
 
 
 def build_parser() -> Parser:
@@ -171,16 +126,15 @@ def _silence_stdout() -> None:
 
 def write_output(out: dict, as_json: bool, human=None) -> int:
     """Print the result (one strict JSON object with ``--json``: no NaN or Infinity, ``allow_nan=False``; else the
-    command's own summary ``human(out)``, or ``key: value unit`` lines) and flush it; the exit status. A reader that
+    command's own summary ``human(out)``, or the JSON object where a command has none) and flush it; the exit
+    status. A reader that
     has gone (EPIPE) ends the command quietly with :data:`EXIT_BROKEN_PIPE`; any other failure to write stdout
     (ENOSPC) is one line on stderr and :data:`EXIT_STDOUT_FAILED`."""
     try:
-        if as_json:
+        if as_json or human is None:
             print(json.dumps(out, allow_nan=False))
-        elif human is not None:
-            print(human(out))
         else:
-            _print_human(out)
+            print(human(out))
         sys.stdout.flush()
     except BrokenPipeError:
         _silence_stdout()

@@ -7,6 +7,7 @@ from dataclasses import replace
 
 from hawksim.backends.resolution import AERO_MODELS, DEFAULT
 from hawksim.cli.args import KINEMATICS_HELP, add_resolution_args, parse_kinematics, resolution_from, speed_arg
+from hawksim.cli.loads_report import render_aero
 from hawksim.cli.progress import progress_for
 
 
@@ -56,4 +57,4 @@ def register(sub) -> None:
     add_resolution_args(p, DEFAULT)
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=cmd_aero)
+    p.set_defaults(func=cmd_aero, human=render_aero)

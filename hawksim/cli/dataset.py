@@ -8,8 +8,7 @@ from hawksim.backends.resolution import NAMED, TRAINING
 from hawksim.cli.args import (MAX_DATASET_SAMPLES, add_resolution_args, positive_int_arg, resolution_from, seed_arg,
                               speed_arg, writable_file)
 from hawksim.cli.progress import progress_for
-
-
+from hawksim.cli.surrogate_report import render_dataset
 
 DEFAULT_RESOLUTION = "training"
 """The named resolution of `hawksim dataset --kind samples` without --resolution (the shipped training sets')."""
@@ -105,4 +104,4 @@ def register(sub) -> None:
     add_resolution_args(p, TRAINING, "training")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=cmd_dataset, preload=_preload)
+    p.set_defaults(func=cmd_dataset, preload=_preload, human=render_dataset)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from hawksim.cli.args import KINEMATICS_HELP, parse_kinematics, speed_arg
+from hawksim.cli.loads_report import render_predict
 
 
 NETWORK_FAMILIES = ("shipped", "reference")
@@ -45,4 +46,4 @@ def register(sub) -> None:
                             "`hawksim aero`'s default-lattice labels: mean |error| against it 0.010-0.023 in L+ and "
                             "P+ at held-out kinematics, docs/surrogate.md)")
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=cmd_predict)
+    p.set_defaults(func=cmd_predict, human=render_predict)

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import os
 import sys
+import time
 from pathlib import Path
 
 from hawksim.cli.args import UsageError
+from hawksim.cli.reproduce_report import render_reproduce
 from hawksim.paper.reproduce import STEPS
 
 EXPECTED_MINUTES = {"uvlm_table4": 1, "stability": 5, "stability_table3": 5, "orbits": 15, "validation": 2,
@@ -36,10 +38,14 @@ def cmd_reproduce(args) -> dict:
     print(f"hawksim reproduce: {', '.join(args.only)} into {out}/, about {minutes} min on 2 cores", file=sys.stderr)
     before = _directories(out)
     try:
-        return run_all(out, log=lambda m: print(m, file=sys.stderr), only=tuple(args.only))
+        done = run_all(out, log=lambda m: print(m, file=sys.stderr), only=tuple(args.only))
     except BaseException:
         _remove_new_empty_directories(out, before)
         raise
+    t0 = getattr(args, "t0", None)
+    wall = time.perf_counter() - t0 if t0 is not None else None
+    args.human = lambda result: render_reproduce(result, str(out), wall)
+    return done
 
 
 def _directories(root: Path) -> set[Path]:

@@ -10,6 +10,7 @@ from pathlib import Path
 from hawksim import interrupts
 from hawksim.cli.args import UsageError, positive_int_arg, seconds_arg, seed_arg, speed_arg, writable_file
 from hawksim.cli.progress import progress_for
+from hawksim.cli.surrogate_report import render_train
 
 
 MAX_LAG_BEATS = 8
@@ -287,4 +288,4 @@ def register(sub) -> None:
     p.add_argument("--json", action="store_true")
     # it writes nothing before the network: a Ctrl-C until then leaves at once, wherever it lands (the import of
     # torch takes 2-4 s on two loaded cores, and a Ctrl-C in an import would wait for its end: hawksim.interrupts)
-    p.set_defaults(func=cmd_train, work_begins_in_command=True)
+    p.set_defaults(func=cmd_train, work_begins_in_command=True, human=render_train)

@@ -8,6 +8,7 @@ from hawksim.cli.args import MAX_POPULATION, positive_int_arg, seed_arg, speed_a
 from hawksim.cli.predict import NETWORK_FAMILIES
 from hawksim.cli.progress import progress_for
 from hawksim.cli.stability import ORBIT_MODELS
+from hawksim.cli.trim_report import render_trim
 
 DEFAULT_POPULATION = 100_000
 """The GA population when --population is not given: the paper's 1e5."""
@@ -114,4 +115,4 @@ def register(sub) -> None:
                    help="with --free-flight: the aerodynamic model (default uvlm)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=cmd_trim)
+    p.set_defaults(func=cmd_trim, human=render_trim)

@@ -19,6 +19,8 @@ import os
 import sys
 import time
 
+from hawksim.cli.reproduce_report import render_warmup
+
 NOTICE = ("hawksim: compiling the numba kernels for this CPU (once per install, ~5-10 s; cached in {cache}; "
           "`hawksim warmup` does this ahead)")
 """The one line a command prints on stderr before it compiles its first kernel."""
@@ -98,4 +100,4 @@ def cmd_warmup(args) -> dict:
 def register(sub) -> None:
     p = sub.add_parser("warmup", help="compile the numba kernels for this CPU once (after an install)")
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=cmd_warmup)
+    p.set_defaults(func=cmd_warmup, human=render_warmup)
