@@ -13,11 +13,8 @@ from hawksim.paper.reproduce import STEPS
 
 EXPECTED_MINUTES = {"uvlm_table4": 1, "stability": 5, "stability_table3": 5, "orbits": 15, "validation": 2,
                     "validation_uvlm": 30, "control_uvlm": 10, "control_surrogate": 1, "backends": 5, "trim": 10}
-"""Rough wall time of each step on 2 cores [min] (measured: trim 555 s and stability 40 s per speed on 2026-11-30,
-the UVLM orbits 1-4 min per speed and the quasi-steady validation 115 s on 2026-12-01; control_uvlm 6-10 min per
-speed under a load average of 10 on 2026-12-01, a quiet machine's ~25 s per speed estimated from the UVLM monodromy's
-24 s for as many beats; validation_uvlm is a guess: it has not been run in full; control_surrogate and backends
-measured on 2026-12-02, docs/control.md and docs/backends.md)."""
+"""Rough wall time of each step on 2 cores [min], for the start-up line only (the measurements behind them:
+docs/performance.md, "Figures moved from docstrings"; validation_uvlm is a guess: it has not been run in full)."""
 
 
 def cmd_reproduce(args) -> dict:

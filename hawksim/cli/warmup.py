@@ -7,8 +7,8 @@ coarse held-body UVLM evaluation, a quasi-steady one, one open-loop quasi-steady
 surrogate, which between them use every kernel of ``hawksim aero`` and ``hawksim fly`` with the argument types
 those commands pass, but for the UVLM flight's opt-in wake sums: the treecode (which ``--wake-cycles 5`` and up may
 plan, ``aero.uvlm``'s ``wake_summation="auto"``) and ``--wake-precision mixed`` compile on their first use, with the
-notice below (the treecode's ~6 s on the 2-core project machine, 2026-12-06). Warming them here too took half of
-this command (22 of 44 s in one run beside other work, 2026-12-06) for options few flights use, so it does not.
+notice below (the treecode's compilation takes seconds). Warming them here too took half of this command's time
+(docs/performance.md) for options few flights use, so it does not.
 The README's install command runs it. Any command that does have to compile says so first, in one line on stderr
 when stderr is a terminal and progress is on (:func:`install_compile_notice`).
 """
