@@ -31,7 +31,7 @@ import numpy as np
 
 from hawksim.backends.held import held_flight
 from hawksim.insect.kinematics import Kinematics
-from hawksim.flight.orbit import SURROGATE_FD_STEP, UVLM_FD_STEP, S, Orbit, _Flight, scales
+from hawksim.flight.orbit import SURROGATE_FD_STEP, UVLM_FD_STEP, S, Orbit, OrbitFlight, scales
 from hawksim.frames import cross
 
 FLOQUET_STATES = (0, 1, 2, 3, 4, 5, 6, 7)
@@ -156,7 +156,7 @@ def _monodromy_matrix(orbit: Orbit, delta: float, model, lateral: bool) -> np.nd
     sc = state_scale(kin)
     x0 = orbit.launch_state.as_array()
     w = orbit.warm_beats
-    fl = {s: _Flight(orbit.aero, symmetric=s, model=model) for s in (True, False)}
+    fl = {s: OrbitFlight(orbit.aero, symmetric=s, model=model) for s in (True, False)}
     cols = FLOQUET_STATES if lateral else LONG
     # states at the start (k = w) and end (k = w + 1) of the periodic beat, per perturbed launch
     A = np.zeros((8, 8))   # d x(w) / d x0, normalized (identity when w = 0)
