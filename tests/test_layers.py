@@ -130,6 +130,16 @@ def test_the_contract_can_fail():
     assert "hawksim.flight.fly" in _imports(ROOT / "hawksim" / "cli" / "fly.py")
 
 
+def test_no_library_module_imports_the_flat_top_level():
+    """The names of ``hawksim.__all__`` are the facade over the layers (resolved lazily); a module inside hawksim
+    imports them from where they live, or it would import upwards through the root."""
+    import hawksim
+
+    facade = {f"hawksim.{n}" for n in hawksim.__all__}
+    bad = {_module(p): sorted(facade & set(_imports(p))) for p in _files("hawksim")}
+    assert not {k: v for k, v in bad.items() if v}
+
+
 # ---- scripts/ and tests/ ---------------------------------------------------------------------------------------
 
 SCRIPT_STEMS = ({p.stem for p in _files("scripts")} | {p.stem for p in _files("tests")}) - {"__init__"}

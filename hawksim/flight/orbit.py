@@ -221,7 +221,7 @@ class Orbit:
     record_dt: float = 0.0
     """The interval [s] between the record's calls (T / calls per beat)."""
     record_change: float = 0.0
-    """max |record after the periodic beat - record before| (normalized: velocities / U, rates x T) at the solution
+    """max ``|record after the periodic beat - record before|`` (normalized: velocities / U, rates x T) at the solution
     (the fixed point of the record, :data:`RECORD_TOL`); 0 without a record."""
 
     @property
@@ -272,7 +272,8 @@ def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
 
 
 def shipped_orbit(speed: float, aero: str) -> Orbit | None:
-    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (:data:`ORBIT_TABLE_FILES`), None if absent."""
+    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (:data:`ORBIT_TABLE_FILES`), None if absent; SI
+    (kinematics and launch state angles in radians)."""
     import json
     from importlib import resources
 
@@ -350,6 +351,8 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
                    model: mujoco.MjModel | None = None, x0: np.ndarray | None = None, log=None,
                    fd_step: float | None = None) -> Orbit:
     """Newton shooting for the symmetric periodic orbit at ascent ``speed`` [m/s].
+
+    SI throughout: u, w [m/s], q [rad/s], theta [rad], f [Hz], phi0 [rad].
 
     Unknowns: (u, w, q, theta) at the launch and the kinematic parameters f, phi0 (start: the held-body trim
     ``trim_kinematics(speed, aero)`` or ``kinematics``; the other five parameters stay fixed). Equations:

@@ -185,7 +185,7 @@ class Prediction:
     deviation from ``reference``; floquet, averaged (nb + 1, 8); neutral (nb + 1, 4): the Floquet prediction of
     the heading [rad] and world position [m] deviations (:func:`neutral_prediction`); ghost_pos (n, 3) [m] and
     ghost_quat (n, 4) (w, x, y, z): the ghost's pose from the Floquet prediction (:func:`ghost_pose`); reference:
-    the unperturbed orbit flight (same kinematics, steps and length); max_multiplier: the largest |mu| of M;
+    the unperturbed orbit flight (same kinematics, steps and length); max_multiplier: the largest ``|mu|`` of M;
     notes: how it was made.
     """
 
