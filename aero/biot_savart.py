@@ -17,7 +17,7 @@ and rr = |r0|^2 r_c^2; targets as (n, 3). The loops run over chunks of targets o
 (``error_model="numpy"``: no Python zero-division checks), vectorised over segments. Cost per evaluation: two
 square roots and one division, which bound it at ~0.45 G evaluations/s per core with 256-bit vectors here.
 
-:func:`_lattice_chunks` and :func:`_lattice_chunks_mixed` are the corner-block kernels for the edges of a ring
+:func:`lattice_chunks` and :func:`_lattice_chunks_mixed` are the corner-block kernels for the edges of a ring
 lattice (wing or wake), whose corners each segment shares with its neighbours: per target, the unit vectors r/|r|
 are computed once per corner (without the divider: :func:`rsqrt`), and per edge, since r0 = r1 - r2,
 
@@ -28,8 +28,8 @@ which needs no square root and keeps the plain formula's precision for short edg
 division left per edge is the core denominator. The corners are processed in blocks of LATTICE_BLOCK, so that a
 block's corner distances stay in the L1 cache while its edges use them. The float64 lattice velocity the UVLM uses
 comes from the targets-in-lanes kernel of :mod:`aero.lattice_lanes` (1.2-1.3x this one at 512 bits, issue 23);
-:func:`_lattice_chunks` stays as the baseline the benchmarks time it against, and its pieces
-(:func:`corner_vectors`, :func:`_edge_sum`) serve the treecode's near field.
+:func:`lattice_chunks` stays as the baseline the benchmarks time it against, and its pieces
+(:func:`corner_vectors`, :func:`edge_sum`) serve the treecode's near field.
 """
 
 from __future__ import annotations
@@ -144,7 +144,7 @@ def induced_velocity(targets, ax, ay, az, dx, dy, dz, gamma, rr, out):
 
 
 @njit(fastmath=True, error_model="numpy", inline="always", cache=True)
-def _edge_sum(m, x1, y1, z1, e1, f1, g1, x2, y2, z2, e2, f2, g2, gamma, rr, ux, uy, uz):
+def edge_sum(m, x1, y1, z1, e1, f1, g1, x2, y2, z2, e2, f2, g2, gamma, rr, ux, uy, uz):
     """Velocity sums (times 4 pi) of edges k < m from corners 1 to corners 2, given the target's distance
     vectors r = (x, y, z) to them and the unit vectors r/|r| = (e, f, g); circulations gamma, rr = |r0|^2 r_c^2."""
     for k in range(m):
@@ -201,7 +201,7 @@ def aligned_scratch(size):
 
 
 @njit(nogil=True, fastmath=True, error_model="numpy", cache=True)
-def _lattice_chunks(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out, counter, nchunk):
+def lattice_chunks(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out, counter, nchunk):
     """One task of the corner-block float64 lattice kernel (the arguments of
     :func:`aero.lattice_lanes.lattice_induced_velocity`, then the work queue's counter and chunk count): chunks
     q = claim(counter) < nchunk of the targets. The baseline of :mod:`aero.lattice_lanes`'s kernel."""
@@ -228,10 +228,10 @@ def _lattice_chunks(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamm
             sg, sr, cg, cr = span_gamma[c0:], span_rr[c0:], chord_gamma[c0:], chord_rr[c0:]
             for i in range(i0, i1):
                 corner_vectors(targets[i, 0], targets[i, 1], targets[i, 2], bx, by, bz, m, rx, ry, rz, ex, ey, ez)
-                ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
+                ux, uy, uz = edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
                                        ez[1:], sg, sr, 0.0, 0.0, 0.0)
                 if mc > 0:
-                    ux, uy, uz = _edge_sum(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:], rz[stride:],
+                    ux, uy, uz = edge_sum(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:], rz[stride:],
                                            ex[stride:], ey[stride:], ez[stride:], cg, cr, ux, uy, uz)
                 out[i, 0] += ux * scale
                 out[i, 1] += uy * scale
@@ -241,7 +241,7 @@ def _lattice_chunks(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamm
 
 @njit(fastmath=True, error_model="numpy", inline="always", cache=True)
 def _edge_terms_mixed(m, x1, y1, z1, e1, f1, g1, x2, y2, z2, e2, f2, g2, gamma, rr, tx, ty, tz):
-    """:func:`_edge_sum`'s terms (times 4 pi) on float32 distances, unit vectors, circulations and rr, evaluated
+    """:func:`edge_sum`'s terms (times 4 pi) on float32 distances, unit vectors, circulations and rr, evaluated
     in float32 and stored in tx, ty, tz [k < m] (float32) for :func:`_sum_terms` to add in float64. (Storing the
     terms and summing them in a second loop lets LLVM vectorise both loops; adding each float32 term straight to
     float64 sums kept the fused loop scalar, slower on the kernel benchmark with 256-bit vectors at the same
@@ -273,7 +273,7 @@ def _sum_terms(m, tx, ty, tz, ux, uy, uz):
 @njit(nogil=True, fastmath=True, error_model="numpy", cache=True)
 def _lattice_chunks_mixed(targets, vx, vy, vz, stride, span_gamma, span_rr, chord_gamma, chord_rr, out, counter,
                           nchunk):
-    """:func:`_lattice_chunks` with float32 pair evaluations (precision "mixed"): the target-corner differences
+    """:func:`lattice_chunks` with float32 pair evaluations (precision "mixed"): the target-corner differences
     are formed in float64 and rounded to float32, 1/sqrt is float32 (hardware estimate and one Newton step under
     fastmath), span/chord gamma and rr are float32 arrays; each edge's term is float32
     (:func:`_edge_terms_mixed`), the per-target sums float64 (:func:`_sum_terms`)."""

@@ -15,7 +15,7 @@ targets-in-lanes lattice kernel"): a group of :data:`GROUP` = 8 targets sits in 
 per group. At corner k it forms r and r/|r| for the group, adds the spanwise edge k-1 -> k from the previous
 corner (held in registers) and the chordwise edge k-stride -> k from a ring buffer of stride + 1 corners (cache
 line aligned), and keeps the group's sums in registers. The corner-block kernel it replaces
-(:func:`aero.biot_savart._lattice_chunks`, corners in the lanes) stored r and r/|r| of 192 corners per target to
+(:func:`aero.biot_savart.lattice_chunks`, corners in the lanes) stored r and r/|r| of 192 corners per target to
 scratch and read corners k + 1 and k + stride back from it, so that with 512-bit vectors every second load
 straddled two cache lines; this one has no such loads, no corner scratch pass and no remainder loops. The vector
 code is written in LLVM IR (through a numba ``@intrinsic``, as :func:`aero.biot_savart.claim` is), because numba

@@ -47,7 +47,7 @@ class BladeElements:
 
     @classmethod
     def from_planform(cls, span: float, chord_fn, x_le_fn, n: int = 20, side: float = 1.0) -> BladeElements:
-        """n equal strips over [0, span]; chord_fn, x_le_fn map |y| [m] to chord and leading-edge x [m].
+        """n equal strips over [0, span]; chord_fn, x_le_fn map ``|y|`` [m] to chord and leading-edge x [m].
         side = +1 for a left wing, -1 for its mirror image (strips at negative y)."""
         edges = np.linspace(0.0, span, n + 1)
         y = 0.5 * (edges[1:] + edges[:-1])

@@ -15,7 +15,7 @@ The direct sum over N targets and M segments costs N M pair evaluations; for a f
   v = 1/(4 pi) sum alpha x (x - y)/|x - y|^3 to second order (monopole, dipole, quadrupole), i.e. it neglects
   terms of relative size (rho / |R|)^3, rho the cluster's radius about c (covering every segment end point).
 * **Near field.** Clusters that do not pass the opening criterion are opened; at a leaf the segments act exactly,
-  in the lattice kernel's arithmetic (:func:`aero.biot_savart._edge_sum`: the Scully-core formula with
+  in the lattice kernel's arithmetic (:func:`aero.biot_savart.edge_sum`: the Scully-core formula with
   K = r0 . (r1/|r1| - r2/|r2|), one 1/sqrt (:func:`aero.biot_savart.rsqrt`) per corner and target, one
   division per edge).
 * **Opening criterion (the error control).** A cluster acts through its moments on a leaf of targets only if,
@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from aero.biot_savart import FOUR_PI, RSQRT_MIN, _edge_sum, aligned_scratch, claim, corner_vectors, rsqrt
+from aero.biot_savart import FOUR_PI, RSQRT_MIN, edge_sum, aligned_scratch, claim, corner_vectors, rsqrt
 from aero.lattice import stacked_lattices
 from aero.scheduling import run_chunked
 
@@ -355,7 +355,7 @@ def _tree_chunks(x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_righ
     """One task of :func:`lattice_tree_velocity`: chunks q = claim(counter) < nchunk of the target leaves
     (targets x, y, z in target-tree order; leaf L holds targets ls[L]..le[L], centre lc[L], radius lr[L]);
     out (n, 3) in target-tree order, overwritten. Leaves of the source tree act by the lattice kernel's
-    arithmetic (:func:`aero.biot_savart._edge_sum` on the block's corners, each corner's 1/sqrt once per
+    arithmetic (:func:`aero.biot_savart.edge_sum` on the block's corners, each corner's 1/sqrt once per
     target; the block's corners and owned edges are first copied into contiguous local arrays, with
     zero-circulation padding where an edge is not the block's, so that its edges are two vectorised loops)."""
     nl = ls.shape[0]
@@ -426,10 +426,10 @@ def _tree_chunks(x, y, z, ls, le, lc, lr, b_r0, b_r1, b_c0, b_c1, b_left, b_righ
                     nloc = h * w
                     for j in range(nt):
                         corner_vectors(xs[j], ys[j], zs[j], bx, by, bz, nloc, rx, ry, rz, ex, ey, ez)
-                        sx, sy, sz = _edge_sum(nloc - 1, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:],
+                        sx, sy, sz = edge_sum(nloc - 1, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:],
                                                ey[1:], ez[1:], lsg, lsr, 0.0, 0.0, 0.0)
                         if h > 1:
-                            sx, sy, sz = _edge_sum(nloc - w, rx, ry, rz, ex, ey, ez, rx[w:], ry[w:], rz[w:],
+                            sx, sy, sz = edge_sum(nloc - w, rx, ry, rz, ex, ey, ez, rx[w:], ry[w:], rz[w:],
                                                    ex[w:], ey[w:], ez[w:], lcg, lcr, sx, sy, sz)
                         ux[j] += sx
                         uy[j] += sy

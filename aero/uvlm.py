@@ -107,7 +107,7 @@ class UVLMConfig:
     convection_core_chords: the core of the bound vortices when they convect
     the wake, in mean chords (a wake vortex passing a lattice must not be flung by the lattice's near field,
     which the panels do not resolve); a_prime: Ramasamy-Leishman's turbulent-viscosity coefficient a' in
-    delta = 1 + a' |Gamma| / nu (their rotor value is ROTOR_A_PRIME = 6.5e-5). The default, 1e-2, is a numerical
+    delta = 1 + a' ``|Gamma|`` / nu (their rotor value is ROTOR_A_PRIME = 6.5e-5). The default, 1e-2, is a numerical
     regularisation chosen by the wake-sensitivity study (scripts/studies/wake_sensitivity.py, docs/uvlm.md): with the
     rotor value the low-speed free wake amplifies round-off (a relative 1e-10 change of the kinematics) into up
     to 0.17 of L+ within 4 beats at hover; with 1e-2 the change stays below 1e-8 over those beats at every

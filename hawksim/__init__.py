@@ -1,5 +1,36 @@
-"""hawksim: a hawkmoth in vertically ascending flight (MuJoCo + extended UVLM)."""
+"""hawksim: an insect (the hawkmoth) in flapping flight, MuJoCo + extended UVLM.
+
+The flat top level names the few things a script needs (each resolved on first use, so ``import hawksim`` stays
+light); everything else lives in the subpackages, each with its own ``__all__``:
+
+- :mod:`hawksim.insect`: morphology, wing kinematics (Eq. 1), the MuJoCo model.
+- :mod:`hawksim.backends`: the aerodynamic models behind one protocol.
+- :mod:`hawksim.trim`: held-body trims (the paper's operating points).
+- :mod:`hawksim.flight`: free flight, periodic orbits, recordings.
+- :mod:`hawksim.stability`: averaged linear models and Floquet analysis.
+- :mod:`hawksim.control`: LQR control on the one-beat map, closed-loop flight.
+- :mod:`hawksim.surrogate`: data sets and training of the neural surrogates.
+- :mod:`hawksim.paper`: the paper's study reproduced.
+
+Angles are radians and frequencies Hz in every Python call (the CLI and JSON take and print degrees).
+"""
 
 import aero  # noqa: F401  (first: applies the opt-in HAWKSIM_VECTOR_WIDTH before numba is imported)
+from hawksim.lazy import lazy_exports
 
 __version__ = "0.3.0.dev0"
+
+__all__, __getattr__, __dir__ = lazy_exports(__name__, {
+    "hawksim.insect.morphology": ("Morphology", "HAWKMOTH"),
+    "hawksim.insect.kinematics": ("Kinematics", "table3_kinematics"),
+    "hawksim.insect.model": ("load_model",),
+    "hawksim.backends": ("make_backend", "flight_backend"),
+    "hawksim.trim.point": ("Trim",),
+    "hawksim.trim.tables": ("trim_kinematics",),
+    "hawksim.flight.fly": ("fly",),
+    "hawksim.flight.result": ("FlightResult",),
+    "hawksim.flight.orbit": ("Orbit", "periodic_orbit", "shipped_orbit", "fly_orbit"),
+    "hawksim.stability.floquet": ("Floquet", "monodromy"),
+    "hawksim.control.derivatives": ("linearize",),
+    "hawksim.control.closed_loop": ("fly_closed_loop",),
+})

@@ -12,6 +12,7 @@ Eq. 2 cycle averages every model is compared in), ``resolution`` (lattices and t
 from __future__ import annotations
 
 from hawksim.backends.resolution import DEFAULT, FLY_UVLM, FLY_WAKE_CYCLES, Resolution
+from hawksim.lazy import lazy_exports
 
 FLIGHT_BACKENDS = ("quasi-steady", "uvlm", "surrogate", "surrogate-mean")
 """Names of the backends `hawksim fly` accepts (``--aero``): "surrogate" is the per-step network of the UVLM's
@@ -89,4 +90,13 @@ def flight_backend(name: str, *, kinematics=None, symmetric: bool = True, keep_p
                         wake_summation=wake_summation, wake_precision=wake_precision)
 
 
-__all__ = ["FLIGHT_BACKENDS", "make_backend", "backend_for", "flight_backend", "Resolution", "DEFAULT"]
+_LAZY, __getattr__, __dir__ = lazy_exports(__name__, {
+    ".base": ("AeroBackend", "FlightState", "WingLoads", "NoAero"),
+    ".averages": ("CycleAverages", "cycle_averages"),
+    ".held": ("held_flight", "HeldResult"),
+    ".quasi_steady": ("QuasiSteadyBackend",),
+    ".uvlm": ("UVLMBackend",),
+    ".surrogate": ("SurrogateBackend",),
+    ".step_surrogate": ("StepSurrogateBackend",),
+})
+__all__ = ["FLIGHT_BACKENDS", "make_backend", "backend_for", "flight_backend", "Resolution", "DEFAULT", *_LAZY]

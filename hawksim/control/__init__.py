@@ -1,7 +1,28 @@
-"""Closed-loop flight (issue 20): a wingbeat-to-wingbeat LQR controller on the free body's one-beat map.
+"""Closed-loop flight: LQR control of the free body on its one-beat (or half-stroke) map. See docs/control.md.
 
-Layers inside: :mod:`plant` (a Simulator with per-wing kinematics changed at phase 0 and a uniform wind),
-:mod:`derivatives` (the one-beat map's A and B matrices about a periodic orbit), :mod:`lqr` (discrete Riccati
-gains, delay augmentation, gain schedule over the ascent speed), :mod:`closed_loop` (the controlled flight).
-See docs/control.md.
+Modules:
+
+- ``plant``: a Simulator whose per-wing kinematics change at phase 0, with a uniform wind.
+- ``derivatives``: the one-beat map's linear model (A, B) about a periodic orbit.
+- ``halfstroke``: the same per half-stroke.
+- ``lqr``: discrete Riccati gains, delay augmentation.
+- ``constrained``: LQR plans that stay within Table 2's kinematic bounds.
+- ``schedule``: the gain schedule over the ascent speed, and the shipped control models.
+- ``closed_loop``: the controlled flight and its result.
+- ``surrogate``: the per-step surrogate backend that follows the controller's kinematics.
+- ``command``: ``hawksim fly --control``'s option handling.
+- ``cache``: the per-user cache of computed maps.
+- ``figure``: the controlled flight's figure.
 """
+
+from hawksim.lazy import lazy_exports
+
+__all__, __getattr__, __dir__ = lazy_exports(__name__, {
+    ".derivatives": ("BeatMapModel", "linearize"),
+    ".halfstroke": ("HalfStrokeModel", "linearize_half_stroke"),
+    ".lqr": ("Gain", "lqr_gain", "periodic_lqr_gains"),
+    ".constrained": ("ConstrainedSchedule", "constrained_gain"),
+    ".schedule": ("Schedule", "SchedulePoint", "schedule_point", "operating_point_override"),
+    ".closed_loop": ("fly_closed_loop", "ClosedLoop", "ControlledFlightResult", "Gust"),
+    ".figure": ("controlled_flight_figure",),
+})

@@ -157,7 +157,8 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     design_delay: int | None = None, aero: str = "quasi-steady", rate: str = "beat",
                     partial_on_interrupt: bool = False, speed_rate: float | None = None) -> ClosedLoop:
     """Fly ``beats`` wingbeats from the quasi-steady orbit at ``speed`` [m/s] (plus ``perturbation`` (9,) SI in
-    :data:`hawksim.flight.orbit.STATE_NAMES` order) under the LQR (``control='lqr'``) or open loop (``'none'``:
+    :data:`hawksim.flight.orbit.STATE_NAMES` order: angles in radians, rates in rad/s) under the LQR
+    (``control='lqr'``) or open loop (``'none'``:
     the orbit's kinematics throughout), commanded by ``profile`` [(speed, beats)] (default: ``speed``), with
     ``gusts``, sensing ``delay`` [beats]. ``design_delay``: the delay the gains were designed for (default
     ``delay``; a smaller one tests a controller unaware of the delay). ``record``: keep the per-step time series

@@ -217,7 +217,7 @@ def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, 
 @dataclass(frozen=True)
 class BeatMapModel:
     """The linearized controlled one-beat map about ``orbit`` (normalized, module docstring): A (11, 11), B0 and
-    B1 (11, 7); ``scale`` (11,) SI per normalized state unit; ``coupling``: largest |entry| of the
+    B1 (11, 7); ``scale`` (11,) SI per normalized state unit; ``coupling``: largest ``|entry|`` of the
     longitudinal-lateral cross blocks of A, B0, B1; wall_time_s; ``clipped``: differenced on the map saturated at
     Table 2 (:data:`SATURATED_DERIVATIVES`)."""
 
@@ -357,7 +357,8 @@ UVLM models are smooth across the bound and keep the unclipped derivatives of th
 
 def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None,
               clip: bool | None = None, records: bool = False) -> BeatMapModel:
-    """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring). Quasi-steady and surrogate:
+    """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring), in normalized states and
+    inputs (angles in radians before normalizing: :func:`xi_scale`). Quasi-steady and surrogate:
     each derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with
     warm-up beats): one flight is launched and flown over the warm-up beats, and every derivative beat branches from
     a copy of it at the periodic beat's start, with the body state overwritten there (:func:`set_phase0`) and the

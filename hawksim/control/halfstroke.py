@@ -88,7 +88,7 @@ class HalfStrokeModel:
     """The linearized half-stroke maps about ``orbit`` (module docstring): ``A``, ``B0``, ``B1`` each a pair
     (first half, second half) of (11, 11) / (11, 7) normalized matrices; ``x_half`` (9,) SI: the orbit's body
     state at phase 0.5; ``pos_half`` (2,) [m]: its horizontal displacement (X forward, Y right) over the first
-    half (the phase-0.5 reference of the hold point); ``scale`` (11,); ``coupling``: the largest |entry| of
+    half (the phase-0.5 reference of the hold point); ``scale`` (11,); ``coupling``: the largest ``|entry|`` of
     the longitudinal-lateral cross blocks."""
 
     orbit: Orbit

@@ -57,7 +57,7 @@ def augment(A: np.ndarray, B0: np.ndarray, B1: np.ndarray, delay: int) -> tuple[
 @dataclass(frozen=True)
 class Gain:
     """One subsystem's LQR: K (m, n + (d + 1) m) on z (module docstring), the closed-loop multipliers (sorted
-    by |mu| descending), the open-loop ones of A, and the indices of its states / inputs."""
+    by ``|mu|`` descending), the open-loop ones of A, and the indices of its states / inputs."""
 
     K: np.ndarray
     multipliers: np.ndarray

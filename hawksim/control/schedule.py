@@ -20,6 +20,7 @@ phase 0.5), with a sensing delay of d wingbeats counted as 2 d half-strokes and 
 
 from __future__ import annotations
 
+import contextlib
 import json
 from dataclasses import dataclass
 
@@ -386,3 +387,20 @@ class Schedule:
                 z = np.concatenate(parts + [d[list(g.inputs)] for d in past_du])
                 du[list(g.inputs)] += w * (-g.K @ z)
         return du
+
+
+@contextlib.contextmanager
+def operating_point_override(speed: float, aero: str, orbit: Orbit, model: BeatMapModel):
+    """Within the block, the schedules at ``speed`` [m/s] with the backend ``aero`` design their per-beat gains on
+    ``orbit`` and its linear model ``model`` (:func:`hawksim.control.derivatives.linearize`) instead of the shipped
+    or solved ones (an experiment on other kinematics); the process's cache is put back after."""
+    key = (float(speed), aero)
+    saved = _POINTS.get(key)
+    _POINTS[key] = (orbit, model)
+    try:
+        yield
+    finally:
+        if saved is None:
+            _POINTS.pop(key, None)
+        else:
+            _POINTS[key] = saved

@@ -1,2 +1,31 @@
-"""Free flight of the hawkmoth in MuJoCo: the flight loop (``simulator``), the start on the trim's periodic path
-(``start``), ``fly`` and its result (``fly``, ``result``), and Rerun recordings (``recording``)."""
+"""Free flight of the insect in MuJoCo, the free body's periodic orbits, and recordings.
+
+The open-loop flight itself is :func:`hawksim.flight.fly.fly` (also ``hawksim.fly``; the module of that name
+keeps it out of this package's namespace).
+
+Modules:
+
+- ``simulator``: the flight loop (RK4 + computed torque on the wing joints, the backend's loads each update).
+- ``native``, ``network_kernel``, ``mujoco_abi``: the compiled control callback and the per-step network in it.
+- ``body_state``: the body's 9-state chart (velocities, rates, attitude) and reading/writing it in MuJoCo.
+- ``start``: the start on the trim's periodic path and named perturbations.
+- ``fly``: the open-loop flight of ``hawksim fly``; ``result``: its :class:`FlightResult`.
+- ``orbit``: the free body's periodic orbit (Newton shooting on the one-beat map) and the shipped orbit tables.
+- ``power``: the required power P+ of a flight.
+- ``export``: a flight's per-step and per-beat arrays saved to a self-describing file.
+- ``recording``, ``recording_layout``: Rerun recordings and their views.
+"""
+
+from hawksim.lazy import lazy_exports
+
+__all__, __getattr__, __dir__ = lazy_exports(__name__, {
+    ".simulator": ("Simulator", "StepBatch", "aero_every_for"),
+    ".body_state": ("BodyState", "STATE_NAMES", "read_body_state", "set_body_state"),
+    ".start": ("start_on_orbit", "PERTURBATIONS"),
+    ".result": ("FlightResult",),
+    ".orbit": ("Orbit", "Beats", "OrbitFlight", "periodic_orbit", "shipped_orbit", "fly_orbit", "beat_map",
+               "ORBIT_BACKENDS"),
+    ".power": ("P_plus", "required_power"),
+    ".export": ("save_flight",),
+    ".recording": ("write_rrd",),
+})

@@ -29,7 +29,9 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
         model: mujoco.MjModel | None = None, steps_per_cycle: int = FLY_STEPS_PER_CYCLE, gravity: bool = True,
         keep_extras_every: int = 0, periodic_start: bool = True, start_state: tuple | None = None,
         progress: Callable[[int, int], None] | None = None, partial_on_interrupt: bool = False) -> FlightResult:
-    """Fly for ``cycles`` wingbeats from ``trim`` (its kinematics and ascent speed) with ``backend``'s loads.
+    """Fly for ``cycles`` wingbeats from ``trim`` (its kinematics and ascent speed) with ``backend``'s loads. SI in
+    and out (angles in radians, rates in rad/s), except ``perturb``, which takes the CLI's units: m/s, and deg and
+    deg/s for the angles and rates (:data:`hawksim.flight.start.PERTURBATIONS`).
 
     Args:
         perturb: stability-axes disturbances of the initial state (see :data:`hawksim.flight.start.PERTURBATIONS`).

@@ -138,8 +138,9 @@ def backend_record(backend, every: int) -> np.ndarray | None:
     return history_rows(backend.history, n) if n else None
 
 
-class _Flight:
-    """One reusable MjModel; a Simulator per kinematics."""
+class OrbitFlight:
+    """Free flights of the orbit solver from phase 0: one reusable MjModel, a Simulator per kinematics (aero: the
+    backend's name, :data:`ORBIT_BACKENDS`)."""
 
     def __init__(self, aero: str, symmetric: bool = True, model: mujoco.MjModel | None = None):
         self.aero = aero
@@ -220,7 +221,7 @@ class Orbit:
     record_dt: float = 0.0
     """The interval [s] between the record's calls (T / calls per beat)."""
     record_change: float = 0.0
-    """max |record after the periodic beat - record before| (normalized: velocities / U, rates x T) at the solution
+    """max ``|record after the periodic beat - record before|`` (normalized: velocities / U, rates x T) at the solution
     (the fixed point of the record, :data:`RECORD_TOL`); 0 without a record."""
 
     @property
@@ -271,7 +272,8 @@ def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
 
 
 def shipped_orbit(speed: float, aero: str) -> Orbit | None:
-    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (:data:`ORBIT_TABLE_FILES`), None if absent."""
+    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (:data:`ORBIT_TABLE_FILES`), None if absent; SI
+    (kinematics and launch state angles in radians)."""
     import json
     from importlib import resources
 
@@ -306,7 +308,7 @@ def scales(kin: Kinematics) -> tuple[float, float]:
     return reference_speed(kin), kin.period
 
 
-def _residual(kin: Kinematics, speed: float, b: Beats, warm: int) -> np.ndarray:
+def orbit_residual(kin: Kinematics, speed: float, b: Beats, warm: int) -> np.ndarray:
     """Normalized 6-residual of a flight whose beat ``warm`` (0-based) is the candidate periodic beat."""
     U, T = scales(kin)
     xa, xb = b.states[warm], b.states[warm + 1]
@@ -315,7 +317,7 @@ def _residual(kin: Kinematics, speed: float, b: Beats, warm: int) -> np.ndarray:
     return np.array([dx[0] / U, dx[2] / U, dx[4] * T, dx[7], mv[0] / U, (mv[2] - speed) / U])
 
 
-def _unpack(z: np.ndarray, base: Kinematics, f_ref: float) -> tuple[Kinematics, np.ndarray]:
+def unpack_unknowns(z: np.ndarray, base: Kinematics, f_ref: float) -> tuple[Kinematics, np.ndarray]:
     """Normalized unknowns z = (u/U, w/U, q T, theta, f/f_ref, phi0) -> (kinematics, launch state (9,))."""
     kin = replace(base, f=float(z[4] * f_ref), phi0=float(z[5]))
     U, T = scales(kin)
@@ -324,7 +326,7 @@ def _unpack(z: np.ndarray, base: Kinematics, f_ref: float) -> tuple[Kinematics, 
     return kin, x
 
 
-def initial_guess(kin: Kinematics, speed: float, flight: _Flight, warm: int = 0) -> np.ndarray:
+def initial_guess(kin: Kinematics, speed: float, flight: OrbitFlight, warm: int = 0) -> np.ndarray:
     """Launch state (9,) from the held-body trim, by ``hawksim.flight.fly._start_on_orbit``'s logic: one calibration
     beat from (straight up at V, pitch chi, no rotation) measures the beat-mean pitch, pitch rate and velocity,
     and the start is corrected by them (removing a mean rate q also lowers the mean pitch by q T / 2). The
@@ -349,6 +351,8 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
                    model: mujoco.MjModel | None = None, x0: np.ndarray | None = None, log=None,
                    fd_step: float | None = None) -> Orbit:
     """Newton shooting for the symmetric periodic orbit at ascent ``speed`` [m/s].
+
+    SI throughout: u, w [m/s], q [rad/s], theta [rad], f [Hz], phi0 [rad].
 
     Unknowns: (u, w, q, theta) at the launch and the kinematic parameters f, phi0 (start: the held-body trim
     ``trim_kinematics(speed, aero)`` or ``kinematics``; the other five parameters stay fixed). Equations:
@@ -379,7 +383,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     if warm_beats is None:  # beats before the measured one: the UVLM's wake (a history network's: its record)
         warm_beats = UVLM_WARM_BEATS if aero == "uvlm" else 0
     warm = warm_beats
-    fl = _Flight(aero, symmetric=True, model=model)
+    fl = OrbitFlight(aero, symmetric=True, model=model)
     h_fd = fd_step if fd_step is not None else {"uvlm": UVLM_FD_STEP, "surrogate": SURROGATE_FD_STEP}.get(aero, FD_STEP)
     f_ref = base.f
     if x0 is None:
@@ -389,16 +393,16 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     rec = None  # the record the flights start with (a delay orbit's; None: no record)
 
     def F(zz):
-        kin, x = _unpack(zz, base, f_ref)
+        kin, x = unpack_unknowns(zz, base, f_ref)
         b = fl.fly(kin, x, warm + 1, chi, record=rec)
-        return _residual(kin, speed, b, warm), b
+        return orbit_residual(kin, speed, b, warm), b
 
     def met(rr, zz) -> bool:
         if aero == "surrogate" and tol == ORBIT_TOL:
             return float(np.abs(rr).max()) <= SURROGATE_ORBIT_TOL
         if aero != "uvlm" or tol != ORBIT_TOL:
             return float(np.abs(rr).max()) <= tol
-        kin_, _ = _unpack(zz, base, f_ref)
+        kin_, _ = unpack_unknowns(zz, base, f_ref)
         return orbit_within_uvlm_tolerance(rr, kin_)
 
     hist: list[float] = []
@@ -449,11 +453,11 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
             z, r, b, it = newton(z, it)
         if log is not None:
             log(f"record: max change over the periodic beat {change:.2e}")
-    kin, x_launch = _unpack(z, base, f_ref)
+    kin, x_launch = unpack_unknowns(z, base, f_ref)
     floor = 0.0
     if warm > 0:
         bf = fl.fly(kin, x_launch, warm + 2, chi)
-        rf = _residual(kin, speed, Beats(bf.states[1:], bf.mean_velocity[1:], bf.mean_pitch[1:], bf.P_plus[1:],
+        rf = orbit_residual(kin, speed, Beats(bf.states[1:], bf.mean_velocity[1:], bf.mean_pitch[1:], bf.P_plus[1:],
                                          0.0), warm)
         floor = float(np.abs(rf[:4]).max())
     extra = {}
@@ -485,7 +489,7 @@ def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = Non
         x = x + np.asarray(perturbation, float)
     if symmetric is None:
         symmetric = perturbation is None or not np.any(np.asarray(perturbation)[[1, 3, 5, 6, 8]])
-    fl = _Flight(orbit.aero, symmetric=symmetric, model=model)
+    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model)
     w = orbit.warm_beats
     if iterate_map:
         if orbit.has_memory:
@@ -505,6 +509,6 @@ def beat_map(orbit: Orbit, x: np.ndarray, *, model: mujoco.MjModel | None = None
              beats: int = 1) -> np.ndarray:
     """The one-beat map at the orbit's kinematics: state (9,) at the launch -> state (9,) ``beats`` beats after
     the measured beat starts (for the UVLM the launch is ``warm_beats`` earlier, from an empty wake)."""
-    fl = _Flight(orbit.aero, symmetric=symmetric, model=model)
+    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model)
     return fl.fly(orbit.kinematics, np.asarray(x, float), orbit.warm_beats + beats, orbit.chi_ref,
                   record=orbit.record).states[-1]

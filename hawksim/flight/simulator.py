@@ -253,7 +253,7 @@ def idle_stages(model: mujoco.MjModel) -> int:
 
 
 @contextlib.contextmanager
-def _control_callback(fn, timer=None):
+def control_callback(fn, timer=None):
     """MuJoCo's ``mjcb_control`` set to fn (and ``mjcb_time`` to timer, unless None) for the block, then put back
     (both are one global per process)."""
     previous = mujoco.get_mjcb_control()
@@ -344,6 +344,12 @@ class Simulator:
             if nc.available:
                 nc.set_eq1(self._p)
                 self._native = nc
+
+    @property
+    def native_control(self):
+        """The compiled computed-torque callback (:class:`hawksim.flight.native.NativeControl`) that steps this
+        flight, or None where the flight's control runs in Python (no compiler, or ``native=False``)."""
+        return self._native
 
     # ---- prescribed motion -------------------------------------------------------------------------
     def desired(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -541,7 +547,7 @@ class Simulator:
         before = [d.warning[w].number for w in self._warn_ids]
         _MUJOCO_LOG.held = []
         try:
-            with _control_callback(callback, self._native.no_timer if self._native is not None else None):
+            with control_callback(callback, self._native.no_timer if self._native is not None else None):
                 mujoco.mj_step(m, d, nstep=k)
         finally:
             held, _MUJOCO_LOG.held = _MUJOCO_LOG.held, None

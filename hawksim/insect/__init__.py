@@ -1,2 +1,19 @@
-"""The insect: morphology (Table 1 and literature), wing kinematics (Eq. 1, Tables 2-3), the generated MJCF
-model, and the named accessors into it."""
+"""The insect: its morphology, wing kinematics, MuJoCo model and the named indices into it.
+
+Modules:
+
+- ``morphology``: the hawkmoth's measured body and wings (Table 1 and the literature), with each number's source.
+- ``kinematics``: the wing kinematics of the paper's Eq. 1 (Tables 2-3), SI inside (radians, Hz).
+- ``model``: the MJCF model generated from the morphology, and loading it into MuJoCo.
+- ``accessors``: named body, joint and dof indices into the MuJoCo model.
+"""
+
+from hawksim.lazy import lazy_exports
+
+__all__, __getattr__, __dir__ = lazy_exports(__name__, {
+    ".morphology": ("Morphology", "HAWKMOTH", "RHO_AIR", "P0_W", "MORPHOLOGIES"),
+    ".kinematics": ("Kinematics", "table3_kinematics", "bounds_si", "reference_speed", "PARAM_NAMES",
+                    "TABLE2_BOUNDS_DEG", "TABLE3_SPEEDS"),
+    ".model": ("load_model", "mjcf", "write_model"),
+    ".accessors": ("ModelIndex",),
+})

@@ -167,15 +167,15 @@ class Kinematics:
         return np.array(self.eq1(np.cos(wt), np.sin(wt)), dtype=float)
 
     def angles(self, t: np.ndarray) -> np.ndarray:
-        """(phi, theta, alpha) [rad] at times t [s]: array of shape (3, *t.shape)."""
+        """(phi, theta, alpha) [rad] at times t [s]: array of shape ``(3, *t.shape)``."""
         return self._eq1_array(t, 0)
 
     def rates(self, t: np.ndarray) -> np.ndarray:
-        """Time derivatives (3, *t.shape) of (phi, theta, alpha) [rad/s]."""
+        """Time derivatives ``(3, *t.shape)`` of (phi, theta, alpha) [rad/s]."""
         return self._eq1_array(t, 1)
 
     def accelerations(self, t: np.ndarray) -> np.ndarray:
-        """Second derivatives (3, *t.shape) of (phi, theta, alpha) [rad/s^2]."""
+        """Second derivatives ``(3, *t.shape)`` of (phi, theta, alpha) [rad/s^2]."""
         return self._eq1_array(t, 2)
 
 
@@ -205,7 +205,8 @@ def realization(kin: Kinematics, k: int = 1) -> Kinematics:
 
 
 def table3_kinematics(speed: float) -> Kinematics:
-    """Table 3's optimal kinematics at ascent speed [m/s], linearly interpolated between its speeds.
+    """Table 3's optimal kinematics at ascent speed [m/s], linearly interpolated between its speeds; SI (angles
+    in radians, f in Hz), as every Kinematics (Table 3 itself prints degrees: :data:`TABLE3_DEG`).
 
     Raises ValueError outside [0, 2] m/s.
     """

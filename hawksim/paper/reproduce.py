@@ -144,6 +144,7 @@ STEPS = ("uvlm_table4", "stability", "stability_table3", "orbits", "validation",
 
 
 def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
+    """`hawksim reproduce`: the parts ``only`` (:data:`STEPS`) written under ``out_dir``; {part: path written}."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     done = {}

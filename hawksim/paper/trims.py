@@ -145,6 +145,7 @@ def table3_markdown(res: dict) -> str:
 
 
 def table4_markdown(res: dict) -> str:
+    """Table 4 as Markdown: per speed the trims' UVLM (and surrogate) L+, D+, M+, P+ beside the paper's P+."""
     head = ("| V (m/s) | L+ UVLM (ANN) | D+ UVLM (ANN) | M+ UVLM (ANN) | P+ UVLM (ANN) | paper P+ | "
             "balanced L+, D+, M+, P+ | P+ change |\n|---|---|---|---|---|---|---|---|\n")
     lines = []

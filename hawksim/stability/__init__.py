@@ -1,2 +1,25 @@
-"""Stability about a trim: derivatives from disturbed held-body runs (Eq. 15, ``derivatives``), the A matrices
-and modes (Eqs. 8-12, ``system``) and the CLI's report (``report``)."""
+"""Stability about an operating point: the paper's cycle-averaged linear model and the Floquet analysis of the
+free body's one-beat map.
+
+Modules:
+
+- ``derivatives``: stability derivatives from disturbed held-body runs (Eq. 15).
+- ``system``: the A matrices and their modes (Eqs. 8-12), nondimensional.
+- ``floquet``: the monodromy matrix of the one-beat map about a periodic orbit, its multipliers and modes.
+- ``history_floquet``: the same with a history network's record of calls in the state.
+- ``prediction``: perturbed flights predicted by either linear model.
+- ``validation``: the predictions against nonlinear flights, per speed.
+- ``report``: the stability report of ``hawksim stability``.
+"""
+
+from hawksim.lazy import lazy_exports
+
+__all__, __getattr__, __dir__ = lazy_exports(__name__, {
+    ".derivatives": ("dimensional_derivatives", "DerivativeRuns"),
+    ".system": ("a_long", "a_lat", "modes", "Mode", "nondimensional_system", "MassProperties"),
+    ".floquet": ("Floquet", "monodromy", "AveragedSystem", "quasi_steady_system"),
+    ".history_floquet": ("HistoryFloquet", "history_monodromy"),
+    ".prediction": ("Prediction", "predict_flight"),
+    ".validation": ("validate_speed",),
+    ".report": ("stability_report",),
+})

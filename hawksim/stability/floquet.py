@@ -31,7 +31,7 @@ import numpy as np
 
 from hawksim.backends.held import held_flight
 from hawksim.insect.kinematics import Kinematics
-from hawksim.flight.orbit import SURROGATE_FD_STEP, UVLM_FD_STEP, S, Orbit, _Flight, scales
+from hawksim.flight.orbit import SURROGATE_FD_STEP, UVLM_FD_STEP, S, Orbit, OrbitFlight, scales
 from hawksim.frames import cross
 
 FLOQUET_STATES = (0, 1, 2, 3, 4, 5, 6, 7)
@@ -63,9 +63,10 @@ curvature O(1): the derivative error is ~1e-8 relative (checked by halving the s
 
 @dataclass(frozen=True)
 class Floquet:
-    """Monodromy (8, 8) nondimensional (rows/cols u, v, w, p, q, r, phi, theta), its blocks long (4, 4) in
+    """Monodromy (8, 8) nondimensional (rows/cols u, v, w, p, q, r, phi, theta; velocities / U, rates x T, angles
+    in radians: :func:`state_scale`), its blocks long (4, 4) in
     (u, w, q, theta) order and lat (4, 4) in (v, p, r, phi) order, coupling: Frobenius norm of the two
-    off-diagonal blocks (max), multipliers_long/lat (4,) complex sorted by |mu| descending, exponents_long/lat
+    off-diagonal blocks (max), multipliers_long/lat (4,) complex sorted by ``|mu|`` descending, exponents_long/lat
     ln(mu) per wingbeat, eigenvectors_long/lat (4, 4) columns (normalized states)."""
 
     monodromy: np.ndarray
@@ -99,7 +100,7 @@ class Floquet:
 
     @property
     def max_resolved_multiplier(self) -> float:
-        """Largest |mu| among the resolved modes (all modes for a settable-state backend)."""
+        """Largest ``|mu|`` among the resolved modes (all modes for a settable-state backend)."""
         m = [abs(mu) for mu, ok in zip(np.concatenate([self.multipliers_long, self.multipliers_lat]),
                                        self.resolved_long + self.resolved_lat) if ok]
         return float(max(m)) if m else float("nan")
@@ -119,16 +120,16 @@ def _eig(M):
 
 def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None,
               lateral: bool = True) -> Floquet:
-    """Monodromy of the one-beat map about ``orbit`` by central differences (16 flights; 8 without
-    ``lateral``, whose lateral block is then the identity). UVLM: the symmetric perturbations use the mirrored
-    lattice, the lateral ones both wings; each evaluation is a launch from an empty wake with the orbit's warm-up
-    beats (:mod:`hawksim.flight.orbit`), the perturbation applied at the launch and the map measured over the periodic
-    beat (the perturbation's evolution over the warm-up beats is included: the Jacobian is then that of
-    ``warm_beats + 1`` beats relative to ``warm_beats``, see :func:`_chain`). Each UVLM mode gets its ``reach``
-    and is ``resolved`` or not (:data:`REACH_MIN`): an unresolved exponent is the launch family's extrapolation,
-    not a mode of the flight. An orbit with a record (a history network's, :attr:`hawksim.flight.orbit.Orbit.record`)
-    is flown from its record, which is held: the body block of the augmented map; its modes are
-    :func:`hawksim.stability.history_floquet.history_monodromy`'s."""
+    """Monodromy of the one-beat map about ``orbit`` by central differences (16 flights; 8 without ``lateral``, whose
+    lateral block is then the identity), in normalized states (angles in radians: :class:`Floquet`). UVLM: the
+    symmetric perturbations use the mirrored lattice, the lateral ones both wings; each evaluation is a launch from
+    an empty wake with the orbit's warm-up beats (:mod:`hawksim.flight.orbit`), the perturbation applied at the
+    launch and the map measured over the periodic beat (the perturbation's evolution over the warm-up beats is
+    included: the Jacobian is then that of ``warm_beats + 1`` beats relative to ``warm_beats``, see :func:`_chain`).
+    Each UVLM mode gets its ``reach`` and is ``resolved`` or not (:data:`REACH_MIN`): an unresolved exponent is the
+    launch family's extrapolation, not a mode of the flight. An orbit with a record (a history network's,
+    :attr:`hawksim.flight.orbit.Orbit.record`) is flown from its record, which is held: the body block of the
+    augmented map; its modes are :func:`hawksim.stability.history_floquet.history_monodromy`'s."""
     import time
 
     t0 = time.perf_counter()
@@ -156,7 +157,7 @@ def _monodromy_matrix(orbit: Orbit, delta: float, model, lateral: bool) -> np.nd
     sc = state_scale(kin)
     x0 = orbit.launch_state.as_array()
     w = orbit.warm_beats
-    fl = {s: _Flight(orbit.aero, symmetric=s, model=model) for s in (True, False)}
+    fl = {s: OrbitFlight(orbit.aero, symmetric=s, model=model) for s in (True, False)}
     cols = FLOQUET_STATES if lateral else LONG
     # states at the start (k = w) and end (k = w + 1) of the periodic beat, per perturbed launch
     A = np.zeros((8, 8))   # d x(w) / d x0, normalized (identity when w = 0)

@@ -42,9 +42,9 @@ RECORD_LONG, RECORD_LAT = (0, 2, 4), (1, 3, 5)
 class HistoryFloquet:
     """The augmented monodromy's blocks long, lat (n, n) nondimensional (the 4 body states in
     :data:`hawksim.stability.floquet.LONG` / ``LAT`` order, then the records' 3 components, oldest record first),
-    their coupling (Frobenius norm of the off-diagonal blocks, max), multipliers_long/lat (n,) complex sorted by |mu|
-    descending, body_share_long/lat (n,): the fraction of each eigenvector's norm in the 4 body states, records: the
-    records of history in the state, delta: the difference step."""
+    their coupling (Frobenius norm of the off-diagonal blocks, max), multipliers_long/lat (n,) complex sorted by
+    ``|mu|`` descending, body_share_long/lat (n,): the fraction of each eigenvector's norm in the 4 body states,
+    records: the records of history in the state, delta: the difference step."""
 
     long: np.ndarray
     lat: np.ndarray
@@ -56,10 +56,10 @@ class HistoryFloquet:
     records: int
     delta: float
     residual: float
-    """max |z' - z| of the augmented state (normalized) one beat after the linearization point: how far the point
+    """max ``|z' - z|`` of the augmented state (normalized) one beat after the linearization point: how far the point
     (the orbit's state and its periodic beat's record) is from periodic in the augmented state."""
     record_mismatch: float
-    """max |difference| (normalized) of that record and the one the periodic beat started with, which the orbit
+    """max ``|difference|`` (normalized) of that record and the one the periodic beat started with, which the orbit
     was solved with (its :attr:`hawksim.flight.orbit.Orbit.record`, or the warm-up beat's calls; nan: an orbit with
     neither)."""
     wall_time_s: float
@@ -167,7 +167,7 @@ def history_monodromy(orbit: Orbit, *, delta: float = SURROGATE_FD_STEP, model: 
 
 
 def _modes(M: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Eigenvalues sorted by |mu| descending and each eigenvector's norm fraction in the first 4 (body) states."""
+    """Eigenvalues sorted by ``|mu|`` descending and each eigenvector's norm fraction in the first 4 (body) states."""
     w, V = np.linalg.eig(M)
     order = np.argsort(-np.abs(w), kind="stable")
     w, V = w[order], V[:, order]

@@ -154,7 +154,7 @@ def extended_monodromy(orbit, *, delta: float | None = None, model=None) -> tupl
     monodromy (rows and columns :data:`FLOQUET_NAMES`, normalized), J the neutral rows: the change over the beat of
     the heading psi [rad] and of the world position (3,) [m] (the beat's mean velocity times T) per normalized
     unit of each launch state. NOT pure: it flies."""
-    from hawksim.flight.orbit import _Flight
+    from hawksim.flight.orbit import OrbitFlight
     from hawksim.stability.floquet import FD_DELTA, state_scale
 
     if orbit.has_memory:
@@ -163,7 +163,7 @@ def extended_monodromy(orbit, *, delta: float | None = None, model=None) -> tupl
     kin = orbit.kinematics
     sc = state_scale(kin)
     x0 = orbit.launch_state.as_array()
-    fl = {s: _Flight(orbit.aero, symmetric=s, model=model) for s in (True, False)}
+    fl = {s: OrbitFlight(orbit.aero, symmetric=s, model=model) for s in (True, False)}
     M, J = np.zeros((8, 8)), np.zeros((4, 8))
     for j in range(8):
         outs = []
@@ -185,7 +185,7 @@ class Prediction:
     deviation from ``reference``; floquet, averaged (nb + 1, 8); neutral (nb + 1, 4): the Floquet prediction of
     the heading [rad] and world position [m] deviations (:func:`neutral_prediction`); ghost_pos (n, 3) [m] and
     ghost_quat (n, 4) (w, x, y, z): the ghost's pose from the Floquet prediction (:func:`ghost_pose`); reference:
-    the unperturbed orbit flight (same kinematics, steps and length); max_multiplier: the largest |mu| of M;
+    the unperturbed orbit flight (same kinematics, steps and length); max_multiplier: the largest ``|mu|`` of M;
     notes: how it was made.
     """
 

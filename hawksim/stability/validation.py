@@ -184,7 +184,7 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
                    state_flights: bool = True, eps: float | None = None, log=None) -> dict:
     """Perturbed nonlinear flights about ``orbit`` against its Floquet matrix ``floquet``
     (:class:`hawksim.stability.floquet.Floquet`) and the averaged A matrices ``A`` ({'longitudinal': A_long,
-    'lateral': A_lat}, nondimensional, t+ = t/T). ``modes``: 'all' or 'unstable' (|mu| > 1 only). Returns the
+    'lateral': A_lat}, nondimensional, t+ = t/T). ``modes``: 'all' or 'unstable' (``|mu| > 1`` only). Returns the
     JSON-ready result of the speed (see the module docstring), with the raw deviations under ``_flights``."""
     from scipy.linalg import expm
 

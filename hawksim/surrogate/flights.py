@@ -370,6 +370,13 @@ class StoredFlight:
     cut: str | None
     status: str
 
+    @classmethod
+    def from_sample(cls, sample: FlightSample) -> StoredFlight:
+        """The flight as a data set stores and reads it back (rows in float64), without writing it."""
+        sp = sample.spec
+        return cls(sample.seed, sample.idx, sp.speed, sp.kinematics.as_array(), sp.symmetric,
+                   sample.rows.astype(np.float64), sample.cut, sample.status)
+
 
 def read_flights(path: str | Path, seed: int | None = None, *, status: str | None = "ok") -> list[StoredFlight]:
     """The flights of a data-set file (optionally one seed; by default the 'ok' ones), ordered by (seed, idx)."""

@@ -43,11 +43,13 @@ from hawksim.surrogate.flights import COLUMNS, WARM_BEATS, StoredFlight
 UPDATES_PER_BEAT = 40
 """UVLM updates per wingbeat in the flights (FLY_UVLM.steps_per_cycle): the rows' cadence, T / 40."""
 
-_C = {n: i for i, n in enumerate(COLUMNS)}
+COLUMN_INDEX: dict[str, int] = {n: i for i, n in enumerate(COLUMNS)}
+"""The column of each recorded quantity in a flight's rows (:data:`hawksim.surrogate.flights.COLUMNS`)."""
 
 
-def _cols(*names) -> list[int]:
-    return [_C[n] for n in names]
+def column_indices(*names: str) -> list[int]:
+    """The row columns of the named quantities (:data:`COLUMN_INDEX`), in the order given."""
+    return [COLUMN_INDEX[n] for n in names]
 
 
 @dataclass(frozen=True)
@@ -66,15 +68,15 @@ def flight_inputs(fl: StoredFlight, lags: tuple[float, ...]) -> tuple[np.ndarray
     r = fl.rows
     n = r.shape[0]
     f = fl.kinematics[0]
-    ph = 2 * math.pi * f * r[:, _C["t"]]
-    state = r[:, _cols(*("vx", "vy", "vz", "wx", "wy", "wz"))]
+    ph = 2 * math.pi * f * r[:, COLUMN_INDEX["t"]]
+    state = r[:, column_indices(*("vx", "vy", "vz", "wx", "wy", "wz"))]
     parts = [np.broadcast_to(fl.kinematics, (n, 7)), np.sin(ph)[:, None], np.cos(ph)[:, None], state]
     for lag in lags:
         k = int(round(lag * UPDATES_PER_BEAT))
         idx = np.clip(np.arange(n) - k, 0, None)
         parts.append(state[idx])
     x = np.concatenate(parts, axis=1)
-    return x, r[:, _C["t"]] >= WARM_BEATS / f - 1e-9
+    return x, r[:, COLUMN_INDEX["t"]] >= WARM_BEATS / f - 1e-9
 
 
 def rows_of(flights: list[StoredFlight], lags: tuple[float, ...]) -> Rows:
@@ -84,14 +86,15 @@ def rows_of(flights: list[StoredFlight], lags: tuple[float, ...]) -> Rows:
         x, keep = flight_inputs(fl, lags)
         r = fl.rows[keep]
         x = x[keep]
-        yl = np.concatenate([r[:, _cols("FLx", "FLy", "FLz")], r[:, _cols("MLx", "MLy", "MLz")]], axis=1)
+        yl = np.concatenate([r[:, column_indices("FLx", "FLy", "FLz")], r[:, column_indices("MLx", "MLy", "MLz")]],
+                            axis=1)
         xs.append(x)
         ys.append(yl)
         fid.append(np.full(len(x), j))
         wid.append(np.zeros(len(x), int))
         if not fl.symmetric:
-            yr = np.concatenate([r[:, _cols("FRx", "FRy", "FRz")] * MIRROR_F, r[:, _cols("MRx", "MRy", "MRz")]
-                                 * MIRROR_M], axis=1)
+            yr = np.concatenate([r[:, column_indices("FRx", "FRy", "FRz")] * MIRROR_F,
+                                 r[:, column_indices("MRx", "MRy", "MRz")] * MIRROR_M], axis=1)
             xs.append(mirror_inputs(x))
             ys.append(yr)
             fid.append(np.full(len(x), j))
@@ -278,7 +281,7 @@ def flight_loads(fl: StoredFlight, y_left: np.ndarray, y_right: np.ndarray, geom
     wing loads (n, 6) in wing axes (left, right), along the recorded flight."""
     Rwb, hinge, w_rel = geom
     r = fl.rows
-    Rb = r[:, [_C[f"R{i}{j}"] for i in range(3) for j in range(3)]].reshape(-1, 3, 3)
+    Rb = r[:, [COLUMN_INDEX[f"R{i}{j}"] for i in range(3) for j in range(3)]].reshape(-1, 3, 3)
     F = np.stack([y_left[:, :3], y_right[:, :3]], axis=1)
     M = np.stack([y_left[:, 3:], y_right[:, 3:]], axis=1)
     Fb = np.einsum("nkij,nkj->nki", Rwb, F)
@@ -298,13 +301,27 @@ def cycle_means(fl: StoredFlight, loads: dict[str, np.ndarray], power_aero_uvlm:
     with the UVLM's aerodynamic power replaced by ``loads['power_aero']``."""
     W, c = HAWKMOTH.weight, HAWKMOTH.cbar
     n = fl.rows.shape[0]
-    p = fl.rows[:, _C["power_joint"]] - power_aero_uvlm + loads["power_aero"]
+    p = fl.rows[:, COLUMN_INDEX["power_joint"]] - power_aero_uvlm + loads["power_aero"]
     out = []
     for k in range(WARM_BEATS, n // UPDATES_PER_BEAT):
         s = slice(k * UPDATES_PER_BEAT, (k + 1) * UPDATES_PER_BEAT)
         out.append((loads["lift"][s].mean() / W, loads["drag"][s].mean() / W, loads["moment"][s].mean() / (W * c),
                     np.maximum(p[s], 0.0).mean() / P0_W))
     return np.array(out).reshape(-1, 4)
+
+
+def flight_cycle_means(fl: StoredFlight, y_left: np.ndarray | None = None,
+                       y_right: np.ndarray | None = None) -> np.ndarray:
+    """(beats, 4) L+, D+, M+, P+ of every complete wingbeat of a recorded flight past the warm-up
+    (:func:`cycle_means`), from the flight's own UVLM wing loads or, where given, from other per-row wing loads
+    y_left, y_right (n, 6) in wing axes (force [N], moment about the hinge [N m]; a network's predictions)."""
+    r = fl.rows
+    u_l = r[:, column_indices("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
+    u_r = r[:, column_indices("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
+    geom = wing_geometry(Kinematics.from_array(fl.kinematics), r[:, COLUMN_INDEX["t"]])
+    yl = u_l if y_left is None else y_left
+    yr = u_r if y_right is None else y_right
+    return cycle_means(fl, flight_loads(fl, yl, yr, geom), r[:, COLUMN_INDEX["power_aero"]])
 
 
 def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
@@ -319,9 +336,9 @@ def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
         yl = net.predict(x)
         yr = net.predict(mirror_inputs(x)) * mirror  # the right wing in its own axes
         r = fl.rows
-        u_l = r[:, _cols("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
-        u_r = r[:, _cols("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
-        geom = wing_geometry(Kinematics.from_array(fl.kinematics), r[:, _C["t"]])
+        u_l = r[:, column_indices("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
+        u_r = r[:, column_indices("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
+        geom = wing_geometry(Kinematics.from_array(fl.kinematics), r[:, COLUMN_INDEX["t"]])
         Rwb = geom[0]
         sides = [(0, u_l, yl)] + ([] if fl.symmetric else [(1, u_r, yr)])
         for k, u, y in sides:
@@ -333,7 +350,7 @@ def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
                 b = np.concatenate([np.einsum("nij,nj->ni", Rwb[:, k], a[:, :3]),
                                     np.einsum("nij,nj->ni", Rwb[:, k], a[:, 3:])], axis=1)
                 dst.append((b * mb)[keep])
-        pa = r[:, _C["power_aero"]]
+        pa = r[:, COLUMN_INDEX["power_aero"]]
         uvlm.append(cycle_means(fl, flight_loads(fl, u_l, u_r, geom), pa))
         pred.append(cycle_means(fl, flight_loads(fl, yl, yr, geom), pa))
     wing_u, wing_p = np.concatenate(wing_u), np.concatenate(wing_p)

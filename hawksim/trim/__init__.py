@@ -1,7 +1,18 @@
-"""Trims, the operating points: the one :class:`Trim` type (``point``), the paper's fitness and the GA + Nelder-Mead
-search on a surrogate (Eq. 3, ``search``), the balance on the UVLM or the quasi-steady model (``balance``) and the
-shipped tables (``tables``)."""
+"""Trims, the held-body operating points: the one :class:`Trim` type, its search and the shipped tables.
 
-from hawksim.trim.point import Trim
+Modules:
 
-__all__ = ["Trim"]
+- ``point``: :class:`Trim`, the kinematics and cycle averages of one operating point.
+- ``search``: the paper's fitness (Eq. 3) and the GA + Nelder-Mead search on the cycle-mean surrogate.
+- ``balance``: the trim balanced on the UVLM or the quasi-steady model (a least-squares solve from a guess).
+- ``tables``: the shipped trim tables (hawksim/data) by speed and backend.
+"""
+
+from hawksim.lazy import lazy_exports
+
+__all__, __getattr__, __dir__ = lazy_exports(__name__, {
+    ".point": ("Trim",),
+    ".search": ("fitness", "ga_nelder_mead", "trim_on_surrogate", "GAConfig", "GAResult"),
+    ".balance": ("balance_on_uvlm",),
+    ".tables": ("shipped_trim", "trim_kinematics"),
+})

@@ -18,7 +18,7 @@ class Trim:
 
     Attributes:
         speed: ascent speed V [m/s].
-        kinematics: the seven parameters of Eq. 1 (SI).
+        kinematics: the seven parameters of Eq. 1 (SI: angles in radians, f in Hz).
         model: the aerodynamic model it balances on ("uvlm", "quasi-steady", "surrogate"; "paper" for Table 3).
         source: where it comes from, in words (a search, a balance, a shipped table and its command).
         averages: the model's cycle averages there (Eq. 2), None where not recorded (an interpolated table row).

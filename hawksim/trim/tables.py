@@ -51,5 +51,5 @@ def shipped_trim(speed: float, aero: str = "uvlm") -> Trim:
 
 
 def trim_kinematics(speed: float, aero: str = "uvlm") -> Kinematics:
-    """The kinematics of :func:`shipped_trim`."""
+    """The kinematics of :func:`shipped_trim` at ``speed`` [m/s] on ``aero``, SI (angles in radians, f in Hz)."""
     return shipped_trim(speed, aero).kinematics

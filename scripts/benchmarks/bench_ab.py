@@ -14,7 +14,7 @@ and reports the results' bits (``aero_L_plus``, ``reference_lift_N`` as float.he
 them can be seen to. Per variant: the median and min of each time over the rounds; ``ratio`` = the first variant's
 median / each variant's (> 1: faster than the first). /proc/loadavg before and after every process.
 
-    python scripts/benchmarks/bench_ab.py --variant base=HEAD~1 --variant new=HEAD [--rounds 3] [--threads 2]
+    python -m scripts.benchmarks.bench_ab --variant base=HEAD~1 --variant new=HEAD [--rounds 3] [--threads 2]
 """
 
 from __future__ import annotations
@@ -33,9 +33,8 @@ REPO = os.path.dirname(os.path.dirname(HERE))
 
 CHILD = r"""
 import json, sys, time
-sys.path.insert(0, sys.argv[1] + "/scripts/benchmarks")
 import aero  # noqa: F401  (before numba)
-from bench_uvlm import run_case
+from scripts.benchmarks.bench_uvlm import run_case  # the worktree is the working directory
 from hawksim.backends.held import run
 from hawksim.backends.resolution import DEFAULT
 from hawksim.insect.kinematics import table3_kinematics
@@ -90,7 +89,6 @@ def main():
         variants.append((label, commit))
     if a.rounds < 1 or a.threads < 1:
         sys.exit("error: --rounds and --threads must be >= 1")
-    sys.path.insert(0, REPO)
     from hawksim.jsonout import emit, host_info
 
     began = host_info()
@@ -127,7 +125,7 @@ def main():
         summary[label]["ratio"] = {key: round(summary[first][key]["median"] / summary[label][key]["median"], 3)
                                    for key in ("aero_s", "reference_s")}
     same = len({tuple(map(tuple, s["bits"])) for s in summary.values()}) == 1
-    command = " ".join(["python", "scripts/benchmarks/bench_ab.py", *sys.argv[1:]])
+    command = " ".join(["python", "-m", "scripts.benchmarks.bench_ab", *sys.argv[1:]])
     emit({"command": command, "began": began["date"], "ended": host_info()["date"], "host": began,
           "threads": a.threads, "rounds": a.rounds, "same_bits": same, "variants": summary, "runs": runs}, a.out)
 

@@ -102,7 +102,6 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="hawksim_cold_") as work:
         results = {label: variant(label, commit, warm, args.runs, args.full_install, work)
                    for label, commit, warm in variants}
-    sys.path.insert(0, REPO)
     from hawksim.jsonout import emit
 
     emit({"command": " ".join(["python", *sys.argv]),

@@ -9,7 +9,7 @@ NUMBA_NUM_THREADS=2) and the two load conditions are interleaved, ``--repeats`` 
 drift (it is shared) reaches every setting alike; each figure comes with the load average when it started.
 Each run also reports a SHA-256 of its force history, so runs of one setting can be checked bit for bit.
 
-    python scripts/benchmarks/bench_contention.py --repeats 3 [--steps 220] [--out FILE]
+    python -m scripts.benchmarks.bench_contention --repeats 3 [--steps 220] [--out FILE]
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
 
 DEFAULT_SETTINGS = ("1 thread:NUMBA_NUM_THREADS=1", "2 threads:NUMBA_NUM_THREADS=2")
 
@@ -37,8 +38,7 @@ def _loadavg() -> list[float] | None:
 
 def worker(steps: int) -> None:
     """Run the reference case in this process; print wall time [s], threading layer, threads and force hash."""
-    sys.path.insert(0, HERE)
-    from bench_uvlm import run_case  # noqa: I001  (imports aero, which sets numba's environment first)
+    from scripts.benchmarks.bench_uvlm import run_case  # noqa: I001  (imports aero, which sets numba's environment first)
 
     import numba
 
@@ -68,8 +68,8 @@ def parse_setting(text: str) -> tuple[str, dict]:
 
 def measure(steps: int, env: dict) -> dict:
     load = _loadavg()
-    proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--worker", "--steps", str(steps)],
-                          env={**os.environ, **env}, capture_output=True, text=True, check=True)
+    proc = subprocess.run([sys.executable, "-m", "scripts.benchmarks.bench_contention", "--worker", "--steps",
+                           str(steps)], cwd=REPO, env={**os.environ, **env}, capture_output=True, text=True, check=True)
     return {**json.loads(proc.stdout.strip().splitlines()[-1]), "loadavg": load}
 
 
@@ -120,11 +120,10 @@ def main() -> None:
         for name, _ in settings[1:]:
             summary[cond][name][f"ratio_to_{settings[0][0].replace(' ', '_')}"] = round(
                 summary[cond][name]["median_s"] / base, 3)
-    out = {"command": " ".join(["python", *sys.argv]),
+    out = {"command": " ".join(["python", "-m", "scripts.benchmarks.bench_contention", *sys.argv[1:]]),
            "case": f"bench_uvlm reference case, {args.steps} steps", "repeats": args.repeats,
            "settings": {name: env for name, env in settings}, "competitor_cpu": cpu,
            "affinity": sorted(os.sched_getaffinity(0)), "results": summary, "loadavg_start": start}
-    sys.path.insert(0, os.path.dirname(os.path.dirname(HERE)))
     from hawksim.jsonout import emit
 
     emit(out, args.out, host=True)

@@ -118,14 +118,14 @@ def _floors(kin, steps_per_cycle: int, cycles: int, repeat: int) -> dict:
     import mujoco
 
     from hawksim.backends.base import NoAero
-    from hawksim.flight.simulator import Simulator, _control_callback
+    from hawksim.flight.simulator import Simulator, control_callback
     from hawksim.insect.model import load_model
 
     sim = Simulator(load_model(), kin, NoAero(), steps_per_cycle=steps_per_cycle)
     m, d, steps = sim.m, sim.d, cycles * steps_per_cycle
     out = {}
-    native = sim._native.callback if sim._native else None
-    no_timer = sim._native.no_timer if sim._native else None
+    native = sim.native_control.callback if sim.native_control else None
+    no_timer = sim.native_control.no_timer if sim.native_control else None
     for name, cb, timer in (("rk4_alone_mujoco_default_timer", None, None), ("rk4_alone", None, no_timer),
                             ("rk4_native_computed_torque", native, no_timer)):
         if name != "rk4_alone_mujoco_default_timer" and (native is None):
@@ -134,8 +134,8 @@ def _floors(kin, steps_per_cycle: int, cycles: int, repeat: int) -> dict:
         for _ in range(repeat):
             sim.reset()
             if cb is not None:
-                sim._native.install()
-            with _control_callback(cb, timer):
+                sim.native_control.install()
+            with control_callback(cb, timer):
                 t0 = time.perf_counter()
                 mujoco.mj_step(m, d, nstep=steps)
                 best = min(best, time.perf_counter() - t0)

@@ -8,7 +8,7 @@
   (Table 3 hover, default resolution) under each setting of CHUNKS_PER_THREAD and MIN_PARALLEL_WORK given,
   ``--repeats`` rounds, with the load average at each run. All with numba's thread count (NUMBA_NUM_THREADS).
 
-    python scripts/benchmarks/bench_scheduling.py [--chunks 4,16] [--min-work 0,100000] [--repeats 2]
+    python -m scripts.benchmarks.bench_scheduling [--chunks 4,16] [--min-work 0,100000] [--repeats 2]
         [--handoff-only]
 """
 
@@ -16,15 +16,13 @@ from __future__ import annotations
 
 import argparse
 import hashlib
-import os
 import statistics
 import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_uvlm import run_case  # noqa: E402, I001  (imports aero first)
+from scripts.benchmarks.bench_uvlm import run_case  # noqa: I001  (imports aero first)
 
 from aero import scheduling  # noqa: E402
 from aero.lattice import lattice_velocity, ring_lattice  # noqa: E402

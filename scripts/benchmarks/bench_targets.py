@@ -30,7 +30,7 @@ exceeds the second the direct sum cannot meet the target on this machine at any 
 case likewise (``reference_case_floor``): its counted pair evaluations at the lattice kernel's measured rate and
 at the FMA ceiling, the speed-ups over PteraSoftware they allow, and the pair rate 50x needs.
 
-    python scripts/benchmarks/bench_targets.py --out-dir results/targets_2026-12-02 [--skip-datasets] [--force]
+    python -m scripts.benchmarks.bench_targets --out-dir results/targets_2026-12-02 [--skip-datasets] [--force]
 """
 from __future__ import annotations
 
@@ -41,12 +41,11 @@ import subprocess
 import sys
 import time
 
+from hawksim.jsonout import emit, host_info
+from scripts.benchmarks.roofline import lane_peak, pair_ceiling, roofline_fractions
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
-sys.path.insert(0, REPO)
-
-from hawksim.jsonout import emit, host_info  # noqa: E402
-from roofline import lane_peak, pair_ceiling, roofline_fractions  # noqa: E402
 
 FLY_STEPS_PER_BEAT = 40
 """UVLM steps per wingbeat of the fly backend (hawksim.backends: the fly lattice), as in bench_treecode's wakes."""
@@ -91,16 +90,17 @@ def other_width(default_bits: int) -> int:
 
 
 def _stages(out: str, py: str, other: int = 512) -> dict:
-    b = os.path.join(HERE, "")
+    b, m = os.path.join(HERE, ""), "scripts.benchmarks."  # the stages run in REPO: -m imports its scripts package
     return {
-        "ptera": [py, b + "bench_pterasoftware.py"],
-        "uvlm": [py, b + "bench_uvlm.py", "--ptera-json", os.path.join(out, "ptera.raw.json")],
-        "fly": [py, b + "bench_treecode.py", "--sections", "crossover", "fly", "roofline", "--cycles",
+        "ptera": [py, "-m", m + "bench_pterasoftware"],
+        "uvlm": [py, "-m", m + "bench_uvlm", "--ptera-json", os.path.join(out, "ptera.raw.json")],
+        "fly": [py, "-m", m + "bench_treecode", "--sections", "crossover", "fly", "roofline", "--cycles",
                 str(FLY_CYCLES)],
-        f"uvlm{other}": [py, b + "bench_uvlm.py", "--ptera-json", os.path.join(out, "ptera.raw.json")],
-        f"fly{other}": [py, b + "bench_treecode.py", "--sections", "fly", "--cycles", str(FLY_CYCLES)],
-        "cold": [py, b + "bench_cold_start.py", "--variant", "new=HEAD", "--variant", "new_nowarmup=HEAD:nowarmup"],
-        "contention": [py, b + "bench_contention.py", "--repeats", "2"],
+        f"uvlm{other}": [py, "-m", m + "bench_uvlm", "--ptera-json", os.path.join(out, "ptera.raw.json")],
+        f"fly{other}": [py, "-m", m + "bench_treecode", "--sections", "fly", "--cycles", str(FLY_CYCLES)],
+        "cold": [py, "-m", m + "bench_cold_start", "--variant", "new=HEAD", "--variant",
+                 "new_nowarmup=HEAD:nowarmup"],
+        "contention": [py, "-m", m + "bench_contention", "--repeats", "2"],
         "datasets": ["bash", b + "time_datasets.sh", os.path.join(out, "datasets")],
     }
 

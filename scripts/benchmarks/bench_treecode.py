@@ -35,7 +35,7 @@ Sections (``--sections``, default all):
 
 Every section records /proc/loadavg before and after; the JSON has the host and date (hawksim.jsonout).
 
-    python scripts/benchmarks/bench_treecode.py [--sections accuracy crossover fly roofline] [--cycles 20]
+    python -m scripts.benchmarks.bench_treecode [--sections accuracy crossover fly roofline] [--cycles 20]
         [--thetas 0.4] [--out FILE]
 """
 
@@ -54,9 +54,8 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_uvlm import lattice_kernel_rate, reference_wing  # noqa: E402, I001  (imports aero first)
-from roofline import pair_ceiling, roofline_fractions  # noqa: E402
+from scripts.benchmarks.bench_uvlm import lattice_kernel_rate, reference_wing  # noqa: I001  (imports aero first)
+from scripts.benchmarks.roofline import pair_ceiling, roofline_fractions  # noqa: E402
 
 import aero.uvlm as uvlm_module  # noqa: E402
 from aero.lattice import lattice_velocity, ring_lattice  # noqa: E402
@@ -204,14 +203,14 @@ MIX_PER_ITER = 18
 """Vector instructions per loop iteration of mix256 / mix512 (10 FMAs, 8 additions)."""
 
 
-def _load():
+def loadavg():
     try:
         return [float(x) for x in open("/proc/loadavg").read().split()[:3]]
     except OSError:
         return None
 
 
-def _threads() -> int:
+def numba_threads() -> int:
     import numba
 
     return numba.get_num_threads()
@@ -273,7 +272,7 @@ def accuracy(thetas) -> dict:
 
 
 # ---- crossover -----------------------------------------------------------------------------------------------
-def _time(fn, reps=3):
+def best_time(fn, reps=3):
     fn()
     best = np.inf
     for _ in range(reps):
@@ -288,8 +287,8 @@ def _compare(lats, pts, mirror, params) -> dict:
     allp = with_images(pts, mirror)
     ref = lattice_velocity(allp, lats)
     tree = lattice_tree(allp, lats, params)
-    td = _time(lambda: lattice_velocity(allp, lats))
-    tt = _time(lambda: lattice_tree(allp, lats, params))
+    td = best_time(lambda: lattice_velocity(allp, lats))
+    tt = best_time(lambda: lattice_tree(allp, lats, params))
     segs = sum(int(np.count_nonzero(lat.span_gamma)) + int(np.count_nonzero(lat.chord_gamma)) for lat in lats)
     return {"wake_segments": segs, "targets": int(allp.shape[0]), "direct_s": round(td, 5), "tree_s": round(tt, 5),
             "direct_over_tree": round(td / tt, 3),
@@ -344,10 +343,10 @@ def with_images(pts: np.ndarray, mirror) -> np.ndarray:
 
 def crossover(theta: float) -> dict:
     params = TreeParams(theta=theta)
-    out = {"theta": theta, "threads": _threads(), "uvlm_wakes_1ms": [], "unstretched_lattices": []}
+    out = {"theta": theta, "threads": numba_threads(), "uvlm_wakes_1ms": [], "unstretched_lattices": []}
     for kind, size, lats, pts, mirror in crossover_cases():
         key = "beats" if kind == "uvlm_wakes_1ms" else "rows"
-        out[kind].append({key: size, "load": _load(), **_compare(lats, pts, mirror, params)})
+        out[kind].append({key: size, "load": loadavg(), **_compare(lats, pts, mirror, params)})
     return out
 
 
@@ -356,18 +355,18 @@ def fly(cycles: int) -> dict:
     from hawksim.cli.fly import fly_named
 
     fly_named(1.0, 1, "uvlm", wake_cycles=10, wake_summation="tree")  # warm-up: numba cache, model
-    out = {"speed_m_s": 1.0, "cycles": cycles, "threads": _threads(), "vector_bits": vector_bits(), "runs": {}}
+    out = {"speed_m_s": 1.0, "cycles": cycles, "threads": numba_threads(), "vector_bits": vector_bits(), "runs": {}}
     settings = (("wake_10_direct", 10, "direct", "float64"), ("wake_10_tree", 10, "tree", "float64"),
                 ("wake_10_auto", 10, "auto", "float64"), ("wake_10_mixed", 10, "direct", "mixed"),
                 ("wake_3_default", 3, "auto", "float64"))
     for name, wake, summation, precision in settings:
-        load = _load()
+        load = loadavg()
         r = fly_named(1.0, cycles, "uvlm", wake_cycles=wake, wake_summation=summation, wake_precision=precision)
         beats = r.summary()["beats"]
         out["runs"][name] = {"wake_cycles": wake, "wake_summation": summation, "wake_precision": precision,
                              "loop_wall_s": round(r.wall_time_s, 2),
                              "wingbeats_per_s": round(cycles / r.wall_time_s, 3), "load_before": load,
-                             "load_after": _load(), "mean_vertical_speed_last_beat": beats[-1]["mean_vertical_speed"]}
+                             "load_after": loadavg(), "mean_vertical_speed_last_beat": beats[-1]["mean_vertical_speed"]}
     runs = out["runs"]
     direct, tree = runs["wake_10_direct"]["loop_wall_s"], runs["wake_10_tree"]["loop_wall_s"]
     out["tree_speedup_10_beat_wake"] = round(direct / tree, 3)
@@ -398,7 +397,7 @@ def _fma_peak(lib, name: str, lanes: int, threads: int, n: int = 5_000_000, trie
     return {"instructions_g_s": round(instr / 1e9, 3), "lane_ops_g_s": round(instr * lanes / 1e9, 2)}
 
 
-def _kernel_rates() -> dict:
+def kernel_rates() -> dict:
     """The lattice kernel's rate [G edge-target pairs/s] on all threads and on one (best of 5 each)."""
     import numba
 
@@ -416,12 +415,12 @@ def roofline() -> dict:
     """Peak FMA throughput (one thread, all threads) at 256 and 512 bits, the lattice kernel's rates with numba
     compiling for 256- and 512-bit vectors, and the kernel's fraction of the roofline per thread count (the
     one-thread figures are the robust ones on a shared machine: other processes take cores from both runs)."""
-    threads = _threads()
+    threads = numba_threads()
     counts = kernel_op_counts()
     fma_ops = FMA_PORT_OPS_PER_PAIR if counts is None else (
         counts["per_edge"]["fma_port"] + counts["per_corner"]["fma_port"] * CORNERS_PER_EDGE)
     out = {"threads": threads, "lane_ops_per_pair": round(LANE_OPS_PER_PAIR, 2),
-           "fma_port_ops_per_pair": round(fma_ops, 2), "compiled_op_counts": counts, "load_before": _load()}
+           "fma_port_ops_per_pair": round(fma_ops, 2), "compiled_op_counts": counts, "load_before": loadavg()}
     cc = shutil.which("cc") or shutil.which("gcc")
     peaks, fp_peaks = {}, {}
     if cc:
@@ -440,14 +439,15 @@ def roofline() -> dict:
 
     out["peak"] = peaks or None
     out["fp_peak"] = fp_peaks or None
-    rates = {str(vector_bits()): _kernel_rates()}
+    rates = {str(vector_bits()): kernel_rates()}
     other = "512" if vector_bits() == 256 else "256"
-    here = os.path.dirname(os.path.abspath(__file__))
-    code = ("import json, sys; sys.path.insert(0, %r); from bench_treecode import _kernel_rates, vector_bits; "
-            "print(json.dumps({'bits': vector_bits(), **_kernel_rates()}))" % here)
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    code = ("import json; from scripts.benchmarks.bench_treecode import kernel_rates, vector_bits; "
+            "print(json.dumps({'bits': vector_bits(), **kernel_rates()}))")
     env = dict(os.environ, HAWKSIM_VECTOR_WIDTH=other)
     env.pop("NUMBA_CPU_FEATURES", None)
-    proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    proc = subprocess.run([sys.executable, "-c", code], cwd=repo, env=env, capture_output=True, text=True,
+                          check=True)
     child = json.loads(proc.stdout.strip().splitlines()[-1])
     if child.pop("bits") != int(other):  # numba imported before aero, or a host without AVX-512F
         raise SystemExit(f"bench_treecode: the {other}-bit child process compiled for another vector width")
@@ -462,7 +462,7 @@ def roofline() -> dict:
         out["fraction_of_fp_roofline"] = roofline_fractions(out)
         out["pair_ceiling_g_pairs_s"] = {b: {k: round(pair_ceiling(out, b, k), 3) for k in ("one", "all")}
                                          for b in ("256", "512")}
-    out["load_after"] = _load()
+    out["load_after"] = loadavg()
     return out
 
 
@@ -478,7 +478,7 @@ def main() -> None:
     args = ap.parse_args()
     out = {"command": " ".join(["python", *sys.argv]), "bound": BOUND, "tree_params": TreeParams().__dict__,
            "tree_min_segments": uvlm_module.TREE_MIN_SEGMENTS, "vector_bits": vector_bits(),
-           "numba_threads": _threads(), "loadavg_start": _load()}
+           "numba_threads": numba_threads(), "loadavg_start": loadavg()}
     for name in args.sections:
         t0 = time.perf_counter()
         if name == "accuracy":
@@ -490,8 +490,8 @@ def main() -> None:
         else:
             out[name] = roofline()
         out[name]["section_wall_s"] = round(time.perf_counter() - t0, 1)
-        print(json.dumps({name: "done", "load": _load()}), file=sys.stderr, flush=True)
-    out["loadavg_end"] = _load()
+        print(json.dumps({name: "done", "load": loadavg()}), file=sys.stderr, flush=True)
+    out["loadavg_end"] = loadavg()
     emit(out, args.out, host=True)
 
 

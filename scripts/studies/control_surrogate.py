@@ -102,10 +102,7 @@ def margin_experiment(speeds=(0.0, 2.0), phi_a_deg=58.0, theta0_deg=23.0, gusts=
         o0 = shipped_orbit(v, AERO)
         e = {**o0.kinematics.to_edge(), "phi_a": phi_a_deg, "theta0": theta0_deg}
         o = periodic_orbit(v, AERO, kinematics=Kinematics.from_edge(e), x0=o0.launch_state.as_array())
-        key = (float(v), AERO)
-        saved = S._POINTS.get(key)
-        S._POINTS[key] = (o, linearize(o))  # the schedule cache holds this orbit for the experiment only
-        try:
+        with S.operating_point_override(v, AERO, o, linearize(o)):  # this orbit for the experiment only
             sch = S.Schedule(v, v, aero=AERO, speeds=(v,))
             p = sch.points[0]
             row = {"orbit_f_hz": o.kinematics.f, "orbit_residual": o.residual, "orbit_P_plus": o.P_plus,
@@ -115,11 +112,6 @@ def margin_experiment(speeds=(0.0, 2.0), phi_a_deg=58.0, theta0_deg=23.0, gusts=
                 cl = fly(v, 30, schedule=sch, gusts=[Gust(np.array([0.0, g, 0.0]), GUST.start, GUST.beats)])
                 row[f"gust_{g:g}"] = {"diverged": cl} if isinstance(cl, str) else {
                     "recovered_beats_after_gust": recovered_after(cl, GUST.start + GUST.beats - 1), "peak": stats(cl)}
-        finally:
-            if saved is None:
-                S._POINTS.pop(key, None)
-            else:
-                S._POINTS[key] = saved
         out[f"{v:g}"] = row
         log(f"margin {v:g}: {json.dumps(row, default=float)[:500]}")
     return out

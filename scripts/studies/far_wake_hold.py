@@ -25,7 +25,7 @@ Sections (prints ONE JSON object):
 * ``flight``: `hawksim fly --aero uvlm --speed 1 --cycles 20 --wake-cycles 10` open loop, the direct sum against
   K = ``--flight-interval``: each beat's mean vertical speed, their differences, the loop's wall times.
 
-    python scripts/studies/far_wake_hold.py [--near-rows 40] [--intervals 2 4 8] [--flight-interval 4]
+    python -m scripts.studies.far_wake_hold [--near-rows 40] [--intervals 2 4 8] [--flight-interval 4]
         [--sections change_per_step accuracy flight] [--out FILE]
 """
 
@@ -33,13 +33,11 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import os
 import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks"))
-from bench_treecode import BOUND, accuracy_cases  # noqa: E402, I001  (imports aero first)
+from scripts.benchmarks.bench_treecode import BOUND, accuracy_cases  # noqa: I001  (imports aero first)
 
 import aero.uvlm as aero_uvlm  # noqa: E402
 import hawksim.backends.uvlm as backend_uvlm  # noqa: E402
@@ -145,7 +143,7 @@ def change_per_step(near_rows: int, steps: int = 100, first: int = 60) -> dict:
     the wake one row a step, re-split every 4 steps as the hold would; only steps whose split moved are compared),
     relative to the largest far-on-far velocity of the step."""
     from aero.uvlm_kinematics import two_wing_motion
-    from bench_uvlm import reference_wing
+    from scripts.benchmarks.bench_uvlm import reference_wing
 
     prev, largest, median = {}, [], []
 
@@ -217,7 +215,7 @@ def main() -> None:
                     choices=["change_per_step", "accuracy", "flight"])
     ap.add_argument("--out")
     a = ap.parse_args()
-    out = {"command": "python scripts/studies/far_wake_hold.py " + " ".join(sys.argv[1:]), "began": host_info()}
+    out = {"command": "python -m scripts.studies.far_wake_hold " + " ".join(sys.argv[1:]), "began": host_info()}
     if "change_per_step" in a.sections:
         out["change_per_step"] = change_per_step(a.near_rows)
     if "accuracy" in a.sections:

@@ -1,6 +1,6 @@
 """The required power's zero-order-hold bias and its removal (issue 48, item 5; docs/free_flight.md).
 
-Part 1, heavy body (the check of tests/hawksim/test_heavy_body.py, whose flight it reuses): a free flight whose
+Part 1, heavy body (the check of tests/hawksim/test_heavy_body.py, whose flight it repeats): a free flight whose
 body mass and inertia are 1e4 times larger, gravity off, at the 1 m/s trim, 200 steps per beat, the backend every
 ``aero_every`` steps, against the held body (:func:`hawksim.backends.held.held_flight`) at the backend's rate
 (200 / aero_every steps per beat): L+, D+, M+ and P+ of the last of 3 beats, P+ with both samplings of
@@ -19,17 +19,52 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import sys
 import time
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
-                                "tests", "hawksim"))
-from test_heavy_body import HEAVY, heavy_free_flight, held_averages  # noqa: E402
+import mujoco
+import numpy as np
 
-from hawksim.backends.quasi_steady import QuasiSteadyBackend  # noqa: E402
-from hawksim.flight.power import SAMPLINGS, P_plus  # noqa: E402
-from hawksim.trim.tables import trim_kinematics  # noqa: E402
+from hawksim.backends.held import held_flight
+from hawksim.backends.quasi_steady import QuasiSteadyBackend
+from hawksim.flight.power import SAMPLINGS, P_plus
+from hawksim.flight.simulator import Simulator
+from hawksim.frames import quat_from_matrix, rot_y
+from hawksim.insect.model import load_model
+from hawksim.insect.morphology import HAWKMOTH
+from hawksim.trim.tables import trim_kinematics
+
+HEAVY = 1e4
+"""Body mass and inertia factor of the heavy-body flights (tests/hawksim/test_heavy_body.py's)."""
+CYCLES = 3
+"""Wingbeats flown; the last one is compared (the UVLM's wake develops over the first two)."""
+
+
+def heavy_free_flight(kin, speed, backend, *, steps_per_cycle, aero_every, cycles=CYCLES):
+    """The last wingbeat of a free flight of a body ``HEAVY`` times heavier, gravity off, started at pitch chi
+    moving straight up at ``speed`` [m/s]: {"L", "D", "M"} (L+, D+, M+ of the loads as applied by the loop: world
+    frame, the pitching moment about the body's centre of mass, nose up) and {"P_updates", "P_steps"} (P+ of the
+    joint power, :func:`hawksim.flight.power.P_plus` with either sampling). The flight of
+    tests/hawksim/test_heavy_body.py (a test and a script share no code: docs/layout.md)."""
+    m = load_model()
+    b = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "body")
+    m.body_mass[b] *= HEAVY
+    m.body_inertia[b] *= HEAVY
+    sim = Simulator(m, kin, backend, steps_per_cycle=steps_per_cycle, gravity=False, aero_every=aero_every)
+    sim.reset(velocity=np.array([0.0, 0.0, speed]), quat=quat_from_matrix(rot_y(-kin.chi)))
+    sim.advance((cycles - 1) * steps_per_cycle)
+    r = sim.advance(steps_per_cycle)
+    F = r.force.sum(1)
+    W = HAWKMOTH.weight
+    pitching = -(r.moment_about_body() * r.body_R[:, :, 1]).sum(1)
+    return {"L": F[:, 2].mean() / W, "D": -F[:, 0].mean() / W, "M": pitching.mean() / (W * HAWKMOTH.cbar),
+            **{f"P_{s}": P_plus(r.power_joint, aero_every, first=r.first, sampling=s) for s in ("updates", "steps")}}
+
+
+def held_averages(kin, speed, backend, *, steps_per_cycle, cycles=CYCLES, power=False):
+    """(L+, D+, M+) of the held body's last wingbeat (and P+ after them where ``power``)."""
+    a = held_flight(kin, speed, backend, cycles=cycles, steps_per_cycle=steps_per_cycle).averages
+    return (a.L_plus, a.D_plus, a.M_plus) + ((a.P_plus,) if power else ())
+
 
 SPEED = 1.0
 """Ascent speed of the heavy-body cases [m/s] (the trims of the test)."""

@@ -1,6 +1,6 @@
 """What bounds the lattice kernel? Two rewrites of its edge loop timed against it, side by side (issue 23).
 
-The lattice kernel (:func:`aero.biot_savart._lattice_chunks`) evaluates, per target and edge, K = (r1 - r2) .
+The lattice kernel (:func:`aero.biot_savart.lattice_chunks`) evaluates, per target and edge, K = (r1 - r2) .
 (r1/|r1| - r2/|r2|) and c = r1 x r2 from the target's corner vectors. Variants, each in the kernel's own structure
 (blocks of :data:`aero.biot_savart.LATTICE_BLOCK` corners, the corner pass :func:`aero.biot_savart.corner_vectors`
 unchanged, one thread):
@@ -26,7 +26,7 @@ Rates in G edge-target pairs/s on bench_uvlm.py's lattice (601 x 17 corners, 400
 interleaved; with ``--widths 256 512`` the 512-bit figures come from a child process with HAWKSIM_VECTOR_WIDTH=512
 (the vector width is fixed per process). Prints ONE JSON object.
 
-    python scripts/studies/kernel_variants.py [--widths 256 512] [--out FILE]
+    python -m scripts.studies.kernel_variants [--widths 256 512] [--out FILE]
 """
 
 from __future__ import annotations
@@ -43,19 +43,18 @@ import time
 import numpy as np
 from numba import njit
 
-from aero.biot_savart import (FOUR_PI, LATTICE_BLOCK, TINY, _edge_sum, _lattice_chunks, aligned_scratch,
+from aero.biot_savart import (FOUR_PI, LATTICE_BLOCK, TINY, edge_sum, lattice_chunks, aligned_scratch,
                                corner_vectors)
 from aero.lattice import stacked_lattices
 from aero.vector_width import vector_bits
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks"))
-from bench_uvlm import kernel_lattice  # noqa: E402
+from scripts.benchmarks.bench_uvlm import kernel_lattice  # noqa: E402
 
 
 @njit(inline="always")
 def _block(b, nc, stride):
     """Block b's first corner, corners used (with the next row's), spanwise and chordwise edges, as in
-    :func:`aero.biot_savart._lattice_chunks`."""
+    :func:`aero.biot_savart.lattice_chunks`."""
     c0 = b * LATTICE_BLOCK
     c1 = min(c0 + LATTICE_BLOCK, nc)
     return c0, min(c1 + stride, nc) - c0, min(c1, nc - 1) - c0, min(c1, nc - stride) - c0
@@ -63,7 +62,7 @@ def _block(b, nc, stride):
 
 @njit(inline="always")
 def _scratch(stride):
-    """A target's corner vectors r and unit vectors e for one block, as in :func:`aero.biot_savart._lattice_chunks`."""
+    """A target's corner vectors r and unit vectors e for one block, as in :func:`aero.biot_savart.lattice_chunks`."""
     size = LATTICE_BLOCK + stride + 1
     return np.empty(size), np.empty(size), np.empty(size), np.empty(size), np.empty(size), np.empty(size)
 
@@ -130,10 +129,10 @@ def _make_split(corners: bool, edges: bool):
                                    ez)
                     out[i, 0] += ex[m - 1] + ey[0]  # keeps the pass's results alive
                 if edges:
-                    ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
+                    ux, uy, uz = edge_sum(ms, rx, ry, rz, ex, ey, ez, rx[1:], ry[1:], rz[1:], ex[1:], ey[1:],
                                            ez[1:], sg, sr, 0.0, 0.0, 0.0)
                     if mc > 0:
-                        ux, uy, uz = _edge_sum(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:], rz[stride:],
+                        ux, uy, uz = edge_sum(mc, rx, ry, rz, ex, ey, ez, rx[stride:], ry[stride:], rz[stride:],
                                                ex[stride:], ey[stride:], ez[stride:], cg, cr, ux, uy, uz)
                     out[i, 0] += ux
                     out[i, 1] += uy
@@ -167,10 +166,10 @@ def _make_edges(aligned: bool):
                 span = (rx[1:], ry[1:], rz[1:], ex[1:], ey[1:], ez[1:])
                 chord = (rx[stride:], ry[stride:], rz[stride:], ex[stride:], ey[stride:], ez[stride:])
             for i in range(n):
-                ux, uy, uz = _edge_sum(ms, rx, ry, rz, ex, ey, ez, span[0], span[1], span[2], span[3], span[4],
+                ux, uy, uz = edge_sum(ms, rx, ry, rz, ex, ey, ez, span[0], span[1], span[2], span[3], span[4],
                                        span[5], sg, sr, 0.0, 0.0, 0.0)
                 if mc > 0:
-                    ux, uy, uz = _edge_sum(mc, rx, ry, rz, ex, ey, ez, chord[0], chord[1], chord[2], chord[3],
+                    ux, uy, uz = edge_sum(mc, rx, ry, rz, ex, ey, ez, chord[0], chord[1], chord[2], chord[3],
                                            chord[4], chord[5], cg, cr, ux, uy, uz)
                 out[i, 0] += ux
                 out[i, 1] += uy
@@ -202,7 +201,7 @@ def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
 
     def base(out):
         counter[0] = 0
-        _lattice_chunks(p, vx, vy, vz, stride, sg, sr, cg, cr, out, counter, 1)
+        lattice_chunks(p, vx, vy, vz, stride, sg, sr, cg, cr, out, counter, 1)
 
     variants = {"base": base,
                 "edge_vector": lambda out: with_div(p, vx, vy, vz, stride, *d, sg, sr, cg, cr, out),
@@ -240,8 +239,9 @@ def rates(rows=600, ns=16, nt=4000, reps=5, rounds=2) -> dict:
 
 def width_study_main(script: str, doc: str, child, default_widths, child_env=None) -> None:
     """The command line of a per-width kernel study (this one, lanes_kernel.py): each width in --widths runs in a child
-    process of ``script`` with HAWKSIM_VECTOR_WIDTH set (and ``child_env``), which prints {"bits": ..., **child()};
-    the parent checks the width and emits ONE JSON object (host, dates, load) to stdout or --out."""
+    process of ``script`` (``python -m scripts.studies.<name>`` in the repository root) with HAWKSIM_VECTOR_WIDTH set
+    (and ``child_env``), which prints {"bits": ..., **child()}; the parent checks the width and emits ONE JSON
+    object (host, dates, load) to stdout or --out."""
     ap = argparse.ArgumentParser(description=doc.split("\n")[0])
     ap.add_argument("--widths", nargs="+", default=default_widths, choices=["256", "512"])
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
@@ -252,18 +252,20 @@ def width_study_main(script: str, doc: str, child, default_widths, child_env=Non
         return
     from hawksim.jsonout import emit, host_info
 
+    module = "scripts.studies." + os.path.splitext(os.path.basename(script))[0]  # the child: python -m module
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(script))))
     began = host_info()
     out = {}
     for w in a.widths:
         env = dict(os.environ, HAWKSIM_VECTOR_WIDTH=w, **(child_env or {}))
         env.pop("NUMBA_CPU_FEATURES", None)
-        proc = subprocess.run([sys.executable, os.path.abspath(script), "--child"], env=env, capture_output=True,
+        proc = subprocess.run([sys.executable, "-m", module, "--child"], cwd=repo, env=env, capture_output=True,
                               text=True, check=True)
         r = json.loads(proc.stdout.strip().splitlines()[-1])
         if r.pop("bits") != int(w):
             sys.exit(f"error: the {w}-bit child compiled for another width (no AVX-512F here?)")
         out[w] = r
-    command = " ".join(["python", f"scripts/studies/{os.path.basename(script)}", *sys.argv[1:]])
+    command = " ".join(["python", "-m", module, *sys.argv[1:]])
     emit({"command": command, "began": began["date"], "ended": host_info()["date"], "host": began,
           "loadavg_after": host_info()["loadavg"], "threads": 1, "widths": out}, a.out)
 

@@ -1,6 +1,6 @@
 """The targets-in-lanes lattice kernel's configurations, timed against the corner-block kernel side by side (issue 23).
 
-The corner-block kernel (:func:`aero.biot_savart._lattice_chunks`, shipped until 2026-12-04) puts a block's
+The corner-block kernel (:func:`aero.biot_savart.lattice_chunks`, shipped until 2026-12-04) puts a block's
 corners in the vector lanes: per target, a corner pass stores r = p - corner and r/|r| for 192 corners, and the
 edge pass reads corners k and k + 1 (k + stride for chordwise edges): with 512-bit vectors every second-corner load
 straddles two cache lines. :mod:`aero.lattice_lanes` (shipped since) puts 8 targets in the lanes and makes ONE pass
@@ -18,29 +18,24 @@ ns = 16 (stride 17, the reference case's) and ns = 8 (stride 9, the flight wake'
 interleaved, and for ns = 8 also on 2 threads (:func:`aero.biot_savart`'s chunked scheduling, ``ns8_two_threads``);
 the 256-bit figures from a child process with HAWKSIM_VECTOR_WIDTH=256. Prints ONE JSON object.
 
-    python scripts/studies/lanes_kernel.py [--widths 512 256] [--out FILE]
+    python -m scripts.studies.lanes_kernel [--widths 512 256] [--out FILE]
 """
 
 from __future__ import annotations
 
 import aero  # noqa: F401, I001  (before numba: importing aero applies HAWKSIM_VECTOR_WIDTH)
 
-import os
-import sys
 import time
 
 import numpy as np
 
-from aero.biot_savart import _lattice_chunks
+from aero.biot_savart import lattice_chunks
 from aero.lattice import stacked_lattices
 from aero.lattice_lanes import chunks_kernel, config_group, lane_config, supported_configs, transpose_targets
 from aero.scheduling import run_chunked
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks"))
-from bench_uvlm import kernel_lattice  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from kernel_variants import width_study_main  # noqa: E402
+from scripts.benchmarks.bench_uvlm import kernel_lattice  # noqa: E402
+from scripts.studies.kernel_variants import width_study_main  # noqa: E402
 
 def rates(ns: int, rounds=2, reps=5, threads=1) -> dict:
     lat, p = kernel_lattice(600, ns, 4000)
@@ -53,10 +48,10 @@ def rates(ns: int, rounds=2, reps=5, threads=1) -> dict:
 
     def base(o):
         if threads > 1:
-            run_chunked(_lattice_chunks, (p, vx, vy, vz, stride, sg, sr, cg, cr, o), nt, pairs, threads)
+            run_chunked(lattice_chunks, (p, vx, vy, vz, stride, sg, sr, cg, cr, o), nt, pairs, threads)
             return
         counter[0] = 0
-        _lattice_chunks(p, vx, vy, vz, stride, sg, sr, cg, cr, o, counter, 1)
+        lattice_chunks(p, vx, vy, vz, stride, sg, sr, cg, cr, o, counter, 1)
 
     variants = {"base": base}
     configs = [(*c, 1) for c in supported_configs()]

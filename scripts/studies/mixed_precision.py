@@ -8,20 +8,18 @@ both precisions' values, the relative difference |mixed - float64| / |float64| p
 largest output, for outputs near zero), whether all are within ``BOUND``, and the wall times side by side
 (``--repeats`` alternations, the machine's load average at each).
 
-    python scripts/studies/mixed_precision.py [--repeats 2] [--out FILE]
+    python -m scripts.studies.mixed_precision [--repeats 2] [--out FILE]
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks"))
-from bench_uvlm import reference_wing  # noqa: E402, I001  (imports aero first)
+from scripts.benchmarks.bench_uvlm import reference_wing  # noqa: I001  (imports aero first)
 
 from aero.uvlm import UVLMConfig, run_prescribed  # noqa: E402
 from aero.uvlm_kinematics import two_wing_motion  # noqa: E402

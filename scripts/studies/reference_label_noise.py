@@ -17,7 +17,7 @@ Scored over the samples the held-out file calls 'ok' (``--labels``, as surrogate
 did not diverge; beat 3 of each run is checked against the stored label (the runs are deterministic). Error scores
 are surrogate_vs_reference.py's (mean, 95th percentile, max |error|, R^2). Prints ONE JSON object.
 
-    NUMBA_NUM_THREADS=1 python scripts/studies/reference_label_noise.py --samples 100 --beats 6 \\
+    NUMBA_NUM_THREADS=1 python -m scripts.studies.reference_label_noise --samples 100 --beats 6 \\
         --out results/surrogate/reference_label_noise.json
 """
 
@@ -37,8 +37,7 @@ from hawksim.backends.resolution import REFERENCE
 from hawksim.insect.kinematics import Kinematics
 from hawksim.jsonout import emit, host_info
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from surrogate_vs_reference import error_scores, meets, read_labels  # noqa: E402
+from scripts.studies.surrogate_vs_reference import error_scores, meets, read_labels
 
 LABEL_BEAT = REFERENCE.cycles - 1
 """Row of beat_averages that is `hawksim aero`'s label (beat 3 of 3, zero-based 2)."""
@@ -109,7 +108,7 @@ def main():
         print(f"V={v:g} n {entry['n']}: UVLM mean vs label R2 L+ {u['r2']:.4f} max {u['max_abs']:.3f}; {nets}",
               file=sys.stderr)
     ended = host_info()
-    command = shlex.join(["python", "scripts/studies/reference_label_noise.py", *sys.argv[1:]])
+    command = shlex.join(["python", "-m", "scripts.studies.reference_label_noise", *sys.argv[1:]])
     emit({"command": command, "began": began["date"], "ended": ended["date"], "loadavg_before": began["loadavg"],
           "loadavg_after": ended["loadavg"], "seed": a.seed, "samples_per_speed": a.samples, "beats": a.beats,
           "mean_over_beats": [LABEL_BEAT + 1, a.beats], "resolution": REFERENCE.to_dict(), "labels": a.labels,

@@ -25,7 +25,7 @@ three points are all 'ok' (``ok``, the population the held-out targets are score
 bounds are clipped to them (the direction is then shortened, the same for +h and -h). The stored label is checked
 against a fresh run at x (deterministic: equal to 1e-9). Prints ONE JSON object.
 
-    NUMBA_NUM_THREADS=1 python scripts/studies/reference_label_roughness.py --samples 20 \\
+    NUMBA_NUM_THREADS=1 python -m scripts.studies.reference_label_roughness --samples 20 \\
         --out results/surrogate/reference_label_roughness.json
 """
 
@@ -45,8 +45,7 @@ from hawksim.insect.kinematics import Kinematics
 from hawksim.jsonout import emit, host_info
 from hawksim.surrogate.dataset import OUTPUTS, bounds_si, evaluate_kinematics, speed_key
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from surrogate_vs_reference import read_labels  # noqa: E402
+from scripts.studies.surrogate_vs_reference import read_labels
 
 MATCH_TOL = 1e-9
 """A fresh run at x against the stored label: the same deterministic computation (max |difference|)."""
@@ -136,7 +135,7 @@ def main():
                         for h in a.steps if first[h]["all"])
         print(f"V={v:g}: {row}", file=sys.stderr)
     ended = host_info()
-    command = shlex.join(["python", "scripts/studies/reference_label_roughness.py", *sys.argv[1:]])
+    command = shlex.join(["python", "-m", "scripts.studies.reference_label_roughness", *sys.argv[1:]])
     emit({"command": command, "began": began["date"], "ended": ended["date"], "loadavg_before": began["loadavg"],
           "loadavg_after": ended["loadavg"], "seed": a.seed, "seed_dir": a.seed_dir, "samples_per_speed": a.samples,
           "resolution": REFERENCE.to_dict(), "labels": a.labels, "per_speed": per_speed}, a.out)

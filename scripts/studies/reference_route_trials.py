@@ -11,7 +11,7 @@ Scored at the held-out kinematics of scripts/studies/surrogate_vs_reference.py (
 * ``roughness``: the reference UVLM along a random direction (+-1 % of Table 2's ranges) about held-out samples
   0..14 of 1 m/s (numpy seed 5), and sample 3 at the training lattice and at 8 x 16 rings, 50 steps.
 
-    NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 python scripts/studies/reference_route_trials.py \\
+    NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 python -m scripts.studies.reference_route_trials \\
         --out results/surrogate/reference_route_trials.json
 """
 
@@ -31,8 +31,7 @@ from hawksim.surrogate.dataset import read_samples
 from hawksim.surrogate.multifidelity import correction_targets, fold
 from hawksim.surrogate.train import TrainConfig, train
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from surrogate_vs_reference import error_scores, read_labels  # noqa: E402
+from scripts.studies.surrogate_vs_reference import error_scores, read_labels
 
 
 def held_out_errors(predict, heldout, seed=22, n=100) -> dict:
@@ -115,7 +114,7 @@ def main():
                             "median_abs_second_difference": np.median(np.abs(second), axis=0).tolist(),
                             "idx3_L_plus_by_lattice": lattices}
         print(f"roughness: {res['roughness']['median_abs_second_difference']} idx3 {lattices}", file=sys.stderr)
-    emit({"command": shlex.join(["python", "scripts/studies/reference_route_trials.py", *sys.argv[1:]]),
+    emit({"command": shlex.join(["python", "-m", "scripts.studies.reference_route_trials", *sys.argv[1:]]),
           "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
           "loadavg": Path("/proc/loadavg").read_text().split()[:3], **res}, a.out)
 

@@ -32,10 +32,10 @@ def beat_errors(net, flights) -> np.ndarray:
         x, _ = T.flight_inputs(f, net.lags)
         yl, yr = net.predict(x), net.predict(T.mirror_inputs(x)) * mirror
         r = f.rows
-        u_l = r[:, T._cols("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
-        u_r = r[:, T._cols("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
-        geom = T.wing_geometry(Kinematics.from_array(f.kinematics), r[:, T._C["t"]])
-        pa = r[:, T._C["power_aero"]]
+        u_l = r[:, T.column_indices("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
+        u_r = r[:, T.column_indices("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
+        geom = T.wing_geometry(Kinematics.from_array(f.kinematics), r[:, T.COLUMN_INDEX["t"]])
+        pa = r[:, T.COLUMN_INDEX["power_aero"]]
         cu = T.cycle_means(f, T.flight_loads(f, u_l, u_r, geom), pa)
         cp = T.cycle_means(f, T.flight_loads(f, yl, yr, geom), pa)
         for k in range(len(cu)):

@@ -37,31 +37,21 @@ NAMES = ("L_plus", "D_plus", "M_plus", "P_plus")
 def _stored(sample):
     from hawksim.surrogate.flights import StoredFlight
 
-    sp = sample.spec
-    return StoredFlight(sample.seed, sample.idx, sp.speed, sp.kinematics.as_array(), sp.symmetric,
-                        sample.rows.astype(np.float64), sample.cut, sample.status)
+    return StoredFlight.from_sample(sample)
 
 
 def _means(fl, y_left=None, y_right=None):
     """(beats, 4) cycle means of a flight, from its UVLM loads or from given per-row wing loads."""
-    from hawksim.insect.kinematics import Kinematics
-    from hawksim.surrogate.step_train import _C, _cols, cycle_means, flight_loads, wing_geometry
+    from hawksim.surrogate.step_train import flight_cycle_means
 
-    r = fl.rows
-    u_l = r[:, _cols("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
-    u_r = r[:, _cols("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
-    geom = wing_geometry(Kinematics.from_array(fl.kinematics), r[:, _C["t"]])
-    yl = u_l if y_left is None else y_left
-    yr = u_r if y_right is None else y_right
-    return cycle_means(fl, flight_loads(fl, yl, yr, geom), r[:, _C["power_aero"]])
+    return flight_cycle_means(fl, y_left, y_right)
 
 
 def _network_means(fl):
-    from hawksim.backends.step_network import MIRROR_F, MIRROR_M, mirror_inputs
-    from hawksim.backends.step_surrogate import _shipped
+    from hawksim.backends.step_network import MIRROR_F, MIRROR_M, load, mirror_inputs, shipped_path
     from hawksim.surrogate.step_train import flight_inputs
 
-    net = _shipped()
+    net = load(str(shipped_path()))
     x, _ = flight_inputs(fl, net.lags)
     return _means(fl, net.predict(x), net.predict(mirror_inputs(x)) * np.concatenate([MIRROR_F, MIRROR_M]))
 

@@ -11,7 +11,7 @@ the predicted tree time, and says for each case whether the plan, with the shipp
 the faster sum. The fit ignores the tree's build time (both trees are rebuilt every call), which the fit's
 residuals show on small cases. Prints ONE JSON object.
 
-    python scripts/studies/tree_cost.py [--out FILE]
+    python -m scripts.studies.tree_cost [--out FILE]
 """
 
 from __future__ import annotations
@@ -24,9 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
-from bench_treecode import _load, _threads, _time, crossover_cases, with_images  # noqa: E402
+from scripts.benchmarks.bench_treecode import loadavg, numba_threads, best_time, crossover_cases, with_images  # noqa: E402
 
 from aero.lattice import lattice_velocity, stacked_lattices  # noqa: E402
 from aero.treecode import FAR_COST, NEAR_COST, TREE_MARGIN, TreeParams, lattice_tree, tree_work  # noqa: E402
@@ -44,10 +43,10 @@ def measure(kind: str, size: int, lats, pts, mirror, params: TreeParams) -> dict
     for stride, arrays in stacked_lattices(lats).items():
         n_near, n_far = tree_work(allp, *arrays[:3], stride, *arrays[3:], params=params)
         near, far, pairs = near + n_near, far + n_far, pairs + 2.0 * allp.shape[0] * arrays[0].shape[0]
-    return {"kind": kind, "size": size, "load": _load(), "targets": int(allp.shape[0]), "direct_pairs": pairs,
+    return {"kind": kind, "size": size, "load": loadavg(), "targets": int(allp.shape[0]), "direct_pairs": pairs,
             "near_pairs": near, "far_evaluations": far,
-            "direct_s": _time(lambda: lattice_velocity(allp, lats)),
-            "tree_s": _time(lambda: lattice_tree(allp, lats, params))}
+            "direct_s": best_time(lambda: lattice_velocity(allp, lats)),
+            "tree_s": best_time(lambda: lattice_tree(allp, lats, params))}
 
 
 def fit(cases: list[dict]) -> tuple[float, float]:
@@ -80,8 +79,8 @@ def main() -> None:
     near_cost, far_cost = fit(cases)
     shipped = decisions(cases, NEAR_COST, FAR_COST)
     fitted = decisions(cases, near_cost, far_cost)
-    emit({"command": "python scripts/studies/tree_cost.py " + shlex.join(sys.argv[1:]), "began": began,
-          "ended": time.strftime("%Y-%m-%dT%H:%M:%S+00:00", time.gmtime()), "threads": _threads(),
+    emit({"command": "python -m scripts.studies.tree_cost " + shlex.join(sys.argv[1:]), "began": began,
+          "ended": time.strftime("%Y-%m-%dT%H:%M:%S+00:00", time.gmtime()), "threads": numba_threads(),
           "vector_bits": vector_bits(), "theta": THETA, "tree_margin": TREE_MARGIN,
           "shipped_costs": {"near": NEAR_COST, "far": FAR_COST},
           "fitted_costs": {"near": round(near_cost, 3), "far": round(far_cost, 3)},

@@ -5,7 +5,7 @@ Three measurements, printed as JSON (each takes minutes on the 2 cores):
 * ``--wake-beats L [--resolve]``: the open-loop flight from the shipped UVLM orbit (or, with ``--resolve``, from the
   orbit re-solved with the flight's wake truncated at L beats): per beat, the max normalized change of (u, w, q,
   theta) over the beat (the periodicity the orbit's ``floor`` measures) and the cycle-mean vertical speed and pitch.
-* ``--smoothness``: the finite-difference derivative of the orbit's residual (hawksim.flight.orbit._residual) with
+* ``--smoothness``: the finite-difference derivative of the orbit's residual (hawksim.flight.orbit.orbit_residual) with
   respect to the relative frequency at steps 1e-5 .. 1e-2, at the shipped orbit: a smooth map gives the same
   derivative at every small step; at hover it falls as 1/step (the residual jumps by ~3e-3 for any step).
 
@@ -21,7 +21,8 @@ import json
 import numpy as np
 
 import hawksim.backends as backends
-from hawksim.flight.orbit import (_Flight, _residual, _unpack, fly_orbit, periodic_orbit, scales, shipped_orbit)
+from hawksim.flight.orbit import (OrbitFlight, fly_orbit, orbit_residual, periodic_orbit, scales, shipped_orbit,
+                                  unpack_unknowns)
 from hawksim.stability.floquet import state_scale
 
 
@@ -44,7 +45,7 @@ def smoothness(speed: float) -> dict:
     """At the shipped orbit, or where none is shipped (0.5 m/s) at the Newton solver's start (the held-body trim and
     its calibrated launch state, hawksim.flight.orbit.initial_guess)."""
     orb = shipped_orbit(speed, "uvlm")
-    fl = _Flight("uvlm", symmetric=True)
+    fl = OrbitFlight("uvlm", symmetric=True)
     if orb is not None:
         base, w, x0 = orb.kinematics, orb.warm_beats, orb.launch_state.as_array()
     else:
@@ -57,8 +58,8 @@ def smoothness(speed: float) -> dict:
     z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
 
     def F(zz):
-        kin, x = _unpack(zz, base, base.f)
-        return _residual(kin, speed, fl.fly(kin, x, w + 1, base.chi), w)
+        kin, x = unpack_unknowns(zz, base, base.f)
+        return orbit_residual(kin, speed, fl.fly(kin, x, w + 1, base.chi), w)
 
     r0 = F(z)
     rows = {}

@@ -7,7 +7,7 @@ import pytest
 from numba import njit
 
 from aero import scheduling
-from aero.biot_savart import RSQRT_MIN, _lattice_chunks
+from aero.biot_savart import RSQRT_MIN, lattice_chunks
 from aero.lattice import stacked_lattices
 from aero.lattice_lanes import (GROUP, _lanes_chunks, chunks_kernel, config_group, inverse_sqrt_intrinsic,
                                 lane_config, lattice_induced_velocity, supported_configs, transpose_targets)
@@ -19,7 +19,7 @@ LANES_RTOL = 1e-13
 the same formula, differing by rounding only (measured 2e-15-6e-15 here, 2026-12-04)."""
 
 BASELINE_RTOL = 2e-14
-"""Lanes kernel against the corner-block kernel it replaced (:func:`aero.biot_savart._lattice_chunks`): the same
+"""Lanes kernel against the corner-block kernel it replaced (:func:`aero.biot_savart.lattice_chunks`): the same
 arithmetic summed in another order (measured 4.0e-15 at stride 17 and 5.1e-15 at stride 9,
 scripts/studies/lanes_kernel.py, 2026-12-04)."""
 
@@ -102,7 +102,7 @@ def test_close_to_the_corner_block_kernel_it_replaced():
     p = _targets(a, _lattice(3, 16, 1))
     (stride, arrays), = _arrays([a]).items()
     base = np.zeros((p.shape[0], 3))
-    _lattice_chunks(p, *arrays[:3], stride, *arrays[3:], base, np.zeros(1, np.int64), 1)
+    lattice_chunks(p, *arrays[:3], stride, *arrays[3:], base, np.zeros(1, np.int64), 1)
     v = np.zeros_like(base)
     lattice_induced_velocity(p, *arrays[:3], stride, *arrays[3:], v, threads=1)
     np.testing.assert_allclose(v, base, rtol=0, atol=BASELINE_RTOL * np.abs(base).max())

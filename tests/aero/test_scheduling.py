@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from aero import scheduling
-from aero.biot_savart import _lattice_chunks, _ring_chunks, _segment_chunks, pack, ring_influence
+from aero.biot_savart import lattice_chunks, _ring_chunks, _segment_chunks, pack, ring_influence
 from aero.lattice import _fill, ring_lattice
 from aero.lattice_lanes import _lanes_chunks, transpose_targets
 
@@ -54,7 +54,7 @@ def test_any_chunking_and_task_count_gives_the_same_bits():
     normals = rng.normal(size=p.shape)
     a = rng.normal(size=(50, 3)) * 1e-2
     seg = pack(a, a + 1e-3 * rng.normal(size=a.shape), rng.normal(size=50), 1e-6)
-    cases = [(_lattice_chunks, lambda: _lattice_args(lat, p), -1),
+    cases = [(lattice_chunks, lambda: _lattice_args(lat, p), -1),
              (_lanes_chunks, lambda: (transpose_targets(p), p.shape[0], *_lattice_args(lat, p)[1:]), -1),
              (_ring_chunks, lambda: (p, normals, corners, 1e-6, np.zeros((p.shape[0], 30))), -1),
              (_segment_chunks, lambda: (p, *seg, np.zeros((p.shape[0], 3))), -1)]

@@ -8,7 +8,8 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from hawksim.flight.orbit import ORBIT_TABLE_FILES, ORBIT_TOL, Orbit, _Flight, _residual, orbit_within_uvlm_tolerance
+from hawksim.flight.orbit import (ORBIT_TABLE_FILES, ORBIT_TOL, Orbit, OrbitFlight, orbit_residual,
+                                  orbit_within_uvlm_tolerance)
 
 REPRODUCE_TOL = 1e-9
 """Normalized residual: the re-flown quasi-steady orbit's residual may differ from the recorded one by this much
@@ -22,8 +23,8 @@ def _rows(aero):
 
 
 def _refly(o: Orbit) -> np.ndarray:
-    b = _Flight(o.aero).fly(o.kinematics, o.launch_state.as_array(), o.warm_beats + 1, o.chi_ref)
-    return _residual(o.kinematics, o.speed, b, o.warm_beats)
+    b = OrbitFlight(o.aero).fly(o.kinematics, o.launch_state.as_array(), o.warm_beats + 1, o.chi_ref)
+    return orbit_residual(o.kinematics, o.speed, b, o.warm_beats)
 
 
 def test_the_quasi_steady_table_has_five_converged_orbits():

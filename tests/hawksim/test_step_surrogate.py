@@ -330,16 +330,11 @@ def test_twin_flights_share_the_body_state_but_not_the_wake():
     options): flight 54 of seed 7 (hover, 0.027 m/s) and its twin kicked one beat earlier too, written to the same
     body state at the kick. The defaults are untouched (kick_log changes nothing); the twins leave the kick in one
     state (float32 rows); their UVLM M+ over the next beat differs by what the wake remembers (measured +0.062 at 4
-    beats, results/surrogate/step_memory.json), which a memoryless network cannot see."""
-    from hawksim.surrogate.flights import evaluate_flight, sample_flight
-    from hawksim.surrogate.step_train import UPDATES_PER_BEAT
+    beats, results/surrogate/step_memory.json), which a memoryless network cannot see. The cycle means are the
+    study's (:func:`hawksim.surrogate.step_train.flight_cycle_means` of the stored flights)."""
+    from hawksim.surrogate.flights import StoredFlight, evaluate_flight, sample_flight
+    from hawksim.surrogate.step_train import UPDATES_PER_BEAT, flight_cycle_means
 
-    import importlib.util
-
-    path = Path(__file__).resolve().parents[2] / "scripts" / "studies" / "step_surrogate_memory.py"
-    spec_ = importlib.util.spec_from_file_location("step_surrogate_memory", path)
-    study = importlib.util.module_from_spec(spec_)
-    spec_.loader.exec_module(study)
     spec = sample_flight(7, 54)
     plain = evaluate_flight(7, 54, beats=3)
     log: list = []
@@ -350,5 +345,5 @@ def test_twin_flights_share_the_body_state_but_not_the_wake():
     k = 2 * UPDATES_PER_BEAT  # the row of the kick's step (rows every update, the kick at t = 2 T)
     np.testing.assert_allclose(b.rows[k, 1:7], a.rows[k, 1:7], rtol=1e-4, atol=1e-6)  # one step after the kick
     assert np.abs(b.rows[UPDATES_PER_BEAT + 5, 1:4] - a.rows[UPDATES_PER_BEAT + 5, 1:4]).max() > 1e-3  # history
-    ua, ub = study._means(study._stored(a)), study._means(study._stored(b))
+    ua, ub = (flight_cycle_means(StoredFlight.from_sample(s)) for s in (a, b))
     assert abs((ua - ub)[0, 2]) == pytest.approx(0.062, abs=0.02)

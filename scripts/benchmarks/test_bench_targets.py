@@ -1,16 +1,14 @@
 """scripts/benchmarks/bench_targets.py's bookkeeping: the FP ceilings it divides by, the environment of each
-stage's vector width, and the summary of the other width's stages (synthetic stage records, no benchmark runs)."""
+stage's vector width, and the summary of the other width's stages (synthetic stage records, no benchmark runs).
+
+Beside the script it checks, not in tests/: no test imports a script (tests/test_layers.py); pytest collects it
+from scripts/ (``testpaths`` in pyproject.toml)."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts" / "benchmarks"))
-
-import bench_targets as bt  # noqa: E402
+from scripts.benchmarks import bench_targets as bt
 
 ROOF = {
     "threads": 2,

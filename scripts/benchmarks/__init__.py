@@ -1,0 +1,1 @@
+"""Benchmarks (each prints JSON; docs/performance.md). Run as ``python -m scripts.benchmarks.<name>``."""

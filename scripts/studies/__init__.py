@@ -1,0 +1,2 @@
+"""Studies behind the documented measurements (each prints JSON or writes results/). Run as
+``python -m scripts.studies.<name>``."""
