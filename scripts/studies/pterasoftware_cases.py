@@ -14,7 +14,10 @@ Cases (SI; "c" the chord, q S the free-stream dynamic pressure times the planfor
 3. ``flapping``: the reference case of scripts/benchmarks/bench_pterasoftware.py (its planform, 8 x 16 rings per
    wing and its mirror image, flap 60 cos(w t) deg about the stroke axis and pitch -50 sin(w t) deg about the
    flapped span axis through the root quarter chord, 25 Hz, 1 m/s along the stroke axis, 220 steps over 3 beats,
-   free wake, no truncation): cycle-mean and peak lift (both wings) of the third beat.
+   free wake, no truncation): cycle-mean and peak lift (both wings) of the third beat. The stroke axis is
+   PteraSoftware's x (bench_uvlm's vertical z turned, as bench_pterasoftware.py explains), so the lift is the force
+   along it, -x in PteraSoftware's axes (+x in hawksim's world here): the free stream, along +x in PteraSoftware's
+   axes, is an axial climb at 1 m/s.
 
 PteraSoftware runs in its own venv (created under /tmp as bench_pterasoftware.py does: PteraSoftware 5.1.0 from
 PyPI), through its public API (Airplane / Wing / WingCrossSection, WingMovement, Movement, UnsteadyProblem,
@@ -390,8 +393,8 @@ def measures(name: str, p: dict, force: np.ndarray, v_air: np.ndarray) -> dict:
         return {"CL_amplitude": float(np.hypot(ac, as_)), "CL_phase_deg": float(np.degrees(np.arctan2(-as_, ac))),
                 "CL_mean": float(a0), "CT_mean": float(np.mean(-drag[-n:]) / qs)}
     per = (steps - 1) // p["cycles"]                          # third beat: t in [2 T, 3 T)
-    fz = force[-per - 1:-1, 2]
-    return {"lift_mean_N": float(fz.mean()), "lift_peak_N": float(fz.max())}
+    fl = force[-per - 1:-1, 0]                                # along the stroke axis (bench_uvlm's lift)
+    return {"lift_mean_N": float(fl.mean()), "lift_peak_N": float(fl.max())}
 
 
 def lifting_line(aspect: float, alphas_deg, terms: int = 40) -> list[dict]:
@@ -443,7 +446,8 @@ def main():
     doc.setdefault("runs", {})
     doc["cases"] = CASES
     doc["ptera_version"] = VERSION
-    doc["command"] = "python " + " ".join(sys.argv)
+    doc.pop("command", None)
+    doc.setdefault("commands", []).append("python " + " ".join(sys.argv))   # every invocation that wrote the file
 
     def save():
         os.makedirs(os.path.dirname(args.out) or ".", exist_ok=True)

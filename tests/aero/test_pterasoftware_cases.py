@@ -24,9 +24,10 @@ RHO, NU, CHORD, SPAN, SPEED, NC, NS = 1.225, 1.5e-5, 1.0, 8.0, 1.0, 4, 16
 STEADY_CL_RTOL = 0.01
 """CL at alpha = 5 deg after 120 steps: measured +0.51 % against PteraSoftware. The remainder is PteraSoftware's
 core growth, which grows each wake ring's four legs with that ring's |Gamma| and age (c + 1) dt where hawksim grows
-each edge's net |Gamma| from age 0: recomputed with fixed cores, PteraSoftware's own wake induces 0.25 % more
-downwash at the trailing-edge collocation points (the circulations differ by 0.16-0.55 %, the most at the trailing
-edge); hawksim's options cannot reproduce a per-ring growth. Twice the measured difference."""
+each edge's net |Gamma| from age 0: with fixed cores, the normal velocity PteraSoftware's wake induces at the
+trailing-edge collocation points changes by 0.25 %, the order of the circulation difference there (0.16-0.55 %,
+the most at the trailing edge); hawksim's options cannot reproduce a per-ring growth. Twice the measured
+difference."""
 
 STEADY_CDI_RTOL = 0.02
 """CDi: measured +0.90 % (about twice CL's, CDi ~ CL^2). Twice the measured difference."""
