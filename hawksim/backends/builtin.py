@@ -132,7 +132,7 @@ UVLM = BackendDescriptor(
     half_stroke=no("the UVLM's wake cannot be set at phase 0.5 to linearize the half-stroke maps"),
     constrained_control=no("the UVLM's wake is neither a settable state nor a record to difference per-wing "
                            "derivatives from"),
-    held_body=YES, control_from_shipped=True, linearize_cost="minutes",
+    held_body=YES, shipped_orbits_only=True, linearize_cost="minutes",
     trim_table="trim_table.json", orbit_table="orbit_table_uvlm.json", control_model_table="control_models_uvlm.json")
 
 SURROGATE = BackendDescriptor(
@@ -141,7 +141,8 @@ SURROGATE = BackendDescriptor(
     fd=FiniteDifferenceSteps(orbit=SURROGATE_FD_STEP, monodromy=SURROGATE_FD_STEP, control=SURROGATE_FD_DELTA),
     orbit_tolerance=OrbitTolerance(residual=SURROGATE_ORBIT_TOL), memory=RECORD, history=YES,
     averaged_system=no("the per-step surrogate's averaged A is not implemented (its Floquet multipliers are)"),
-    default_control="lqr", default_control_rate="half-stroke", speed_rate=SURROGATE_SPEED_RATE, control_from_shipped=True,
+    default_control="lqr", default_control_rate="half-stroke", speed_rate=SURROGATE_SPEED_RATE,
+    shipped_orbits_only=True,
     saturated_plant=True, drop_bound_channels=True, controlled_factory=_controlled_step_surrogate,
     orbit_guess="uvlm", trim_table="trim_table.json", orbit_table="orbit_table_surrogate.json",
     control_model_table="control_models_surrogate.json", tables_digest=_network_sha256)

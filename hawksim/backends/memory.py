@@ -17,11 +17,12 @@ the methods of the matching protocol below; the loop calls those and nothing els
 
 from __future__ import annotations
 
-from typing import Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
 
-from hawksim.backends.base import FlightState
+    from hawksim.backends.base import FlightState
 
 MEMORYLESS = "none"
 PREVIOUS_CALL = "previous-call"

@@ -17,8 +17,6 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from hawksim.backends.memory import MEMORY_KINDS, MEMORYLESS
 
 
@@ -76,9 +74,11 @@ class OrbitTolerance:
     velocity: float | None = None
     rate: float | None = None
 
-    def met(self, r: np.ndarray, U: float, T: float) -> bool:
+    def met(self, r, U: float, T: float) -> bool:
         """Whether the normalized 6-residual r (u, w, q, theta periodicity; mean horizontal and vertical velocity)
         meets this tolerance at reference speed U [m/s] and period T [s]."""
+        import numpy as np
+
         r = np.abs(np.asarray(r))
         if self.velocity is None:
             return float(r.max()) <= self.residual
@@ -123,8 +123,9 @@ class BackendDescriptor:
         default_control_rate: its LQR's update rate without --control-rate ("beat" or "half-stroke").
         speed_rate: the largest change of the speed reference per wingbeat [m/s] under control (None: the
             controller's default, :data:`hawksim.control.closed_loop.SPEED_RATE`).
-        control_from_shipped: the gain schedule uses the shipped orbits and control models only (solving or
-            linearizing them takes minutes, or the shipped orbits define where the model holds).
+        shipped_orbits_only: its gain schedule and comparisons use its shipped orbits and control models only
+            (solving or linearizing them takes minutes, or the shipped orbits define where the model holds);
+            otherwise they are solved in this process.
         linearize_cost: "seconds" or "minutes": what linearizing one orbit costs (for progress messages).
         saturated_plant: its control derivatives are taken with each wing saturated at Table 2
             (:data:`hawksim.control.derivatives.SATURATED_DERIVATIVES`).
@@ -156,12 +157,13 @@ class BackendDescriptor:
     control: Support = YES
     constrained_control: Support = YES
     averaged_system: Support = YES
-    linear_prediction: Support = no("the linear prediction is computed for the quasi-steady backend only")
+    linear_prediction: Support = no("the linear prediction (monodromy, averaged A) is computed for the quasi-steady "
+                                    "backend only")
     held_body: Support = no("held-body averages are computed with the UVLM or the quasi-steady model")
     default_control: str = "none"
     default_control_rate: str = "beat"
     speed_rate: float | None = None
-    control_from_shipped: bool = False
+    shipped_orbits_only: bool = False
     linearize_cost: str = "seconds"
     saturated_plant: bool = False
     drop_bound_channels: bool = False
@@ -245,6 +247,12 @@ def descriptor(name: str) -> BackendDescriptor:
         return _REGISTRY[name]
     except (KeyError, TypeError):
         raise ValueError(f"unknown aero {name!r}; choose {', '.join(names())}") from None
+
+
+def find(name: str) -> BackendDescriptor | None:
+    """The descriptor of the backend called ``name``, None if none is registered under it."""
+    _builtins()
+    return _REGISTRY.get(name)
 
 
 UNREGISTERED = BackendDescriptor(name="unregistered", summary="a backend object that no descriptor describes",

@@ -67,11 +67,11 @@ def surrogate_schedule_speeds() -> tuple[float, ...]:
 
 def schedule_speeds(aero: str) -> tuple[float, ...]:
     """The grid speeds [m/s] of ``aero``'s gain schedule: for a backend whose schedule is its shipped orbits
-    (descriptor ``control_from_shipped``: the UVLM, the surrogate) :func:`shipped_schedule_speeds`, else
+    (descriptor ``shipped_orbits_only``: the UVLM, the surrogate) :func:`shipped_schedule_speeds`, else
     :data:`SCHEDULE_SPEEDS` (its orbits solved here)."""
     desc = descriptor(aero)
     desc.control.require("a gain schedule", aero)
-    return shipped_schedule_speeds(aero) if desc.control_from_shipped else SCHEDULE_SPEEDS
+    return shipped_schedule_speeds(aero) if desc.shipped_orbits_only else SCHEDULE_SPEEDS
 
 
 RATES = ("beat", "half-stroke")
@@ -203,7 +203,7 @@ def _orbit_and_model(speed: float, aero: str, model, log) -> tuple[Orbit, BeatMa
     key = (float(speed), aero)
     desc = descriptor(aero)
     if key not in _POINTS:
-        if desc.control_from_shipped:
+        if desc.shipped_orbits_only:
             orb = shipped_orbit(speed, aero)
             if orb is None or not orb.converged:
                 raise ValueError(f"no converged shipped {aero} orbit at {speed:g} m/s (the {aero} schedule covers "

@@ -117,6 +117,7 @@ def floquet(aero: str, speed: float, out_dir: Path) -> dict:
 def open_loop(aero: str, speed: float) -> dict:
     """The open-loop flight from the shipped orbit (module docstring)."""
     from hawksim.backends import flight_backend
+    from hawksim.backends.registry import descriptor
     from hawksim.flight.fly import fly
     from hawksim.flight.orbit import periodic_orbit, shipped_orbit
     from hawksim.flight.power import P_plus
@@ -125,7 +126,7 @@ def open_loop(aero: str, speed: float) -> dict:
     from hawksim.trim.point import Trim
 
     orb = shipped_orbit(speed, aero)
-    if aero == "quasi-steady" and orb is None:
+    if orb is None and not descriptor(aero).shipped_orbits_only:  # orbits solved in this process
         orb = periodic_orbit(speed, aero)
     if orb is None:
         return {"orbit": None}
