@@ -133,6 +133,7 @@ UVLM = BackendDescriptor(
     constrained_control=no("the UVLM's wake is neither a settable state nor a record to difference per-wing "
                            "derivatives from"),
     held_body=YES, shipped_orbits_only=True, linearize_cost="minutes",
+    flight_options=("wake_cycles", "wake_precision", "keep_panels"),
     trim_table="trim_table.json", orbit_table="orbit_table_uvlm.json", control_model_table="control_models_uvlm.json")
 
 SURROGATE = BackendDescriptor(

@@ -138,6 +138,9 @@ class BackendDescriptor:
             (None: none shipped; trim: the UVLM's).
         tables_digest: ``() -> str``: the digest its shipped orbit and control tables must carry (the network's
             SHA-256) to hold; None: they hold for any.
+        flight_options: the options of :func:`hawksim.backends.flight_backend` beyond ``kinematics`` and
+            ``symmetric`` that its factory uses ("wake_cycles", "wake_precision", "keep_panels": the UVLM's wake
+            and its panels in recordings); the CLI refuses them for the others.
         listed: offered as an ``--aero`` choice (False: the vacuum of the tests).
     """
 
@@ -173,6 +176,7 @@ class BackendDescriptor:
     orbit_table: str | None = None
     control_model_table: str | None = None
     tables_digest: Callable[[], str] | None = None
+    flight_options: tuple[str, ...] = ()
     listed: bool = True
 
     def __post_init__(self):

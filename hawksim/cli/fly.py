@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from hawksim.backends.registry import descriptor, names
+from hawksim.backends.registry import descriptor
+from hawksim.backends.registry import names as backend_names
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE as STEPS_PER_CYCLE
 from hawksim.backends.resolution import FLY_WAKE_CYCLES
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
@@ -169,10 +170,10 @@ def cmd_fly(args) -> dict:
     twice = sorted({k for k in names if names.count(k) > 1})
     if twice:
         raise UsageError(f"--perturb gives {', '.join(twice)} more than once")
-    if getattr(args, "wake_cycles", None) is not None and args.aero != "uvlm":
-        raise UsageError("--wake-cycles applies to --aero uvlm only")
-    if getattr(args, "wake_precision", None) is not None and args.aero != "uvlm":
-        raise UsageError("--wake-precision applies to --aero uvlm only")
+    for opt in ("wake_cycles", "wake_precision"):
+        if getattr(args, opt, None) is not None and opt not in descriptor(args.aero).flight_options:
+            raise UsageError(f"--{opt.replace('_', '-')} applies to --aero "
+                             f"{' or '.join(n for n in backend_names() if opt in descriptor(n).flight_options)} only")
     control = _control_of(args)  # issue 20: --control lqr (default for quasi-steady from the orbit), --gust
     for opt in ("wake_cycles", "wake_precision"):
         if control is not None and getattr(args, opt, None) is not None:
@@ -209,11 +210,9 @@ def _note(text: str) -> None:
 def _fly_open_loop(args, progress, guard) -> dict:
     import sys
     import time
-    from types import SimpleNamespace
 
     from hawksim.cli.fly_report import report
     from hawksim.cli.progress import stage_for
-    from hawksim.flight.simulator import aero_every_for
 
     notes = []
 
@@ -224,8 +223,9 @@ def _fly_open_loop(args, progress, guard) -> dict:
     result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
                        kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
                        # the UVLM's panels and wake at every UVLM update (every aero_every steps)
-                       keep_extras_every=(aero_every_for(SimpleNamespace(name="uvlm"), args.steps_per_cycle)
-                                          if args.rrd and args.aero == "uvlm" else 0),
+                       keep_extras_every=(descriptor(args.aero).update_interval(args.steps_per_cycle)
+                                          if args.rrd and "keep_panels" in descriptor(args.aero).flight_options
+                                          else 0),
                        progress=progress, start=args.start, wake_cycles=getattr(args, "wake_cycles", None),
                        wake_precision=getattr(args, "wake_precision", None) or "float64", note=note,
                        stage=lambda desc: stage_for(args, desc),
@@ -371,7 +371,7 @@ def _control_of(args) -> str | None:
 
 def _either(feature: str) -> str:
     """The --aero names whose descriptor supports ``feature``, as "a, b or c"."""
-    n = names(having=feature)
+    n = backend_names(having=feature)
     return n[0] if len(n) == 1 else f"{', '.join(n[:-1])} or {n[-1]}"
 
 
@@ -411,7 +411,7 @@ def register(sub) -> None:
     f = sub.add_parser("fly", help="fly the insect from its trim at an ascent speed (MuJoCo, 6-DOF)")
     f.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 (hover) to 2")
     f.add_argument("--cycles", type=cycles_arg, required=True, help="number of wingbeats N")
-    f.add_argument("--aero", choices=names(), default="quasi-steady",
+    f.add_argument("--aero", choices=backend_names(), default="quasi-steady",
                    help="aerodynamic model (default quasi-steady): uvlm, the extended UVLM in the loop; surrogate, the "
                         "per-step neural surrogate of the UVLM (each wing's instantaneous loads from the kinematics, "
                         "phase and body motion); surrogate-mean, the cycle-mean network's averaged L+, D+, M+ (no "
