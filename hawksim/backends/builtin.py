@@ -95,7 +95,7 @@ def _step_surrogate(*, kinematics=None, **_):
 
 
 def _controlled_step_surrogate(kinematics):
-    from hawksim.control.surrogate import ControlledStepSurrogate
+    from hawksim.backends.controlled_step_surrogate import ControlledStepSurrogate
 
     return ControlledStepSurrogate(kinematics)
 

@@ -172,7 +172,7 @@ class NativeNetwork:
     mirrors: np.ndarray
     plant_kinematics: bool = False
     """True: the kinematic inputs and the phase are the controlled plant's blend (mode 1) instead of ``kinematics``
-    and omega_f t (:class:`hawksim.control.surrogate.ControlledStepSurrogate`)."""
+    and omega_f t (:class:`hawksim.backends.controlled_step_surrogate.ControlledStepSurrogate`)."""
     lags: tuple[float, ...] = ()
     """History lags [wingbeats] (at most :data:`MAX_NATIVE_LAGS`); their inputs follow the first 15."""
     history: np.ndarray | None = None

@@ -222,8 +222,8 @@ def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int 
     """The controlled plant of `hawksim fly --aero NAME` (``aero``: quasi-steady, uvlm or surrogate) at base
     kinematics ``kin``: the backend of :func:`hawksim.flight.orbit.make_orbit_backend` (both wings solved: the
     commands break the symmetry), updated at its flight rate; a backend whose descriptor has a
-    ``controlled_factory`` (the per-step surrogate: :class:`hawksim.control.surrogate.ControlledStepSurrogate`) built
-    by it and bound to the plant, so that it reads the commanded kinematics
+    ``controlled_factory`` (the per-step surrogate: :class:`hawksim.backends.controlled_step_surrogate.
+    ControlledStepSurrogate`) built by it and bound to the plant, so that it reads the commanded kinematics
     (:meth:`ControlledSimulator.network_kinematics`)."""
     from hawksim.backends.registry import descriptor
     from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend
