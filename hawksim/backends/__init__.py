@@ -15,15 +15,17 @@ from hawksim.backends.resolution import DEFAULT, FLY_UVLM, FLY_WAKE_CYCLES, Reso
 from hawksim.lazy import lazy_exports
 
 FLIGHT_BACKENDS = ("quasi-steady", "uvlm", "surrogate", "surrogate-mean")
-"""Names of the backends `hawksim fly` accepts (``--aero``): "surrogate" is the per-step network of the UVLM's
-instantaneous wing loads (:mod:`hawksim.backends.step_surrogate`), "surrogate-mean" the cycle-mean network's averaged
-loads (:mod:`hawksim.backends.surrogate`); "none" (vacuum) is for tests."""
+"""The built-in backends `hawksim fly` accepts (``--aero``; with any registered later:
+:func:`hawksim.backends.registry.names`): "surrogate" is the per-step network of the UVLM's instantaneous wing loads
+(:mod:`hawksim.backends.step_surrogate`), "surrogate-mean" the cycle-mean network's averaged loads
+(:mod:`hawksim.backends.surrogate`); "none" (vacuum) is for tests."""
 
 
 def make_backend(name: str, *, resolution: Resolution | None = None, symmetric: bool = True, freestream=None,
                  keep_panels: bool = False, max_wake_rows: int | None = None, kinematics=None,
                  wake_summation: str = "direct", wake_precision: str = "float64"):
-    """The backend called ``name`` (:data:`FLIGHT_BACKENDS` or "none"). ValueError for an unknown one.
+    """The backend called ``name`` (a registered one, :func:`hawksim.backends.registry.names`, or "none"), built by
+    its descriptor's factory. ValueError for an unknown one.
 
     Args:
         resolution: the UVLM lattice (n_chord x n_span rings per wing; default :data:`DEFAULT`).
@@ -37,34 +39,11 @@ def make_backend(name: str, *, resolution: Resolution | None = None, symmetric: 
         wake_precision: the UVLM's wake-on-wake pair evaluations ("float64", "mixed":
             ``aero.uvlm.UVLMConfig.wake_precision``).
     """
-    if name == "quasi-steady":
-        from hawksim.backends.quasi_steady import QuasiSteadyBackend
+    from hawksim.backends.registry import descriptor
 
-        return QuasiSteadyBackend()
-    if name == "none":
-        from hawksim.backends.base import NoAero
-
-        return NoAero()
-    if name == "uvlm":
-        from hawksim.backends.uvlm import UVLMBackend
-
-        res = resolution if resolution is not None else DEFAULT
-        return UVLMBackend(n_chord=res.n_chord, n_span=res.n_span, symmetric=symmetric, freestream=freestream,
-                           keep_panels=keep_panels, max_wake_rows=max_wake_rows, wake_summation=wake_summation,
-                           wake_precision=wake_precision)
-    if name == "surrogate":
-        from hawksim.backends.step_surrogate import StepSurrogateBackend
-
-        if kinematics is None:
-            raise ValueError("the surrogate backend needs the flight's kinematics")
-        return StepSurrogateBackend(kinematics)
-    if name == "surrogate-mean":
-        from hawksim.backends.surrogate import SurrogateBackend
-
-        if kinematics is None:
-            raise ValueError("the surrogate-mean backend needs the flight's kinematics")
-        return SurrogateBackend(kinematics)
-    raise ValueError(f"unknown --aero {name!r}; choose {', '.join(FLIGHT_BACKENDS)}")
+    return descriptor(name).make(resolution=resolution, symmetric=symmetric, freestream=freestream,
+                                 keep_panels=keep_panels, max_wake_rows=max_wake_rows, kinematics=kinematics,
+                                 wake_summation=wake_summation, wake_precision=wake_precision)
 
 
 def backend_for(res: Resolution, *, symmetric: bool = True, freestream=None):
@@ -98,5 +77,8 @@ _LAZY, __getattr__, __dir__ = lazy_exports(__name__, {
     ".uvlm": ("UVLMBackend",),
     ".surrogate": ("SurrogateBackend",),
     ".step_surrogate": ("StepSurrogateBackend",),
+    ".registry": ("BackendDescriptor", "Support", "FiniteDifferenceSteps", "OrbitTolerance", "register",
+                  "unregister", "descriptor", "descriptor_of", "find", "names"),
+    ".memory": ("MEMORYLESS", "PREVIOUS_CALL", "RECORD", "WAKE", "PrimedMemory", "RecordMemory"),
 })
 __all__ = ["FLIGHT_BACKENDS", "make_backend", "backend_for", "flight_backend", "Resolution", "DEFAULT", *_LAZY]

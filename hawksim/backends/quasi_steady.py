@@ -30,6 +30,12 @@ class QuasiSteadyBackend:
     def reset(self, state: FlightState) -> None:
         self._vn = [None, None]
 
+    def prime(self, previous: FlightState) -> None:
+        """The previous-call memory protocol (:class:`hawksim.backends.memory.PrimedMemory`): remember a call at
+        ``previous`` (one update interval before the flight's start) as a continuous flight would have: the strip
+        normal velocities that the added-mass term differences (the loads of that call are discarded)."""
+        self.loads(previous)
+
     def loads(self, state: FlightState) -> WingLoads:
         force, moment, power = np.zeros((2, 3)), np.zeros((2, 3)), 0.0
         carrier = (state.body_v, state.body_omega, state.body_pos)

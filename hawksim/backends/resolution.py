@@ -11,7 +11,8 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 AERO_MODELS = ("uvlm", "quasi-steady")
-"""Aerodynamic models that a :class:`Resolution` can name (the held-body evaluations)."""
+"""The built-in models that a :class:`Resolution` can name (the held-body evaluations; any registered backend whose
+descriptor supports ``held_body``, :mod:`hawksim.backends.registry`)."""
 
 
 @dataclass(frozen=True)
@@ -31,8 +32,12 @@ class Resolution:
     average_cycles: int = 1
 
     def __post_init__(self):
-        if self.aero not in AERO_MODELS:
-            raise ValueError(f"resolution aero must be 'uvlm' or 'quasi-steady', got {self.aero!r}")
+        if self.aero not in AERO_MODELS:  # the built-in ones without the registry (it needs this module)
+            from hawksim.backends.registry import names
+
+            held = names(listed=False, having="held_body")
+            if self.aero not in held:
+                raise ValueError(f"resolution aero must be one of {', '.join(map(repr, held))}, got {self.aero!r}")
         for k in ("n_chord", "n_span", "steps_per_cycle", "cycles", "average_cycles"):
             if int(getattr(self, k)) != getattr(self, k) or getattr(self, k) < 1:
                 raise ValueError(f"resolution {k} must be a positive integer, got {getattr(self, k)}")

@@ -20,9 +20,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from hawksim.backends.base import FlightState, WingLoads
+from hawksim.backends.record import (HISTORY_ROW, HISTORY_ROWS_PER_BEAT, MAX_NATIVE_LAGS,  # noqa: F401 (re-exported)
+                                     history_rows, lagged_states, new_history, record_scale, record_size,
+                                     set_history_rows, set_history_values)
 from hawksim.backends.step_network import MIRROR_F, MIRROR_M, MIRROR_V, MIRROR_W, StepNetwork, load, shipped_path
 from hawksim.insect.kinematics import Kinematics
 
@@ -46,10 +48,28 @@ class StepSurrogateBackend:
         """The record of this backend's calls that its history inputs read (:func:`lagged_states`); the flight
         loop's native callback reads and writes the same array, so the two paths share one record."""
         self._lagged_out = np.zeros((len(self.lags), 6))
-        self.seed: tuple[np.ndarray, float] | None = None
-        """(rows (n, 6), dt [s]): the record a flight starts with (:meth:`reset` writes it as calls at t - n dt ...
-        t - dt before the start t): a periodic orbit's own record (:attr:`hawksim.flight.orbit.Orbit.record`), so
-        that a flight launched on the orbit continues it. None: a flight starts with no record."""
+        self._seed: tuple[np.ndarray, float] | None = None
+
+    # the record memory protocol (:class:`hawksim.backends.memory.RecordMemory`)
+    def seed(self, record: np.ndarray, dt: float) -> None:
+        """Start every flight (:meth:`reset`) with ``record`` (n, 6), written as calls at t - n dt ... t - dt
+        before the start t [s]: a periodic orbit's own record (:attr:`hawksim.flight.orbit.Orbit.record`), so that
+        a flight launched on the orbit continues it. Without a seed a flight starts with no record."""
+        self._seed = (np.asarray(record, float), float(dt))
+
+    def snapshot(self, calls_per_beat: int) -> np.ndarray | None:
+        """The newest records (n, 6) that a beat's history inputs read (n = :func:`record_size` of the lags at
+        ``calls_per_beat`` calls per wingbeat), oldest first; None for a network without lags."""
+        n = record_size(self.lags, calls_per_beat)
+        return history_rows(self.history, n) if n else None
+
+    def restore(self, record: np.ndarray) -> None:
+        """Overwrite the values of the newest len(record) records with ``record`` (n, 6), their times kept."""
+        set_history_values(self.history, np.asarray(record, float))
+
+    def memory_beats(self) -> int:
+        """Whole wingbeats of history the network's inputs reach back (:func:`memory_beats`)."""
+        return memory_beats(self.net)
 
     def native(self, every: int):
         """This network for the flight loop's native callback (:class:`NativeNetwork`), updated every ``every``
@@ -75,10 +95,10 @@ class StepSurrogateBackend:
         return self._omega_f * state.t
 
     def reset(self, state: FlightState) -> None:
-        if self.seed is None:
+        if self._seed is None:
             self.history[1] = 0.0  # no records
         else:
-            set_history_rows(self.history, self.seed[0], state.t, self.seed[1])
+            set_history_rows(self.history, self._seed[0], state.t, self._seed[1])
 
     def _lagged(self, t: float, s: np.ndarray) -> np.ndarray:
         """States (n_lags, 6) at t - lag T for each lag, after recording s (6,) at t (:func:`lagged_states`)."""
@@ -152,7 +172,7 @@ class NativeNetwork:
     mirrors: np.ndarray
     plant_kinematics: bool = False
     """True: the kinematic inputs and the phase are the controlled plant's blend (mode 1) instead of ``kinematics``
-    and omega_f t (:class:`hawksim.control.surrogate.ControlledStepSurrogate`)."""
+    and omega_f t (:class:`hawksim.backends.controlled_step_surrogate.ControlledStepSurrogate`)."""
     lags: tuple[float, ...] = ()
     """History lags [wingbeats] (at most :data:`MAX_NATIVE_LAGS`); their inputs follow the first 15."""
     history: np.ndarray | None = None
@@ -168,95 +188,6 @@ class NativeNetwork:
         out[0] = len(values)
         out[1:].view(np.float32)[:len(values)] = values
         return out
-
-
-HISTORY_ROW = 7
-"""A history record's row: t [s], then the body's velocity relative to the air and angular velocity in body axes
-(m/s, rad/s)."""
-HISTORY_ROWS_PER_BEAT = 1024
-"""Rows kept per wingbeat of the longest lag: more than any flight's calls per beat (one per RK4 step at most,
-200 by default), so the ring never drops a row a lag still reads."""
-MAX_NATIVE_LAGS = 4
-"""History lags the native callback evaluates (its ctx slots)."""
-
-
-def new_history(lags) -> np.ndarray:
-    """An empty record for these lags [wingbeats]: float64 [capacity, count, newest row, then capacity rows of
-    :data:`HISTORY_ROW`]."""
-    cap = HISTORY_ROWS_PER_BEAT * max(1, math.ceil(max(lags, default=0.0) - 1e-9)) + 8
-    h = np.zeros(3 + HISTORY_ROW * cap)
-    h[0] = cap
-    return h
-
-
-def _newest(hist: np.ndarray, n: int) -> list[int]:
-    """Ring positions of the newest n records of ``hist``, oldest first."""
-    cap, count, head = int(hist[0]), int(hist[1]), int(hist[2])
-    if count < n:
-        raise RuntimeError(f"the record holds {count} calls, fewer than the {n} asked for")
-    return [(head - n + 1 + k) % cap for k in range(n)]
-
-
-def history_rows(hist: np.ndarray, n: int) -> np.ndarray:
-    """The newest n records of the ring ``hist`` (:func:`new_history`) as (n, 6), oldest first."""
-    return np.array([hist[3 + HISTORY_ROW * i + 1:3 + HISTORY_ROW * (i + 1)] for i in _newest(hist, n)])
-
-
-def set_history_rows(hist: np.ndarray, rows: np.ndarray, t0: float, dt: float) -> None:
-    """Make the ring ``hist`` hold exactly ``rows`` (n, 6), oldest first, as calls at t0 - n dt, ..., t0 - dt
-    (in place: the native callback holds the array's address)."""
-    n = len(rows)
-    if n > int(hist[0]):
-        raise ValueError(f"{n} rows do not fit a record of {int(hist[0])}")
-    for k in range(n):
-        r = 3 + HISTORY_ROW * k
-        hist[r] = t0 - (n - k) * dt
-        hist[r + 1:r + HISTORY_ROW] = rows[k]
-    hist[1], hist[2] = n, n - 1
-
-
-def set_history_values(hist: np.ndarray, rows: np.ndarray) -> None:
-    """Overwrite the values of the newest len(rows) records of the ring ``hist`` with ``rows`` (n, 6), oldest
-    first, keeping their times (in place)."""
-    for k, i in enumerate(_newest(hist, len(rows))):
-        hist[3 + HISTORY_ROW * i + 1:3 + HISTORY_ROW * (i + 1)] = rows[k]
-
-
-@njit(cache=True)
-def lagged_states(hist, t, s, lags, period, out):
-    """Record the state s (6,) at time t [s] in the ring ``hist`` (:func:`new_history`), then write into out
-    (n_lags, 6) the recorded state at t - lag period for each lag [wingbeats]: linear in time between the two
-    records around that instant (np.interp's rule), the oldest record before the first one (before the flight's
-    start: the first call's state). The Python backend and the native callback both call this, so a flight's
-    history inputs are the same whichever runs a step. No allocation."""
-    cap, n, head = int(hist[0]), int(hist[1]), int(hist[2])
-    head = 0 if n == 0 else (head + 1) % cap
-    r = 3 + HISTORY_ROW * head
-    hist[r] = t
-    for j in range(6):
-        hist[r + 1 + j] = s[j]
-    n = min(n + 1, cap)
-    hist[1], hist[2] = n, head
-    for k in range(lags.shape[0]):
-        tau = t - lags[k] * period
-        i, newer, found = head, -1, False
-        for _ in range(n):
-            if hist[3 + HISTORY_ROW * i] <= tau:
-                found = True
-                break
-            newer = i
-            i = (i - 1) % cap
-        if not found:  # before the oldest record: the oldest
-            i, newer = newer, -1
-        ri = 3 + HISTORY_ROW * i
-        if newer < 0 or hist[ri] == tau:
-            for j in range(6):
-                out[k, j] = hist[ri + 1 + j]
-            continue
-        rn = 3 + HISTORY_ROW * newer
-        w = (tau - hist[ri]) / (hist[rn] - hist[ri])
-        for j in range(6):
-            out[k, j] = hist[ri + 1 + j] + w * (hist[rn + 1 + j] - hist[ri + 1 + j])
 
 
 def ensemble_blocks(layers) -> tuple[tuple[np.ndarray, np.ndarray], ...] | None:
@@ -282,22 +213,6 @@ def ensemble_blocks(layers) -> tuple[tuple[np.ndarray, np.ndarray], ...] | None:
             out.append((np.ascontiguousarray(WL.reshape(K, hb, -1)), np.zeros((1, 1, WL.shape[1]), np.float32)))
             return tuple(out)
     return None
-
-
-def record_scale(kin: Kinematics) -> np.ndarray:
-    """(6,) SI per normalized unit of a record row's values, as the Floquet states are normalized
-    (:func:`hawksim.stability.floquet.state_scale`): velocities by U (Eq. 8, :func:`hawksim.insect.kinematics.
-    reference_speed`), angular velocities by 1 / T."""
-    from hawksim.insect.kinematics import reference_speed
-
-    return np.array([reference_speed(kin)] * 3 + [kin.f] * 3)
-
-
-def record_size(lags, calls: int) -> int:
-    """Records of the calls before a beat's start that the beat's history inputs read: ceil(max lag x calls per
-    beat) (0 without lags), the record part of a history network's state (:attr:`hawksim.flight.orbit.Orbit.record`,
-    :mod:`hawksim.stability.history_floquet`)."""
-    return int(math.ceil(max(lags, default=0.0) * calls - 1e-9))
 
 
 def memory_beats(network: StepNetwork | None = None) -> int:

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from hawksim.backends import FLIGHT_BACKENDS
+from hawksim.backends.registry import descriptor
+from hawksim.backends.registry import names as backend_names
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE as STEPS_PER_CYCLE
 from hawksim.backends.resolution import FLY_WAKE_CYCLES
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
@@ -56,7 +57,8 @@ def plan_start(speed: float, aero: str, kinematics=None, steps_per_cycle: int = 
                                      f"{shipped.residual:.2e}, the wake's beat-to-beat floor {shipped.floor:.2e}): "
                                      "fly with --start trim")
         shipped = None
-    solvable = aero in ("quasi-steady", "surrogate")  # orbits solved in ~1 s (quasi-steady), ~10 s (surrogate)
+    desc = descriptor(aero)
+    solvable = desc.orbits_on_demand  # orbits solved in ~1 s (quasi-steady), ~10 s (surrogate)
     why = None
     if start is None:
         start = ("orbit" if steps_per_cycle == STEPS_PER_CYCLE and kinematics is None and (shipped or solvable)
@@ -73,8 +75,8 @@ def plan_start(speed: float, aero: str, kinematics=None, steps_per_cycle: int = 
                           f"{STEPS_PER_CYCLE} steps per wingbeat)")
             elif unconverged:
                 reason = f"the shipped {aero} orbit at {speed:g} m/s did not converge"
-            elif aero == "surrogate-mean":
-                reason = "the cycle-mean network has no within-beat loads, so no periodic orbit of the free body"
+            elif not desc.orbits:
+                reason = desc.orbits.why_not
             else:
                 reason = f"no {aero} periodic orbit is shipped at {speed:g} m/s and solving one takes minutes"
             why = (f"starting from {what} with one calibration wingbeat, not from a periodic orbit of the free body "
@@ -168,10 +170,10 @@ def cmd_fly(args) -> dict:
     twice = sorted({k for k in names if names.count(k) > 1})
     if twice:
         raise UsageError(f"--perturb gives {', '.join(twice)} more than once")
-    if getattr(args, "wake_cycles", None) is not None and args.aero != "uvlm":
-        raise UsageError("--wake-cycles applies to --aero uvlm only")
-    if getattr(args, "wake_precision", None) is not None and args.aero != "uvlm":
-        raise UsageError("--wake-precision applies to --aero uvlm only")
+    for opt in ("wake_cycles", "wake_precision"):
+        if getattr(args, opt, None) is not None and opt not in descriptor(args.aero).flight_options:
+            raise UsageError(f"--{opt.replace('_', '-')} applies to --aero "
+                             f"{' or '.join(n for n in backend_names() if opt in descriptor(n).flight_options)} only")
     control = _control_of(args)  # issue 20: --control lqr (default for quasi-steady from the orbit), --gust
     for opt in ("wake_cycles", "wake_precision"):
         if control is not None and getattr(args, opt, None) is not None:
@@ -208,11 +210,9 @@ def _note(text: str) -> None:
 def _fly_open_loop(args, progress, guard) -> dict:
     import sys
     import time
-    from types import SimpleNamespace
 
     from hawksim.cli.fly_report import report
     from hawksim.cli.progress import stage_for
-    from hawksim.flight.simulator import aero_every_for
 
     notes = []
 
@@ -223,8 +223,9 @@ def _fly_open_loop(args, progress, guard) -> dict:
     result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
                        kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
                        # the UVLM's panels and wake at every UVLM update (every aero_every steps)
-                       keep_extras_every=(aero_every_for(SimpleNamespace(name="uvlm"), args.steps_per_cycle)
-                                          if args.rrd and args.aero == "uvlm" else 0),
+                       keep_extras_every=(descriptor(args.aero).update_interval(args.steps_per_cycle)
+                                          if args.rrd and "keep_panels" in descriptor(args.aero).flight_options
+                                          else 0),
                        progress=progress, start=args.start, wake_cycles=getattr(args, "wake_cycles", None),
                        wake_precision=getattr(args, "wake_precision", None) or "float64", note=note,
                        stage=lambda desc: stage_for(args, desc),
@@ -292,7 +293,7 @@ def _controlled_start(out: dict, args) -> str:
     and the surrogate, solved in this process for the quasi-steady model), or the reference interpolated between two
     of them."""
     pts = out["control"]["schedule"]
-    how = "shipped" if args.aero in ("uvlm", "surrogate") else "solved here"
+    how = "shipped" if descriptor(args.aero).shipped_orbits_only else "solved here"
     exact = [p for p in pts if abs(p["speed"] - args.speed) < 1e-9]
     if exact:
         p = exact[0]
@@ -351,22 +352,27 @@ def _control_of(args) -> str | None:
         if rate is not None:
             raise ValueError(f"--control-rate {rate} needs --control lqr")
         return None
-    if args.aero not in ("quasi-steady", "uvlm", "surrogate") or args.kinematics is not None \
+    desc = descriptor(args.aero)
+    if not desc.control or args.kinematics is not None \
             or args.steps_per_cycle != STEPS_PER_CYCLE or args.start == "trim":
-        raise ValueError(f"--control {control} / --gust / --ascent-profile need --aero quasi-steady, uvlm or surrogate "
+        raise ValueError(f"--control {control} / --gust / --ascent-profile need --aero {_either('control')} "
                          f"from the orbit (no --kinematics, --start trim or --steps-per-cycle other than "
                          f"{STEPS_PER_CYCLE})")
-    if control == "clqr" and (args.aero == "uvlm" or rate == "half-stroke"):
-        raise ValueError("--control clqr needs --aero quasi-steady or surrogate and --control-rate beat (its plans "
-                         "use per-wing derivatives differenced from a settable orbit state, once per wingbeat)")
-    from hawksim.control.schedule import HALF_STROKE_BACKENDS, HALF_STROKE_WHY
-
-    if args.aero not in HALF_STROKE_BACKENDS and rate == "half-stroke":
-        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady or surrogate "
-                         f"({HALF_STROKE_WHY[args.aero]})")
+    if control == "clqr" and (not desc.constrained_control or rate == "half-stroke"):
+        raise ValueError(f"--control clqr needs --aero {_either('constrained_control')} and --control-rate beat (its "
+                         "plans use per-wing derivatives differenced from a settable orbit state, once per wingbeat)")
+    if not desc.half_stroke and rate == "half-stroke":
+        raise ValueError(f"--control-rate half-stroke needs --aero {_either('half_stroke')} "
+                         f"({desc.half_stroke.why_not})")
     if control == "none" and profile:
         raise ValueError("--ascent-profile needs --control lqr (an open-loop flight cannot follow it)")
     return control
+
+
+def _either(feature: str) -> str:
+    """The --aero names whose descriptor supports ``feature``, as "a, b or c"."""
+    n = backend_names(having=feature)
+    return n[0] if len(n) == 1 else f"{', '.join(n[:-1])} or {n[-1]}"
 
 
 def _control_type(parse):
@@ -405,7 +411,7 @@ def register(sub) -> None:
     f = sub.add_parser("fly", help="fly the insect from its trim at an ascent speed (MuJoCo, 6-DOF)")
     f.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 (hover) to 2")
     f.add_argument("--cycles", type=cycles_arg, required=True, help="number of wingbeats N")
-    f.add_argument("--aero", choices=FLIGHT_BACKENDS, default="quasi-steady",
+    f.add_argument("--aero", choices=backend_names(), default="quasi-steady",
                    help="aerodynamic model (default quasi-steady): uvlm, the extended UVLM in the loop; surrogate, the "
                         "per-step neural surrogate of the UVLM (each wing's instantaneous loads from the kinematics, "
                         "phase and body motion); surrogate-mean, the cycle-mean network's averaged L+, D+, M+ (no "

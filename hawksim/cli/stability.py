@@ -7,10 +7,8 @@ from __future__ import annotations
 import math
 import sys
 
+from hawksim.backends.registry import descriptor, names
 from hawksim.cli.args import UsageError, parse_kinematics, positive_int_arg, speed_arg
-
-ORBIT_MODELS = ("uvlm", "quasi-steady", "surrogate")
-"""Aerodynamic models the free-flight orbit and its Floquet analysis support."""
 
 
 def _averaged(args, kin, client=None) -> dict:
@@ -60,13 +58,14 @@ def cmd_stability(args) -> dict:
         # shipped models (hawksim reproduce --only control_surrogate / control_uvlm) about the shipped orbit, else
         # differenced here (quasi-steady and surrogate: seconds; the UVLM's take minutes: none)
         from hawksim.control.derivatives import linearize
-        from hawksim.control.schedule import CONTROL_MODEL_FILES, shipped_control_model
+        from hawksim.control.schedule import shipped_control_model
 
+        desc = descriptor(args.aero)
         lin = source = None
-        if args.aero in CONTROL_MODEL_FILES and args.kinematics is None:
+        if desc.control_model_table is not None and args.kinematics is None:
             lin = shipped_control_model(args.speed, args.aero)
-            source = f"shipped: hawksim/data/{CONTROL_MODEL_FILES[args.aero]}"
-        if lin is None and args.aero != "uvlm":
+            source = f"shipped: hawksim/data/{desc.control_model_table}"
+        if lin is None and desc.linearize_cost == "seconds":
             lin, source = linearize(orbit), "differenced here (hawksim.control.derivatives.linearize)"
         control = None if lin is None else {**lin.to_json(), "source": source}
         chart = ("level heading axes (u, v horizontal; the averaged A's eigenvectors are in body-fixed stability "
@@ -83,9 +82,9 @@ def cmd_stability(args) -> dict:
                                             "body block of the augmented map): not the flight's dynamics"}
     elif kin is None and args.aero == "quasi-steady":
         kin = shipped_trim(args.speed, "quasi-steady").kinematics
-    if args.aero == "surrogate":  # the per-step surrogate: Floquet only (its averaged A is not implemented)
+    if not descriptor(args.aero).averaged_system:  # the per-step surrogate: Floquet only (no averaged A)
         if out_orbit is None:
-            raise UsageError("--aero surrogate: only --floquet (the monodromy of the surrogate's orbit); the "
+            raise UsageError(f"--aero {args.aero}: only --floquet (the monodromy of the {args.aero}'s orbit); the "
                              "cycle-averaged A matrices are the UVLM's (--aero uvlm) or the quasi-steady model's")
         return {"speed": args.speed, "aero": args.aero, **out_orbit}
     if args.aero == "quasi-steady" or (args.workers == 1 and not args.scheduler):
@@ -145,7 +144,7 @@ def register(sub) -> None:
                                          "free-flight orbit and Floquet multipliers")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
     p.add_argument("--kinematics", type=parse_kinematics, help="use these kinematics instead of the trim table")
-    p.add_argument("--aero", choices=ORBIT_MODELS, default="uvlm", help="aerodynamic model (default uvlm)")
+    p.add_argument("--aero", choices=names(having="orbits"), default="uvlm", help="aerodynamic model (default uvlm)")
     p.add_argument("--floquet", action="store_true",
                    help="solve the free body's periodic orbit and its monodromy matrix (Floquet multipliers); the "
                         "averaged A matrices are then those of the same model at the orbit's kinematics")

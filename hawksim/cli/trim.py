@@ -7,7 +7,7 @@ import math
 from hawksim.cli.args import MAX_POPULATION, positive_int_arg, seed_arg, speed_arg
 from hawksim.cli.predict import NETWORK_FAMILIES
 from hawksim.cli.progress import progress_for
-from hawksim.cli.stability import ORBIT_MODELS
+from hawksim.backends.registry import names
 from hawksim.cli.trim_report import render_trim
 
 DEFAULT_POPULATION = 100_000
@@ -111,7 +111,7 @@ def register(sub) -> None:
     p.add_argument("--free-flight", action="store_true",
                    help="instead: the periodic orbit of the free body (Newton shooting on the one-wingbeat map; "
                         "frees f and phi0 and the body state at phase 0)")
-    p.add_argument("--aero", choices=ORBIT_MODELS,
+    p.add_argument("--aero", choices=names(having="orbits"),
                    help="with --free-flight: the aerodynamic model (default uvlm)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")

@@ -48,11 +48,12 @@ def model_digest(model) -> str:
 def map_key(kind: str, orbit, model, **settings) -> str:
     """The name of a map: SHA-256 of its kind, the orbit (its JSON), the shipped network's SHA-256 for the
     surrogate, the model's mechanics and the differencing settings."""
-    parts = {"kind": kind, "orbit": orbit.to_json(), "model": model_digest(model), "settings": settings}
-    if orbit.aero == "surrogate":
-        from hawksim.backends.step_network import network_sha256
+    from hawksim.backends.registry import descriptor
 
-        parts["network"] = network_sha256()
+    parts = {"kind": kind, "orbit": orbit.to_json(), "model": model_digest(model), "settings": settings}
+    digest = descriptor(orbit.aero).tables_digest
+    if digest is not None:
+        parts["network"] = digest()
     return hashlib.sha256(json.dumps(parts, sort_keys=True, default=float).encode()).hexdigest()
 
 

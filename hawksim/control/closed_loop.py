@@ -4,8 +4,8 @@ Per wingbeat k, at phase 0 (:func:`fly_closed_loop`; per half-stroke steps 3-4 r
 the gains and reference state of each phase):
 
 1. the speed reference V_k moves toward the commanded speed (the ascent profile) by at most
-   :data:`SPEED_RATE` m/s per beat (:data:`SPEED_RATES` for some backends; a rate-limited prefilter: a step of
-   1 m/s is far outside the linear model);
+   :data:`SPEED_RATE` m/s per beat (a backend descriptor's ``speed_rate`` for some backends; a rate-limited
+   prefilter: a step of 1 m/s is far outside the linear model);
 2. the schedule (:class:`hawksim.control.schedule.Schedule`, periodic orbits and LQR gains at grid speeds) gives
    the reference at V_k by linear interpolation between the two neighbouring orbits: state, kinematics, gains;
 3. the sensed state (body state and horizontal position of beat k - d, d the sensing delay) and the commands
@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
+from hawksim.backends.memory import WAKE
+from hawksim.backends.registry import descriptor
 from hawksim.control.derivatives import stability_position
 from hawksim.control.plant import command_of, controlled_plant, saturate
 from hawksim.control.schedule import Schedule
@@ -43,12 +45,6 @@ from hawksim.insect.morphology import HAWKMOTH
 SPEED_RATE = 0.2
 """Largest change of the speed reference per wingbeat [m/s]."""
 
-SPEED_RATES = {"surrogate": 0.05}
-"""Backends with a slower speed reference [m/s per wingbeat]. Tuned: the per-step surrogate's orbits flap at
-32-36 Hz (the quasi-steady ones at 25-31 Hz), so a 0.2 or 0.1 m/s-per-beat ramp from hover drives f to Table 2's
-40 Hz within 2-3 beats, and the saturated flight pitches away (pitch errors of 34 and 120 deg on the 0 -> 1 -> 2 m/s
-profile); at 0.05 f stays <= 39.1 Hz and the profile is tracked without overshoot (docs/control.md, "The per-step
-surrogate in the loop"). What it moves: the ramp's duration (20 beats per m/s) and the lag behind the reference."""
 
 SATURATION_TOL = 1e-9
 """A wing counts as saturated when Table 2 clipped a parameter by more than this [SI] (the orbit sits on
@@ -168,14 +164,16 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     orbit's launch state and flies its warm-up beats open loop before the ``beats`` controlled ones (only those
     are reported). ``rate``: control updates once per ``'beat'`` or per ``'half-stroke'`` (phases 0 and 0.5,
     quasi-steady only) for the schedule made here (a given ``schedule`` brings its own).
-    ``speed_rate``: the speed reference's largest change per beat [m/s] (default :data:`SPEED_RATES` of ``aero``, else
-    :data:`SPEED_RATE`). ``progress(k, beats)`` is called before the first beat (k = 0) and after each complete beat.
+    ``speed_rate``: the speed reference's largest change per beat [m/s] (default the backend descriptor's
+    ``speed_rate``, else :data:`SPEED_RATE`). ``progress(k, beats)`` is called before the first beat (k = 0) and
+    after each complete beat.
     ``partial_on_interrupt`` (with ``record``): a KeyboardInterrupt during the beats returns the steps and beats
     completed so far (``result`` with fewer than beats x 200 rows, ``beats`` the complete ones) instead of
     propagating; with no step completed it propagates."""
     if control not in ("lqr", "clqr", "none"):
         raise ValueError(f"--control {control!r}: choose lqr, clqr, none")
     t_start = time.perf_counter()
+    desc = descriptor(aero)
     gusts = list(gusts or [])
     cmd = profile_speeds(profile, speed, beats)
     dd = delay if design_delay is None else design_delay
@@ -189,10 +187,10 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                             rate=rate)
     if any(p.orbit.aero != aero for p in schedule.points):
         raise ValueError(f"the schedule's orbits are not {aero} orbits")
-    if aero == "uvlm" and not any(p.speed == speed for p in schedule.points):  # the wake needs its orbit's launch
-        raise ValueError(f"--speed {speed:g} with --aero uvlm under control: the flight starts on a shipped UVLM "
-                         f"orbit ({', '.join(f'{p.speed:g}' for p in schedule.points)} m/s here); command speeds in "
-                         "between with --ascent-profile")
+    if desc.memory == WAKE and not any(p.speed == speed for p in schedule.points):  # the wake needs its launch
+        raise ValueError(f"speed={speed:g} with aero={aero!r} under control: the flight starts on a shipped orbit "
+                         f"({', '.join(f'{p.speed:g}' for p in schedule.points)} m/s here), whose launch develops "
+                         "the wake; command speeds in between with profile")
     model = model if model is not None else load_model()
     start = schedule.reference(speed)
     kin0, x0, chi0, _ = start
@@ -209,7 +207,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     warm = exact[0].orbit.warm_beats if exact else 0
     starts = [(1.0, exact[0].orbit)] if exact else [(w, pt.orbit) for w, pt in schedule.weights(speed)]
     if all(o.record is not None for _, o in starts):  # a history network: start with the orbit's record
-        sim.backend.seed = (sum(w * o.record for w, o in starts), sum(w * o.record_dt for w, o in starts))
+        sim.backend.seed(sum(w * o.record for w, o in starts), sum(w * o.record_dt for w, o in starts))
     if warm:  # UVLM: launch, develop the wake open loop, then sense the periodic beat's start
         set_body_state(sim, exact[0].orbit.launch_state.as_array() + (x0 - exact[0].orbit.initial_state.as_array()),
                        chi0)
@@ -238,7 +236,9 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         sensed = [(x0, np.zeros(2), rec0) if (keep - 1 - i) % 2 == 0 else (x_h, pos_h, rec_h) for i in range(keep)]
     out, refs = [], []
     v_ref = float(speed)
-    speed_rate = SPEED_RATES.get(aero, SPEED_RATE) if speed_rate is None else float(speed_rate)
+    if speed_rate is None:
+        speed_rate = desc.speed_rate if desc.speed_rate is not None else SPEED_RATE
+    speed_rate = float(speed_rate)
     rate_limit = speed_rate / nseg  # the reference moves at each update, speed_rate per beat
     if progress is not None:
         progress(0, beats)

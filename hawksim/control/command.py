@@ -53,49 +53,57 @@ def parse_gust(text: str) -> Gust:
 
 
 def default_control(aero: str, kinematics, steps_per_cycle: int, start: str | None, spc_default: int) -> str:
-    """lqr where the controller applies at every speed of 0-2 m/s (quasi-steady and the per-step surrogate, from
-    the orbit: no given kinematics, the orbit's steps per beat, no --start trim), none otherwise (the UVLM's
-    control models cover 1-2 m/s only, and its flights are slow: asked for, not by default)."""
-    ok = (aero in ("quasi-steady", "surrogate") and kinematics is None and steps_per_cycle == spc_default
+    """The backend descriptor's ``default_control`` ("lqr" where the controller applies at every speed of 0-2 m/s:
+    quasi-steady and the per-step surrogate) from the orbit (no given kinematics, the orbit's steps per beat, no
+    --start trim), none otherwise (the UVLM's control models cover 1-2 m/s only, and its flights are slow: asked
+    for, not by default)."""
+    from hawksim.backends.registry import descriptor
+
+    ok = (descriptor(aero).default_control == "lqr" and kinematics is None and steps_per_cycle == spc_default
           and start in (None, "orbit"))
     return "lqr" if ok else "none"
 
 
-def check_uvlm_control(speed: float, profile) -> None:
-    """ValueError (one line naming the option) unless a controlled UVLM flight can fly this: it starts on a
-    shipped, converged UVLM orbit (:data:`hawksim.control.schedule.UVLM_SCHEDULE_SPEEDS`) and every commanded
-    speed lies within the UVLM schedule's range (its gains are interpolated between those orbits only)."""
-    from hawksim.control.schedule import UVLM_SCHEDULE_SPEEDS as SP
+def check_shipped_control(speed: float, profile, aero: str) -> None:
+    """ValueError (one line naming the option) unless a controlled flight of a backend whose schedule is its shipped
+    orbits (descriptor ``shipped_orbits_only``: the UVLM, the per-step surrogate) can fly this: there are such
+    orbits (the surrogate's: for the shipped network, :func:`hawksim.control.schedule.shipped_schedule_speeds`),
+    the start speed is one of them where the backend's memory is a wake (the flight is launched from the orbit's
+    launch; otherwise it lies within their range: the start between two grid speeds is the interpolated reference,
+    as for the quasi-steady schedule), and every commanded speed lies within their range (the gains are
+    interpolated between those orbits only)."""
+    from hawksim.backends.memory import WAKE
+    from hawksim.backends.registry import descriptor
+    from hawksim.control.schedule import shipped_schedule_speeds
 
-    grid = ", ".join(f"{v:g}" for v in SP)
-    if not any(abs(speed - v) < 1e-9 for v in SP):
-        raise ValueError(f"--speed {speed:g} with --aero uvlm under control: the UVLM schedule starts on its shipped "
-                         f"converged orbits only ({grid} m/s; hover and 0.5 m/s did not converge)")
-    bad = [v for v, _ in profile or [] if not (SP[0] - 1e-9 <= v <= SP[-1] + 1e-9)]
+    desc = descriptor(aero)
+    sp = shipped_schedule_speeds(aero)
+    if not sp:
+        raise ValueError(f"--aero {aero} under control: no shipped {aero} orbit for this backend "
+                         f"(hawksim/data/{desc.orbit_table} was solved with another network)")
+    lo, hi = sp[0], sp[-1]
+    grid = ", ".join(f"{v:g}" for v in sp)
+    if desc.memory == WAKE:
+        if not any(abs(speed - v) < 1e-9 for v in sp):
+            raise ValueError(f"--speed {speed:g} with --aero {aero} under control: the {aero} schedule starts on its "
+                             f"shipped converged orbits only ({grid} m/s)")
+    elif not (lo - 1e-9 <= speed <= hi + 1e-9):
+        raise ValueError(f"--speed {speed:g} with --aero {aero} under control: the {aero} schedule covers "
+                         f"{lo:g} to {hi:g} m/s (its shipped orbits at {grid} m/s)")
+    bad = [v for v, _ in profile or [] if not (lo - 1e-9 <= v <= hi + 1e-9)]
     if bad:
-        raise ValueError(f"--ascent-profile speed {bad[0]:g} m/s with --aero uvlm: the UVLM schedule covers "
-                         f"{SP[0]:g} to {SP[-1]:g} m/s")
+        raise ValueError(f"--ascent-profile speed {bad[0]:g} m/s with --aero {aero}: the {aero} schedule "
+                         f"covers {lo:g} to {hi:g} m/s")
+
+
+def check_uvlm_control(speed: float, profile) -> None:
+    """:func:`check_shipped_control` of the UVLM."""
+    check_shipped_control(speed, profile, "uvlm")
 
 
 def check_surrogate_control(speed: float, profile) -> None:
-    """ValueError (one line naming the option) unless a controlled surrogate flight can fly this: the start speed
-    and every commanded speed lie within the range of the shipped surrogate orbits of the shipped network
-    (:func:`hawksim.control.schedule.surrogate_schedule_speeds`; the gains are interpolated between them, and a start
-    between two grid speeds is the interpolated reference, as for the quasi-steady schedule)."""
-    from hawksim.control.schedule import surrogate_schedule_speeds
-
-    sp = surrogate_schedule_speeds()
-    if not sp:
-        raise ValueError("--aero surrogate under control: no shipped surrogate orbit for this step network "
-                         "(hawksim/data/orbit_table_surrogate.json was solved with another network)")
-    lo, hi = sp[0], sp[-1]
-    if not (lo - 1e-9 <= speed <= hi + 1e-9):
-        raise ValueError(f"--speed {speed:g} with --aero surrogate under control: the surrogate schedule covers "
-                         f"{lo:g} to {hi:g} m/s (its shipped orbits at {', '.join(f'{v:g}' for v in sp)} m/s)")
-    bad = [v for v, _ in profile or [] if not (lo - 1e-9 <= v <= hi + 1e-9)]
-    if bad:
-        raise ValueError(f"--ascent-profile speed {bad[0]:g} m/s with --aero surrogate: the surrogate schedule "
-                         f"covers {lo:g} to {hi:g} m/s")
+    """:func:`check_shipped_control` of the per-step surrogate."""
+    check_shipped_control(speed, profile, "surrogate")
 
 
 def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=None, delay: int = 0,
@@ -115,10 +123,10 @@ def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=
     deg = np.pi / 180
     for k, v in parse_perturbations(perturb or {}).items():
         x[STATE_NAMES.index(k)] += v * (deg if k in ("p", "q", "r", "theta", "phi") else 1.0)
-    if aero == "uvlm":
-        check_uvlm_control(speed, profile)
-    elif aero == "surrogate":
-        check_surrogate_control(speed, profile)
+    from hawksim.backends.registry import descriptor
+
+    if descriptor(aero).shipped_orbits_only:
+        check_shipped_control(speed, profile, aero)
     return fly_closed_loop(speed, cycles, profile=profile, gusts=gusts, delay=delay, control=control, perturbation=x,
                            model=load_model(model_path), record=True, log=log, progress=progress, aero=aero,
                            rate=rate, partial_on_interrupt=partial_on_interrupt)

@@ -42,9 +42,10 @@ import numpy as np
 from scipy.linalg import solve_discrete_are, solve_triangular
 from scipy.optimize import lsq_linear
 
-from hawksim.control.derivatives import (FD_DELTA, SURROGATE_FD_DELTA, XI_NAMES, Snapshot, central_jacobians,
-                                         normalized_xi, one_beat, record_jacobians, xi_scale)
-from hawksim.backends.step_surrogate import record_scale
+from hawksim.backends.record import record_scale
+from hawksim.backends.registry import descriptor
+from hawksim.control.derivatives import (XI_NAMES, Snapshot, central_jacobians, normalized_xi, one_beat,
+                                         record_jacobians, xi_scale)
 from hawksim.control.lqr import U_MAX, X_MAX, augment
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import Orbit
@@ -171,13 +172,14 @@ def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float |
     flights (+16 for A). A history network's orbit (:attr:`hawksim.flight.orbit.Orbit.record`): each beat branches
     from the orbit's flight (:class:`hawksim.control.derivatives.Snapshot`); given an ``A`` on the augmented state
     (a :class:`BeatMapModel` with ``records``), B0 and B1 get the record's rows too, else the record is held."""
+    descriptor(orbit.aero).constrained_control.require("the constrained LQR's per-wing derivatives", orbit.aero)
     if orbit.has_memory and orbit.record is None:
         raise ValueError("per-wing derivatives need an orbit with a settable state or a record (quasi-steady or "
                          "surrogate); the UVLM's wake is neither")
     t0 = time.perf_counter()
     model = model if model is not None else load_model()
     if delta is None:
-        delta = SURROGATE_FD_DELTA if orbit.aero == "surrogate" else FD_DELTA
+        delta = descriptor(orbit.aero).fd.control
     sc = xi_scale(orbit.kinematics)
     if orbit.record is not None:
         snap = Snapshot(orbit, model)

@@ -30,6 +30,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from hawksim.backends.builtin import BUILTINS, QUASI_STEADY, SURROGATE, UVLM
+from hawksim.backends.registry import descriptor
 from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
                                    wing_kinematics)
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, read_body_state, scales, set_body_state
@@ -47,18 +49,17 @@ LONG_X = (0, 2, 4, 7, 9)
 LAT_X = (1, 3, 5, 6, 8, 10)
 """Lateral states v, p, r, phi, psi, Y in :data:`XI_NAMES`."""
 
-FD_DELTA = 1e-5
-"""Central-difference step in the normalized states and inputs (as hawksim.stability.floquet.FD_DELTA)."""
+# The per-backend steps are the backends' descriptors' ``fd.control`` (:mod:`hawksim.backends.builtin`); these
+# names are theirs.
+FD_DELTA = QUASI_STEADY.fd.control
+"""Central-difference step in the normalized states and inputs of a settable map (the quasi-steady backend's)."""
 
-UVLM_FD_DELTA = 1e-3
+UVLM_FD_DELTA = UVLM.fd.control
 """The same for the UVLM, whose free wake amplifies round-off (as hawksim.flight.orbit.UVLM_FD_STEP)."""
 
-SURROGATE_FD_DELTA = 1e-3
-"""The same for the per-step surrogate, whose float32 network rounds the loads at ~1e-7 relative. Measured at 1 m/s
-(largest entry of A, B0, B1 ~1.4): steps 1e-4 / 3e-4 / 1e-3 / 3e-3 differ by 4.1e-3, 1.2e-3, 1.8e-3 between
-neighbours, i.e. round-off ~4e-4 and truncation ~2e-4 at 1e-3, the smallest total (the orbit solver's 1e-4 step,
-hawksim.flight.orbit.SURROGATE_FD_STEP, carries ~4e-3 of round-off here); the closed-loop multipliers agree to 1e-4
-at every step (docs/control.md, "The per-step surrogate in the loop")."""
+SURROGATE_FD_DELTA = SURROGATE.fd.control
+"""The same for the per-step surrogate (:data:`hawksim.backends.builtin.SURROGATE_FD_DELTA`: the measurement that
+chose it)."""
 
 
 def xi_scale(kin: Kinematics) -> np.ndarray:
@@ -144,9 +145,7 @@ class Snapshot:
         parameterization, as :func:`one_beat`'s."""
         sim = self._copy(self.sim, dict(self._shared))
         if record is not None:
-            from hawksim.backends.step_surrogate import set_history_values
-
-            set_history_values(sim.backend.history, np.asarray(record, float))
+            sim.backend.restore(np.asarray(record, float))
         kin, chi = self.orbit.kinematics, self.orbit.chi_ref
         lp, rp = (Kinematics.from_array(self.sat(p)) for p in wings(kin, du_prev))
         sim._new = sim._old = (lp, rp)
@@ -320,13 +319,13 @@ def record_jacobians(beat, x0: np.ndarray, rec0: np.ndarray, kin: Kinematics, de
                      states: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`central_jacobians` on the augmented state of a history network (the body state and horizontal
     position, normalized by :func:`xi_scale` of the kinematics ``kin``, then the record's n x 6 values normalized
-    by :func:`hawksim.backends.step_surrogate.record_scale`): ``beat(x (9,), du_prev, du,
+    by :func:`hawksim.backends.record.record_scale`): ``beat(x (9,), du_prev, du,
     record (n, 6)) -> (state (9,), displacement (2,), record (n, 6))`` branches from the orbit's flight with its
     record replaced; A's columns from the first ``n_body`` body states and every record value (psi's, when not
     among them, and X's, Y's identity). A (11 + 6 n) square, B0 and B1 (11 + 6 n, m). Each record value is one
     more pair of flights: 2 (n_body + 6 n) + 4 m in all. ``states`` False: B0 and B1 only (A the identity), 4 m
     flights; m = ``n_inputs`` channels."""
-    from hawksim.backends.step_surrogate import record_scale
+    from hawksim.backends.record import record_scale
 
     n = len(rec0)
     sc, rsc = xi_scale(kin), record_scale(kin)
@@ -344,15 +343,16 @@ def record_jacobians(beat, x0: np.ndarray, rec0: np.ndarray, kin: Kinematics, de
                              columns=list(range(n_body)) + list(range(11, 11 + 6 * n)) if states else [])
 
 
-SATURATED_DERIVATIVES = ("surrogate",)
-"""Backends whose control derivatives are taken on the map as flown, each wing saturated at Table 2
-(:func:`one_beat` with ``clip``). The per-step surrogate's network never saw parameters outside Table 2 (its
-training kinematics are clipped there), and its orbits sit on phi_a = 60 deg (the bound): a central difference
-that steps one wing past it differences the network's extrapolation (the unclipped dphi_a column's one-beat
-response is off by 11 % at 1 deg and 45 % at 3 deg at 1 m/s). With the clip, a small antisymmetric dphi_a lowers
-one wing's amplitude whichever its sign, so the central difference gives the lateral response of the flown plant
-(odd in dphi_a by mirror symmetry, half the unclipped slope) and no longitudinal one (even). The quasi-steady and
-UVLM models are smooth across the bound and keep the unclipped derivatives of their shipped tables."""
+SATURATED_DERIVATIVES = tuple(d.name for d in BUILTINS if d.saturated_plant)
+"""The built-in backends (any backend: its descriptor's ``saturated_plant``) whose control derivatives are taken on the
+map as flown, each wing saturated at Table 2 (:func:`one_beat` with ``clip``). The per-step surrogate's network never
+saw parameters outside Table 2 (its training kinematics are clipped there), and its orbits sit on phi_a = 60 deg (the
+bound): a central difference that steps one wing past it differences the network's extrapolation (the unclipped
+dphi_a column's one-beat response is off by 11 % at 1 deg and 45 % at 3 deg at 1 m/s). With the clip, a small
+antisymmetric dphi_a lowers one wing's amplitude whichever its sign, so the central difference gives the lateral
+response of the flown plant (odd in dphi_a by mirror symmetry, half the unclipped slope) and no longitudinal one
+(even). The quasi-steady and UVLM models are smooth across the bound and keep the unclipped derivatives of their
+shipped tables."""
 
 
 def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None,
@@ -369,10 +369,11 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     of :mod:`hawksim.control.cache` and read from it next time); without it the record is held at the orbit's,
     which is that map's body block."""
     t0 = time.perf_counter()
+    desc = descriptor(orbit.aero)
     if clip is None:
-        clip = orbit.aero in SATURATED_DERIVATIVES
+        clip = desc.saturated_plant
     if delta is None:
-        delta = SURROGATE_FD_DELTA if orbit.aero == "surrogate" else UVLM_FD_DELTA if orbit.warm_beats else FD_DELTA
+        delta = desc.fd.control
     model = model if model is not None else load_model()
     kin = orbit.kinematics
     sc = xi_scale(kin)

@@ -33,12 +33,12 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hawksim.control.derivatives import (FD_DELTA, LAT_X, LONG_X, SATURATED_DERIVATIVES, SURROGATE_FD_DELTA,
-                                         Snapshot, central_jacobians, normalized_xi, record_index,
+from hawksim.backends.record import record_scale
+from hawksim.backends.registry import descriptor
+from hawksim.control.derivatives import (LAT_X, LONG_X, Snapshot, central_jacobians, normalized_xi, record_index,
                                          record_jacobians, stability_position, xi_scale)
 from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
                                    wing_kinematics)
-from hawksim.backends.step_surrogate import record_scale
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
@@ -64,7 +64,7 @@ def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray,
         return snapshot.beat(x0, du_prev, du, half=half, record=record)
     model = model if model is not None else load_model()
     kin = orbit.kinematics
-    if orbit.aero in SATURATED_DERIVATIVES:  # the surrogate: its controlled plant, each wing clipped at Table 2
+    if descriptor(orbit.aero).saturated_plant:  # the surrogate: its controlled plant, each wing clipped at Table 2
         sim, sat = controlled_plant(model, kin, orbit.aero), saturate
     else:
         backend, every = make_orbit_backend(orbit.aero, symmetric=False)
@@ -144,14 +144,16 @@ def linearize_half_stroke(orbit: Orbit, *, delta: float | None = None,
     2 x 526 half-beats, 3-4 s) is kept in the per-user cache of :mod:`hawksim.control.cache` and read from it
     next time."""
     t0 = time.perf_counter()
+    desc = descriptor(orbit.aero)
+    desc.half_stroke.require("a half-stroke controller", orbit.aero)
     if delta is None:
-        delta = SURROGATE_FD_DELTA if orbit.aero == "surrogate" else FD_DELTA
+        delta = desc.fd.control
     model = model if model is not None else load_model()
     key = None
     if orbit.record is not None:
         from hawksim.control import cache
 
-        key = cache.map_key("half-stroke", orbit, model, delta=delta, clip=orbit.aero in SATURATED_DERIVATIVES)
+        key = cache.map_key("half-stroke", orbit, model, delta=delta, clip=desc.saturated_plant)
         z = cache.load(key)
         if z is not None:
             return _from_arrays(orbit, z, delta, time.perf_counter() - t0)
@@ -184,10 +186,7 @@ def _linearize_half_stroke(orbit: Orbit, delta: float, model, t0: float) -> Half
     zero = np.zeros(len(INPUTS))
     snaps, recs = (None, None), None
     if orbit.has_memory:  # the surrogate with history inputs: branch from the orbit's flight and its record
-        if orbit.aero != "surrogate":
-            raise ValueError("half-stroke maps need a settable state or the surrogate's record; the UVLM's wake "
-                             "cannot be set at phase 0.5")
-        snap0 = Snapshot(orbit, model, clip=orbit.aero in SATURATED_DERIVATIVES)
+        snap0 = Snapshot(orbit, model, clip=descriptor(orbit.aero).saturated_plant)
         x0 = orbit.initial_state.as_array()
         x_half, pos_half, snap1 = snap0.beat(x0, zero, zero, half=0, keep=True)
         snaps = (snap0, snap1)

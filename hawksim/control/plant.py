@@ -221,21 +221,22 @@ class ControlledSimulator(Simulator):
 def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int | None = None) -> ControlledSimulator:
     """The controlled plant of `hawksim fly --aero NAME` (``aero``: quasi-steady, uvlm or surrogate) at base
     kinematics ``kin``: the backend of :func:`hawksim.flight.orbit.make_orbit_backend` (both wings solved: the
-    commands break the symmetry), updated at its flight rate; the per-step surrogate as
-    :class:`hawksim.control.surrogate.ControlledStepSurrogate`, bound to the plant so that it reads the commanded
-    kinematics (:meth:`ControlledSimulator.network_kinematics`)."""
+    commands break the symmetry), updated at its flight rate; a backend whose descriptor has a
+    ``controlled_factory`` (the per-step surrogate: :class:`hawksim.backends.controlled_step_surrogate.
+    ControlledStepSurrogate`) built by it and bound to the plant, so that it reads the commanded kinematics
+    (:meth:`ControlledSimulator.network_kinematics`)."""
+    from hawksim.backends.registry import descriptor
     from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend
     from hawksim.flight.simulator import aero_every_for
 
     n = STEPS_PER_CYCLE if steps_per_cycle is None else steps_per_cycle
-    if aero == "surrogate":
-        from hawksim.control.surrogate import ControlledStepSurrogate
-
-        backend = ControlledStepSurrogate(kin)
+    bound = descriptor(aero).controlled_factory
+    if bound is not None:  # a backend that reads the commanded kinematics (the per-step surrogate's network)
+        backend = bound(kin)
     else:
         backend, _ = make_orbit_backend(aero, symmetric=False)
     sim = ControlledSimulator(model, kin, backend, steps_per_cycle=n, gravity=True,
                               aero_every=aero_every_for(backend, n))
-    if aero == "surrogate":
+    if bound is not None:
         backend.bind(sim)
     return sim

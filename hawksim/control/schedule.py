@@ -26,7 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hawksim.backends.step_surrogate import record_scale
+from hawksim.backends.record import record_scale
+from hawksim.backends.builtin import BUILTINS
+from hawksim.backends.registry import descriptor
 from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, xi_scale
 from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_stroke
 from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gains
@@ -39,49 +41,52 @@ SCHEDULE_SPEEDS = TABLE3_SPEEDS
 """Ascent speeds [m/s] of the quasi-steady gain schedule's orbits (0, 0.5, 1, 1.5, 2)."""
 
 UVLM_SCHEDULE_SPEEDS = (1.0, 1.5, 2.0)
-"""Speeds [m/s] of the UVLM schedule: the shipped UVLM orbits that converged (hover and 0.5 m/s did not,
-docs/free_flight.md)."""
+"""Speeds [m/s] of the UVLM schedule as shipped: the shipped UVLM orbits that converged (hover and 0.5 m/s did not,
+docs/free_flight.md); :func:`schedule_speeds` reads them from the table."""
 
-SURROGATE_GRID = TABLE3_SPEEDS
-"""Speeds [m/s] at which the surrogate's schedule looks for shipped orbits (:func:`surrogate_schedule_speeds`)."""
+SHIPPED_GRID = TABLE3_SPEEDS
+"""Speeds [m/s] at which a schedule of shipped orbits looks for them (:func:`shipped_schedule_speeds`)."""
+
+SURROGATE_GRID = SHIPPED_GRID
 
 
-def surrogate_schedule_speeds() -> tuple[float, ...]:
-    """Speeds [m/s] of :data:`SURROGATE_GRID` with a converged shipped surrogate orbit for the shipped network
-    (:func:`hawksim.flight.orbit.shipped_orbit`; empty for another network)."""
+def shipped_schedule_speeds(aero: str) -> tuple[float, ...]:
+    """Speeds [m/s] of :data:`SHIPPED_GRID` with a converged shipped orbit of ``aero`` that holds for the backend as
+    built now (:func:`hawksim.flight.orbit.shipped_orbit`; the surrogate's: for the shipped network, else empty)."""
     out = []
-    for v in SURROGATE_GRID:
-        o = shipped_orbit(v, "surrogate")
+    for v in SHIPPED_GRID:
+        o = shipped_orbit(v, aero)
         if o is not None and o.converged:
             out.append(float(v))
     return tuple(out)
 
 
+def surrogate_schedule_speeds() -> tuple[float, ...]:
+    """:func:`shipped_schedule_speeds` of the per-step surrogate."""
+    return shipped_schedule_speeds("surrogate")
+
+
 def schedule_speeds(aero: str) -> tuple[float, ...]:
-    """The grid speeds [m/s] of ``aero``'s gain schedule: quasi-steady :data:`SCHEDULE_SPEEDS`, UVLM
-    :data:`UVLM_SCHEDULE_SPEEDS`, surrogate :func:`surrogate_schedule_speeds`."""
-    if aero == "uvlm":
-        return UVLM_SCHEDULE_SPEEDS
-    if aero == "surrogate":
-        return surrogate_schedule_speeds()
-    return SCHEDULE_SPEEDS
+    """The grid speeds [m/s] of ``aero``'s gain schedule: for a backend whose schedule is its shipped orbits
+    (descriptor ``shipped_orbits_only``: the UVLM, the surrogate) :func:`shipped_schedule_speeds`, else
+    :data:`SCHEDULE_SPEEDS` (its orbits solved here)."""
+    desc = descriptor(aero)
+    desc.control.require("a gain schedule", aero)
+    return shipped_schedule_speeds(aero) if desc.shipped_orbits_only else SCHEDULE_SPEEDS
 
 
 RATES = ("beat", "half-stroke")
 """Control update rates: once per wingbeat (at phase 0) or once per half-stroke (phases 0 and 0.5)."""
 
-DEFAULT_RATES = {"surrogate": "half-stroke"}
-"""The update rate `hawksim fly --control lqr` (and the backend table) use without --control-rate, per backend
-(default "beat"). The per-step surrogate per half-stroke meets every target of issue 20 (the 0.5 m/s lateral gust
+def default_rate(aero: str) -> str:
+    """The update rate `hawksim fly --control lqr` (and the backend table) use without --control-rate: the backend
+    descriptor's ``default_control_rate`` (:mod:`hawksim.backends.builtin`: "half-stroke" for the per-step surrogate,
+    "beat" otherwise). The per-step surrogate per half-stroke meets every target of issue 20 (the 0.5 m/s lateral gust
 recovered 2-3 beats after it at 0-2 m/s, the one-beat delay from the full-size perturbed start at every speed), per
 beat it does not (the gust departs at 0, 0.5, 1.5 and 2 m/s): scripts/studies/control_surrogate.py --rate
 half-stroke, docs/control.md. The quasi-steady backend meets them at both rates and keeps per beat (the UVLM's
 only rate, and the figures of docs/control.md)."""
-
-
-def default_rate(aero: str) -> str:
-    """:data:`DEFAULT_RATES` of ``aero``, else "beat"."""
-    return DEFAULT_RATES.get(aero, "beat")
+    return descriptor(aero).default_control_rate
 
 
 HALF_STROKE_COMMAND_WEIGHT = 2.0
@@ -92,15 +97,10 @@ the 0 -> 1 m/s reference ramp (0.2 m/s per beat), drives theta0 to Table 2's -25
 perturbation peaks stay below the per-beat controller's (``scripts/studies/control_rate_study.py``,
 docs/control.md "Per beat or per half-stroke")."""
 
-HALF_STROKE_BACKENDS = ("quasi-steady", "surrogate")
-"""Backends with half-stroke maps: a state settable at phase 0.5 (the per-step surrogate is memoryless)."""
-
-HALF_STROKE_WHY = {"uvlm": "the UVLM's wake cannot be set at phase 0.5 to linearize the half-stroke maps"}
-"""Why a backend has no half-stroke controller (the one-line refusal's reason)."""
-
-CONTROL_MODEL_FILES = {"uvlm": "control_models_uvlm.json", "surrogate": "control_models_surrogate.json"}
-"""Shipped one-beat control derivatives in ``hawksim/data`` (produced by ``hawksim reproduce --only
-control_uvlm`` / ``control_surrogate``, copied from ``results/control/``)."""
+# Which backends have half-stroke maps (a state settable, or a record kept, at phase 0.5) and why not: their
+# descriptors' ``half_stroke``; their shipped one-beat control derivatives in ``hawksim/data`` (produced by
+# ``hawksim reproduce --only control_uvlm`` / ``control_surrogate``, copied from ``results/control/``): their
+# ``control_model_table``.
 
 
 @dataclass(frozen=True)
@@ -163,10 +163,9 @@ def control_model_table(models: list[BeatMapModel], command: str) -> dict:
     from hawksim import __version__
 
     extra = {}
-    if models and models[0].orbit.aero == "surrogate":
-        from hawksim.backends.step_network import network_sha256
-
-        extra["network_sha256"] = network_sha256()
+    desc = descriptor(models[0].orbit.aero) if models else None
+    if desc is not None and desc.tables_digest is not None:
+        extra["network_sha256"] = desc.tables_digest()
     return {**extra, "source": "central differences of the controlled one-beat map about the shipped periodic orbits "
                       "(hawksim.control.derivatives.linearize)", "command": command, "seed": None,
             "seed_note": "deterministic: no random process", "hawksim_version": __version__,
@@ -176,21 +175,20 @@ def control_model_table(models: list[BeatMapModel], command: str) -> dict:
 
 
 def shipped_control_model(speed: float, aero: str) -> BeatMapModel | None:
-    """The shipped one-beat model of ``aero`` at exactly ``speed`` (:data:`CONTROL_MODEL_FILES`) about the shipped
-    orbit there, None if absent (or if the orbit it was made about is not the shipped one)."""
+    """The shipped one-beat model of ``aero`` at exactly ``speed`` (its descriptor's ``control_model_table``) about
+    the shipped orbit there, None if absent (or if the orbit it was made about is not the shipped one, or the table
+    does not hold for the backend as built now)."""
     from importlib import resources
 
-    name = CONTROL_MODEL_FILES.get(aero)
+    desc = descriptor(aero)
+    name = desc.control_model_table
     path = resources.files("hawksim") / "data" / name if name else None
     orbit = shipped_orbit(speed, aero)
     if path is None or not path.is_file() or orbit is None:
         return None
     table = json.loads(path.read_text())
-    if aero == "surrogate":
-        from hawksim.backends.step_network import network_sha256
-
-        if table.get("network_sha256") != network_sha256():
-            return None
+    if not desc.tables_hold(table):
+        return None
     for row in table["rows"]:
         if abs(row["speed"] - speed) < 1e-9 and row["orbit_f_hz"] == orbit.kinematics.f \
                 and row["orbit_residual"] == orbit.residual:
@@ -204,8 +202,9 @@ _HALF: dict = {}
 
 def _orbit_and_model(speed: float, aero: str, model, log) -> tuple[Orbit, BeatMapModel]:
     key = (float(speed), aero)
+    desc = descriptor(aero)
     if key not in _POINTS:
-        if aero in ("uvlm", "surrogate"):
+        if desc.shipped_orbits_only:
             orb = shipped_orbit(speed, aero)
             if orb is None or not orb.converged:
                 raise ValueError(f"no converged shipped {aero} orbit at {speed:g} m/s (the {aero} schedule covers "
@@ -214,7 +213,7 @@ def _orbit_and_model(speed: float, aero: str, model, log) -> tuple[Orbit, BeatMa
             if lin is None:
                 if log is not None:
                     log(f"linearizing the {aero} orbit at {speed:g} m/s (no shipped control model; "
-                        f"{'minutes' if aero == 'uvlm' else 'seconds'}) ...")
+                        f"{desc.linearize_cost}) ...")
                 lin = linearize(orb, model=model)
         else:
             orb = periodic_orbit(speed, aero, model=model, log=log)
@@ -233,8 +232,8 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     (default :data:`HALF_STROKE_COMMAND_WEIGHT`)."""
     if rate not in RATES:
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
-    if rate == "half-stroke" and aero not in HALF_STROKE_BACKENDS:
-        raise ValueError(f"--control-rate half-stroke needs --aero quasi-steady ({HALF_STROKE_WHY.get(aero, '')})")
+    if rate == "half-stroke":
+        descriptor(aero).half_stroke.require("rate='half-stroke'", aero)
     orb, lin = _orbit_and_model(speed, aero, model, log)
     if rate == "beat" and orb.record is not None:  # a history network: the per-beat design on the augmented state
         key = (float(speed), aero, "records")
@@ -243,7 +242,7 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
                 log(f"linearizing the {aero} orbit at {speed:g} m/s with its record of calls (seconds) ...")
             _POINTS[key] = linearize(orb, model=model, records=True)
         lin = _POINTS[key]
-    sym = symmetric_inputs(orb) if aero in ONE_SIDED_DROPPED else None
+    sym = symmetric_inputs(orb) if descriptor(aero).drop_bound_channels else None
     long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
     if rate == "beat":
         return SchedulePoint(float(speed), orb, lin, long, lat)
@@ -266,14 +265,15 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
                          lat_half=gt[1])
 
 
-ONE_SIDED_DROPPED = ("surrogate",)
-"""Backends whose LQR leaves out a symmetric channel whose parameter sits on a Table 2 bound at the orbit
-(:func:`symmetric_inputs`): there the saturation passes only commands of one sign, a kink no linear design sees.
-The surrogate's (and the UVLM's) orbits sit on theta0 = 25 deg, the upper bound: with theta0 in the design the
-surrogate's perturbed starts at 0 and 2 m/s departed (theta0 clipped in every beat), without it they hold
-(docs/control.md, "The per-step surrogate in the loop"). The antisymmetric dphi_a at phi_a = 60 deg stays: one
-wing can always lower its amplitude (:data:`hawksim.control.derivatives.SATURATED_DERIVATIVES`). The quasi-steady
-orbits have theta0 at 14-16 deg and keep all four channels; the UVLM's shipped design is left as it was measured."""
+ONE_SIDED_DROPPED = tuple(d.name for d in BUILTINS if d.drop_bound_channels)
+"""The built-in backends (any backend: its descriptor's ``drop_bound_channels``) whose LQR leaves out a symmetric
+channel whose parameter sits on a Table 2 bound at the orbit (:func:`symmetric_inputs`): there the saturation passes
+only commands of one sign, a kink no linear design sees. The surrogate's (and the UVLM's) orbits sit on theta0 = 25
+deg, the upper bound: with theta0 in the design the surrogate's perturbed starts at 0 and 2 m/s departed (theta0
+clipped in every beat), without it they hold (docs/control.md, "The per-step surrogate in the loop"). The
+antisymmetric dphi_a at phi_a = 60 deg stays: one wing can always lower its amplitude
+(:data:`hawksim.control.derivatives.SATURATED_DERIVATIVES`). The quasi-steady orbits have theta0 at 14-16 deg and
+keep all four channels; the UVLM's shipped design is left as it was measured."""
 
 BOUND_TOL = 1e-3
 """A parameter within this [rad; f: Hz] of a Table 2 bound counts as on it (the surrogate's orbits have theta0 at

@@ -23,7 +23,7 @@ flight up to the two approximations below.
 
 Backend memory. The quasi-steady backend keeps the previous call's strip normal velocities (its added-mass term is a
 backward difference); at the section it is primed from the state x by one call at t = -aero_every dt with the body
-state there extrapolated to second order from x and a probe step (:func:`_prime_quasi_steady`), so P is a function
+state there extrapolated to second order from x and a probe step (:func:`_prime_previous_call`), so P is a function
 of x alone. The difference to a continuous flight (whose memory holds the true previous step) is the extrapolation's
 error in one step's added-mass impulse (see :func:`hawksim.flight.orbit.fly_orbit`). The wing joints are reset to
 their exact prescribed phase-0 pose and rates (the continuous flight tracks them to < 1e-6 rad).
@@ -37,6 +37,8 @@ import mujoco
 import numpy as np
 
 from hawksim.backends.base import read_state
+from hawksim.backends.memory import PREVIOUS_CALL
+from hawksim.backends.registry import descriptor_of
 from hawksim.flight.simulator import Simulator
 from hawksim.frames import STABILITY_TO_WORLD, pitch_of, quat_from_matrix, quat_to_matrix, rot_x, rot_y, rot_z
 
@@ -116,7 +118,7 @@ def set_body_state(sim: Simulator, x: np.ndarray, chi_ref: float, position=(0.0,
     """Start ``sim`` at time t (default 0) in state x (9,): wings at their prescribed pose and rates at t
     (``sim.desired(t)``; phase 0 at t = 0), the free joint's qpos/qvel written directly (no momentum adjustment),
     backend reset; a quasi-steady backend's added-mass memory is primed by one call at t - aero_every dt
-    (:func:`_prime_quasi_steady`). A t other than 0 starts the flight mid-beat (the half-stroke map of
+    (:func:`_prime_previous_call`). A t other than 0 starts the flight mid-beat (the half-stroke map of
     :mod:`hawksim.control.halfstroke` starts at phase 0.5)."""
     R, v_w, om_w = state_to_world(np.asarray(x, float), chi_ref)
     sim.reset(velocity=v_w, quat=quat_from_matrix(R), omega_body=R.T @ om_w, position=np.asarray(position, float))
@@ -131,13 +133,14 @@ def set_body_state(sim: Simulator, x: np.ndarray, chi_ref: float, position=(0.0,
     d.qvel[3:6] = R.T @ om_w
     mujoco.mj_forward(m, d)
     sim.backend.reset(sim.state())
-    if getattr(sim.backend, "name", "") == "quasi-steady":
-        _prime_quasi_steady(sim, t)
+    if descriptor_of(sim.backend).memory == PREVIOUS_CALL:
+        _prime_previous_call(sim, t)
 
 
-def _prime_quasi_steady(sim: Simulator, t: float = 0.0) -> None:
-    """Give the quasi-steady backend the memory (strip normal velocities) of a call at t - h, h = aero_every dt,
-    as a continuous flight would have: the body state at t - h is extrapolated to second order from t and a
+def _prime_previous_call(sim: Simulator, t: float = 0.0) -> None:
+    """Give a backend of previous-call memory (:class:`hawksim.backends.memory.PrimedMemory`: the quasi-steady
+    model's strip normal velocities) the memory of a call at t - h, h = aero_every dt, as a continuous flight would
+    have: the body state at t - h is extrapolated to second order from t and a
     probe step to t + h (v(t - h) = 2 v(t) - v(t + h), likewise the body-frame angular velocity; position and
     attitude with the acceleration (v(t + h) - v(t)) / h), the wings at their prescribed pose at t - h."""
     m, d = sim.m, sim.d
@@ -164,4 +167,4 @@ def _prime_quasi_steady(sim: Simulator, t: float = 0.0) -> None:
     d2.qpos[sim.wing_qpos] = q
     d2.qvel[sim.wing_dof] = qd
     mujoco.mj_forward(m, d2)
-    sim.backend.loads(read_state(m, d2, sim.body_id, sim.wing_ids, h))
+    sim.backend.prime(read_state(m, d2, sim.body_id, sim.wing_ids, h))

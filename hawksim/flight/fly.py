@@ -50,6 +50,10 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
         raise ValueError(f"--speed must be a finite ascent speed >= 0 m/s, got {speed}")
     if int(cycles) != cycles or cycles < 1:
         raise ValueError(f"--cycles must be a positive integer, got {cycles}")
+    if speed == 0:
+        from hawksim.backends.registry import descriptor_of
+
+        descriptor_of(backend).hover.require("hover (speed 0)", getattr(backend, "name", type(backend).__name__))
     perturb = parse_perturbations(perturb or {})
     model = model if model is not None else load_model()
     sim = Simulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity,

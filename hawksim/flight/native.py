@@ -37,7 +37,7 @@ import numpy as np
 from numba import carray, cfunc, njit, types
 
 from hawksim.flight.mujoco_abi import Trampoline, address, call_md, call_mdx, voidptr, layout
-from hawksim.backends.step_surrogate import HISTORY_ROW, MAX_NATIVE_LAGS, lagged_states
+from hawksim.backends.record import HISTORY_ROW, MAX_NATIVE_LAGS, lagged_states
 from hawksim.flight.network_kernel import mlp
 from hawksim.flight.simulator import prescribed_torque
 

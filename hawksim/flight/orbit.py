@@ -37,6 +37,11 @@ import mujoco
 import numpy as np
 
 from hawksim.backends.base import AeroBackend
+from hawksim.backends.builtin import (FD_STEP, QUASI_STEADY, SURROGATE_FD_STEP,  # noqa: F401 (re-exported)
+                                      SURROGATE_ORBIT_TOL, UVLM_FD_STEP, UVLM_TOL_RATE, UVLM_TOL_VELOCITY,
+                                      UVLM_WARM_BEATS)
+from hawksim.backends.memory import RECORD
+from hawksim.backends.registry import descriptor, descriptor_of
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, reference_speed
 from hawksim.insect.model import load_model
 from hawksim.backends import flight_backend
@@ -51,26 +56,6 @@ from hawksim.trim.tables import trim_kinematics
 STEPS_PER_CYCLE = FLY_STEPS_PER_CYCLE
 """Integrator steps per wingbeat (the quasi-steady trim table's resolution)."""
 
-ORBIT_TOL = 1e-8
-"""Newton stops when the max abs normalized residual is below this (the map is deterministic; its round-off
-floor, measured by re-evaluating the converged orbit at perturbed f, is ~1e-12)."""
-
-FD_STEP = 1e-6
-"""Forward-difference step of the shooting Jacobian in the normalized unknowns (quasi-steady)."""
-
-UVLM_FD_STEP = 1e-3
-"""The same for the UVLM: its free wake amplifies round-off (docs/uvlm.md, kinematics.realization), so a
-1e-6 step differences noise; with 1e-6 the Newton solve stalls at 2e-3."""
-
-SURROGATE_ORBIT_TOL = 1e-6
-"""Newton tolerance (normalized residual) of the per-step surrogate's orbit: its float32 loads (relative round-off
-6e-8 per step) leave a periodicity floor near 1e-7, so :data:`ORBIT_TOL` (1e-8) is out of reach."""
-
-SURROGATE_FD_STEP = 1e-4
-"""Finite-difference step of the per-step surrogate (normalized): its float32 network rounds the loads at a relative
-6e-8, so a 1e-6 step would difference round-off (an error ~6e-8 / h in the Jacobian; 1e-4 keeps it ~1e-3 while the
-truncation error, ~h times the map's curvature, stays ~1e-4)."""
-
 MAX_STEP = 0.2
 """Largest Newton step in any normalized unknown (u/U, w/U, q T, theta [rad], f/f_trim, phi0 [rad])."""
 
@@ -81,33 +66,18 @@ over the periodic beat (normalized as the state: velocities / U, rates x T), bes
 MAX_RECORD_ITER = 30
 """Updates of the record (each followed by the body's Newton solve) before a delay orbit gives up."""
 
-UVLM_WARM_BEATS = 2
-"""Wingbeats that develop the UVLM wake before the measured beat."""
-
-UVLM_TOL_VELOCITY = 1e-3
-"""The UVLM orbit counts as converged when its periodicity and mean-velocity residuals are within this [m/s]
-(issue 19's target: the free wake's beat-to-beat variation, :attr:`Orbit.floor`, keeps a 1e-8 residual out of
-reach) ..."""
-UVLM_TOL_RATE = 1e-2
-"""... its pitch-rate periodicity within this [rad/s] and its pitch periodicity within this times T [rad]."""
-
-ORBIT_TABLE_FILES = {"quasi-steady": "orbit_table_quasi_steady.json", "uvlm": "orbit_table_uvlm.json",
-                     "surrogate": "orbit_table_surrogate.json"}
-"""Shipped orbit tables in ``hawksim/data`` (produced by `hawksim reproduce --only orbits`, copied from
-``results/orbits/``), the start of `hawksim fly` for each backend."""
-
-
-ORBIT_BACKENDS = ("quasi-steady", "uvlm", "surrogate")
-"""Backends whose periodic orbits can be solved (the per-step surrogate needs the flight's kinematics)."""
+# The per-backend steps and tolerances live in the backends' descriptors (``descriptor(aero).fd.orbit``,
+# ``.orbit_tolerance``, ``.warm_beats``: :mod:`hawksim.backends.builtin`); these names are theirs.
+ORBIT_TOL = QUASI_STEADY.orbit_tolerance.residual
+"""The default orbit tolerance (max abs normalized residual, :data:`hawksim.backends.builtin.ORBIT_TOL`)."""
 
 
 def make_orbit_backend(aero: str, *, symmetric: bool = True, kinematics: Kinematics | None = None
                        ) -> tuple[AeroBackend, int]:
     """(backend, aero_every) of `hawksim fly --aero NAME` (:func:`hawksim.backends.flight_backend`) for
-    ``STEPS_PER_CYCLE`` integrator steps per beat: quasi-steady and the surrogate every step, the UVLM at
-    ``FLY_UVLM``'s rate."""
-    if aero not in ORBIT_BACKENDS:
-        raise ValueError(f"orbit backend must be one of {', '.join(ORBIT_BACKENDS)}, got {aero!r}")
+    ``STEPS_PER_CYCLE`` integrator steps per beat, at its descriptor's update interval (quasi-steady every step, the
+    UVLM and the surrogate at ``FLY_UVLM``'s rate). ValueError for a backend without periodic orbits."""
+    descriptor(aero).orbits.require("a periodic orbit", aero)
     backend = flight_backend(aero, symmetric=symmetric, kinematics=kinematics)
     return backend, aero_every_for(backend, STEPS_PER_CYCLE)
 
@@ -130,17 +100,17 @@ class Beats:
 
 
 def backend_record(backend, every: int) -> np.ndarray | None:
-    """The newest records (n, 6) of a history network's backend that a beat's history inputs read (n =
-    :func:`hawksim.backends.step_surrogate.record_size` at ``every`` steps per call), None without lags."""
-    from hawksim.backends.step_surrogate import history_rows, record_size
-
-    n = record_size(getattr(backend, "lags", ()), STEPS_PER_CYCLE // every)
-    return history_rows(backend.history, n) if n else None
+    """The newest records (n, 6) of a history network's backend that a beat's history inputs read (its
+    :meth:`~hawksim.backends.memory.RecordMemory.snapshot` at ``STEPS_PER_CYCLE // every`` calls per beat), None
+    without lags or for a backend without a record."""
+    if descriptor_of(backend).memory != RECORD:
+        return None
+    return backend.snapshot(STEPS_PER_CYCLE // every)
 
 
 class OrbitFlight:
     """Free flights of the orbit solver from phase 0: one reusable MjModel, a Simulator per kinematics (aero: the
-    backend's name, :data:`ORBIT_BACKENDS`)."""
+    name of a registered backend that supports periodic orbits, :mod:`hawksim.backends.registry`)."""
 
     def __init__(self, aero: str, symmetric: bool = True, model: mujoco.MjModel | None = None):
         self.aero = aero
@@ -155,7 +125,7 @@ class OrbitFlight:
             backend, _ = make_orbit_backend(self.aero, symmetric=self.symmetric, kinematics=kin)
         every = aero_every_for(backend, STEPS_PER_CYCLE)
         if record is not None:
-            backend.seed = (np.asarray(record, float), kin.period * every / STEPS_PER_CYCLE)
+            backend.seed(np.asarray(record, float), kin.period * every / STEPS_PER_CYCLE)
         sim = Simulator(self.model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
         set_body_state(sim, x0, chi_ref)
         t0 = time.perf_counter()
@@ -233,7 +203,7 @@ class Orbit:
     def seed(self, backend) -> None:
         """Make ``backend`` start its flights with this orbit's record (nothing for an orbit without one)."""
         if self.record is not None:
-            backend.seed = (np.asarray(self.record, float), float(self.record_dt))
+            backend.seed(np.asarray(self.record, float), float(self.record_dt))
 
     def to_json(self) -> dict:
         """SI, JSON-ready (kinematics in SI under ``kinematics_si``, edge units under ``kinematics``)."""
@@ -264,29 +234,24 @@ class Orbit:
 
 def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
     """Whether a normalized 6-residual (u, w, q, theta periodicity; mean horizontal and vertical velocity) meets
-    :data:`UVLM_TOL_VELOCITY` and :data:`UVLM_TOL_RATE` in SI."""
-    U, T = scales(kin)
-    r = np.abs(np.asarray(r))
-    return bool(max(r[0], r[1], r[4], r[5]) * U <= UVLM_TOL_VELOCITY and r[2] / T <= UVLM_TOL_RATE
-                and r[3] <= UVLM_TOL_RATE * T)
+    the UVLM's orbit tolerance (:data:`UVLM_TOL_VELOCITY` and :data:`UVLM_TOL_RATE` in SI)."""
+    return descriptor("uvlm").orbit_tolerance.met(r, *scales(kin))
 
 
 def shipped_orbit(speed: float, aero: str) -> Orbit | None:
-    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (:data:`ORBIT_TABLE_FILES`), None if absent; SI
-    (kinematics and launch state angles in radians)."""
+    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (its descriptor's ``orbit_table``), None if absent
+    (or if the table does not hold for the backend as built now: the surrogate's orbits hold for the network they
+    were solved with only); SI (kinematics and launch state angles in radians)."""
     import json
     from importlib import resources
 
-    name = ORBIT_TABLE_FILES.get(aero)
-    path = resources.files("hawksim") / "data" / name if name else None
+    desc = descriptor(aero)
+    path = resources.files("hawksim") / "data" / desc.orbit_table if desc.orbit_table else None
     if path is None or not path.is_file():
         return None
     table = json.loads(path.read_text())
-    if aero == "surrogate":  # the surrogate's orbits hold for the network they were solved with only
-        from hawksim.backends.step_network import network_sha256
-
-        if table.get("network_sha256") != network_sha256():
-            return None
+    if not desc.tables_hold(table):
+        return None
     for row in table["rows"]:
         if abs(row["speed"] - speed) < 1e-9:
             return Orbit.from_json(row)
@@ -347,7 +312,7 @@ def initial_guess(kin: Kinematics, speed: float, flight: OrbitFlight, warm: int 
 
 
 def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kinematics | None = None,
-                   tol: float = ORBIT_TOL, max_iter: int = 20, warm_beats: int | None = None,
+                   tol: float | None = None, max_iter: int = 20, warm_beats: int | None = None,
                    model: mujoco.MjModel | None = None, x0: np.ndarray | None = None, log=None,
                    fd_step: float | None = None) -> Orbit:
     """Newton shooting for the symmetric periodic orbit at ascent ``speed`` [m/s].
@@ -359,8 +324,10 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     periodicity of (u, w, q, theta) over the measured beat and its mean velocity (0, 0, V) (world). Forward-
     difference Jacobian (6 extra flights per iteration), full Newton step with backtracking (halving while the
     residual's max norm does not fall, at most 10 times). ``warm_beats``: beats before the measured one
-    (default 0 for the quasi-steady backend and the surrogate, :data:`UVLM_WARM_BEATS` for the UVLM). ``log``:
-    called with a line per iteration.
+    (default: the backend's ``warm_beats``: 0 for the quasi-steady backend and the surrogate,
+    :data:`UVLM_WARM_BEATS` for the UVLM). ``tol``: the max abs normalized residual (default: the backend's
+    ``orbit_tolerance``, :class:`hawksim.backends.registry.OrbitTolerance`). ``fd_step``: the Jacobian's step
+    (default: the backend's ``fd.orbit``). ``log``: called with a line per iteration.
 
     A per-step surrogate with history inputs (and ``warm_beats`` not given) is a delay system: its state is the
     body state and the record of its last calls (:mod:`hawksim.stability.history_floquet`). Its orbit is solved on
@@ -371,20 +338,21 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     every flight from it starts with it.
     """
     t_start = time.perf_counter()
-    guess = shipped_orbit(speed, "uvlm") if aero == "surrogate" else None  # the surrogate mimics the UVLM
+    desc = descriptor(aero)
+    desc.orbits.require("a periodic orbit", aero)
+    guess = shipped_orbit(speed, desc.orbit_guess) if desc.orbit_guess else None  # the surrogate mimics the UVLM
     if kinematics is None and guess is not None:
         kinematics = guess.kinematics
         x0 = guess.initial_state.as_array() if x0 is None else x0
     base = kinematics if kinematics is not None else trim_kinematics(speed, aero)
     chi = base.chi
-    from hawksim.backends.step_surrogate import memory_beats
-
-    delay = aero == "surrogate" and warm_beats is None and memory_beats() > 0  # the orbit of a delay system
+    delay = (desc.memory == RECORD and warm_beats is None  # the orbit of a delay system
+             and desc.make(kinematics=base).memory_beats() > 0)
     if warm_beats is None:  # beats before the measured one: the UVLM's wake (a history network's: its record)
-        warm_beats = UVLM_WARM_BEATS if aero == "uvlm" else 0
+        warm_beats = desc.warm_beats
     warm = warm_beats
     fl = OrbitFlight(aero, symmetric=True, model=model)
-    h_fd = fd_step if fd_step is not None else {"uvlm": UVLM_FD_STEP, "surrogate": SURROGATE_FD_STEP}.get(aero, FD_STEP)
+    h_fd = fd_step if fd_step is not None else desc.fd.orbit
     f_ref = base.f
     if x0 is None:
         x0 = initial_guess(base, speed, fl, 0)
@@ -398,12 +366,10 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         return orbit_residual(kin, speed, b, warm), b
 
     def met(rr, zz) -> bool:
-        if aero == "surrogate" and tol == ORBIT_TOL:
-            return float(np.abs(rr).max()) <= SURROGATE_ORBIT_TOL
-        if aero != "uvlm" or tol != ORBIT_TOL:
+        if tol is not None:
             return float(np.abs(rr).max()) <= tol
         kin_, _ = unpack_unknowns(zz, base, f_ref)
-        return orbit_within_uvlm_tolerance(rr, kin_)
+        return desc.orbit_tolerance.met(rr, *scales(kin_))
 
     hist: list[float] = []
 
@@ -442,7 +408,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     z, r, b, it = newton(z, 0)
     change = 0.0
     if delay:  # the record's fixed point: fly from the last periodic beat's own calls until they repeat
-        from hawksim.backends.step_surrogate import record_scale
+        from hawksim.backends.record import record_scale
 
         rec_scale = record_scale(base)  # the normalization of the body state's U, T
         for _ in range(MAX_RECORD_ITER):

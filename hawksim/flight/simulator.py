@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit
 
 from hawksim.backends.base import AeroBackend, FlightState, NoAero, WingLoads, read_state
-from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, FLY_UVLM, MIN_STEPS_PER_CYCLE
+from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, MIN_STEPS_PER_CYCLE
 from hawksim.frames import cross
 from hawksim.insect.accessors import ModelIndex
 from hawksim.insect.kinematics import Kinematics
@@ -591,14 +591,13 @@ class Simulator:
 
 
 def aero_every_for(backend: AeroBackend, steps_per_cycle: int) -> int:
-    """Integrator steps per backend update: the UVLM updates :data:`FLY_UVLM`'s steps per wingbeat (the largest
-    divisor of ``steps_per_cycle`` not above ``steps_per_cycle // FLY_UVLM.steps_per_cycle``), and so does the
-    per-step surrogate ("surrogate"), which learnt the UVLM's loads at those updates from flights that held them in
-    between (holding them changes the cycle means by ~1 %, docs/free_flight.md: the surrogate must hold them the same
-    way to reproduce the UVLM's orbits); the others every step."""
-    if backend.name not in ("uvlm", "surrogate"):
-        return 1
-    every = max(1, steps_per_cycle // FLY_UVLM.steps_per_cycle)
-    while steps_per_cycle % every:
-        every -= 1
-    return every
+    """Integrator steps per backend update: its descriptor's update interval
+    (:meth:`hawksim.backends.registry.BackendDescriptor.update_interval`; an unregistered backend every step). The
+    UVLM updates :data:`FLY_UVLM`'s steps per wingbeat (the largest divisor of ``steps_per_cycle`` not above
+    ``steps_per_cycle // FLY_UVLM.steps_per_cycle``), and so does the per-step surrogate ("surrogate"), which learnt
+    the UVLM's loads at those updates from flights that held them in between (holding them changes the cycle means by
+    ~1 %, docs/free_flight.md: the surrogate must hold them the same way to reproduce the UVLM's orbits); the others
+    every step."""
+    from hawksim.backends.registry import descriptor_of
+
+    return descriptor_of(backend).update_interval(steps_per_cycle)

@@ -17,7 +17,7 @@ At 0, 1 and 2 m/s, for the quasi-steady model, the per-step surrogate of the UVL
   record of calls, :func:`hawksim.stability.history_floquet.history_monodromy`; a memoryless network's from its
   shipped control model's monodromy, hawksim/data/control_models_surrogate.json);
 * controlled flights under the LQR at each backend's default rate (per beat; the surrogate per half-stroke,
-  :data:`hawksim.control.schedule.DEFAULT_RATES`; :func:`hawksim.control.closed_loop.fly_closed_loop`): quasi-steady
+  :func:`hawksim.control.schedule.default_rate`; :func:`hawksim.control.closed_loop.fly_closed_loop`): quasi-steady
   and surrogate flown here (100 beats from the orbit, 100 from a perturbed start, 30 with a 0.5 m/s lateral gust over
   beats 5-6), the UVLM's 20 beats read from results/control/control_uvlm.json
   (``python scripts/studies/control_uvlm.py``; no UVLM schedule at hover).
@@ -117,6 +117,7 @@ def floquet(aero: str, speed: float, out_dir: Path) -> dict:
 def open_loop(aero: str, speed: float) -> dict:
     """The open-loop flight from the shipped orbit (module docstring)."""
     from hawksim.backends import flight_backend
+    from hawksim.backends.registry import descriptor
     from hawksim.flight.fly import fly
     from hawksim.flight.orbit import periodic_orbit, shipped_orbit
     from hawksim.flight.power import P_plus
@@ -125,7 +126,7 @@ def open_loop(aero: str, speed: float) -> dict:
     from hawksim.trim.point import Trim
 
     orb = shipped_orbit(speed, aero)
-    if aero == "quasi-steady" and orb is None:
+    if orb is None and not descriptor(aero).shipped_orbits_only:  # orbits solved in this process
         orb = periodic_orbit(speed, aero)
     if orb is None:
         return {"orbit": None}

@@ -71,13 +71,14 @@ def orbits_all(out_dir: Path, log=print, aeros=("quasi-steady", "uvlm"), speeds=
     """Periodic orbits of the free body at the study's five speeds for each backend, into
     ``out_dir/orbit_table_<aero>.json`` (:func:`hawksim.flight.orbit.orbit_table`; copy them to ``hawksim/data`` to
     ship them). Resumable: a speed already in the file is kept, each new one is written as soon as it is solved."""
-    from hawksim.flight.orbit import ORBIT_TABLE_FILES, Orbit, orbit_table, periodic_orbit
+    from hawksim.backends.registry import descriptor
+    from hawksim.flight.orbit import Orbit, orbit_table, periodic_orbit
     from hawksim.insect.kinematics import TABLE3_SPEEDS
 
     out_dir.mkdir(parents=True, exist_ok=True)
     done = {}
     for aero in aeros:
-        path = out_dir / ORBIT_TABLE_FILES[aero]
+        path = out_dir / descriptor(aero).orbit_table
         partial = partial_path(path)
         source = path if path.is_file() else partial
         rows = ({r["speed"]: Orbit.from_json(r) for r in json.loads(source.read_text())["rows"]}
@@ -104,20 +105,21 @@ def control_models_all(out_dir: Path, log=print, aero: str = "uvlm", speeds=None
     Resumable: a speed already in the file about the same orbit (and, for the surrogate, network) is kept, each new
     one is written as soon as it is done. Deterministic (no random process): no seed."""
     from hawksim.control.derivatives import BeatMapModel, linearize
-    from hawksim.control.schedule import CONTROL_MODEL_FILES, control_model_table, schedule_speeds
+    from hawksim.backends.registry import descriptor
+    from hawksim.control.schedule import control_model_table, schedule_speeds
     from hawksim.flight.orbit import shipped_orbit
 
+    desc = descriptor(aero)
+    if desc.control_model_table is None:
+        raise ValueError(f"aero={aero!r} ships no control models (its descriptor's control_model_table)")
     out_dir.mkdir(parents=True, exist_ok=True)
-    path = out_dir / CONTROL_MODEL_FILES[aero]
+    path = out_dir / desc.control_model_table
     rows = {}
     partial = partial_path(path)
     source = path if path.is_file() else partial
     old = json.loads(source.read_text()) if source.is_file() else {"rows": []}
-    if aero == "surrogate":
-        from hawksim.backends.step_network import network_sha256
-
-        if old.get("network_sha256") != network_sha256():
-            old = {"rows": []}
+    if not desc.tables_hold(old):  # made for another network
+        old = {"rows": []}
     for r in old["rows"]:
         orb = shipped_orbit(r["speed"], aero)
         if orb is not None and r["orbit_f_hz"] == orb.kinematics.f and r["orbit_residual"] == orb.residual:

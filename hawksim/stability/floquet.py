@@ -31,7 +31,9 @@ import numpy as np
 
 from hawksim.backends.held import held_flight
 from hawksim.insect.kinematics import Kinematics
-from hawksim.flight.orbit import SURROGATE_FD_STEP, UVLM_FD_STEP, S, Orbit, OrbitFlight, scales
+from hawksim.backends.builtin import QUASI_STEADY
+from hawksim.backends.registry import descriptor
+from hawksim.flight.orbit import S, Orbit, OrbitFlight, scales
 from hawksim.frames import cross
 
 FLOQUET_STATES = (0, 1, 2, 3, 4, 5, 6, 7)
@@ -56,9 +58,9 @@ one they do not has reach <= 0.042 (1 m/s: -0.176+-0.234i 0.026, 1.185+-2.589i 0
 1.559 0.0003, -1.376 0.020). A quasi-steady orbit (state settable, A = I) has reach 1 for every mode."""
 
 
-FD_DELTA = 1e-5
-"""Central-difference step in the normalized states (u/U, q T, rad). The map's round-off is ~1e-13, its
-curvature O(1): the derivative error is ~1e-8 relative (checked by halving the step)."""
+FD_DELTA = QUASI_STEADY.fd.monodromy
+"""Central-difference step in the normalized states (u/U, q T, rad) of a settable map: the quasi-steady backend's
+(:data:`hawksim.backends.builtin.FD_DELTA`; each backend's is its descriptor's ``fd.monodromy``)."""
 
 
 @dataclass(frozen=True)
@@ -133,8 +135,8 @@ def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     import time
 
     t0 = time.perf_counter()
-    if delta is None:  # the UVLM's free wake amplifies round-off: a 1e-5 step differences noise (docs/free_flight.md)
-        delta = {"uvlm": UVLM_FD_STEP, "surrogate": SURROGATE_FD_STEP}.get(orbit.aero, FD_DELTA)
+    if delta is None:  # the backend's: the UVLM's free wake amplifies round-off (docs/free_flight.md)
+        delta = descriptor(orbit.aero).fd.monodromy
     M, A = _monodromy_matrix(orbit, delta, model, lateral)
     fl = _floquet(M, delta, time.perf_counter() - t0)
     if not orbit.warm_beats:
@@ -213,6 +215,10 @@ class _RelativeMotion:
 
     def reset(self, state):
         self.inner.reset(state)
+
+    def prime(self, previous):
+        """The quasi-steady model's previous-call memory (:class:`hawksim.backends.memory.PrimedMemory`)."""
+        self.loads(previous)
 
     def loads(self, st):
         c = st.body_pos

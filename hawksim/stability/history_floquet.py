@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hawksim.backends.step_surrogate import (StepSurrogateBackend, history_rows, record_scale, record_size,
-                                             set_history_rows)
+from hawksim.backends.record import history_rows, record_scale, record_size, set_history_rows
+from hawksim.backends.step_surrogate import StepSurrogateBackend
 from hawksim.flight.orbit import (STEPS_PER_CYCLE, SURROGATE_FD_STEP, Orbit, make_orbit_backend, read_body_state,
                                   set_body_state)
 from hawksim.flight.simulator import Simulator, aero_every_for

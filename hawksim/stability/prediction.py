@@ -233,8 +233,9 @@ def predict_flight(perturbed: FlightResult, perturb: dict[str, float], orbit, *,
     from hawksim.stability.floquet import quasi_steady_system, state_scale
     from hawksim.trim.point import Trim
 
-    if orbit.aero != "quasi-steady":
-        raise ValueError(f"linear prediction: quasi-steady orbits only, not {orbit.aero!r}")
+    from hawksim.backends.registry import descriptor
+
+    descriptor(orbit.aero).linear_prediction.require("the linear prediction", orbit.aero)
     kin = orbit.kinematics
     ref = fly(Trim(float(orbit.speed), kin, model=orbit.aero, source="periodic orbit (unperturbed reference)"),
               flight_backend(orbit.aero, kinematics=kin), perturbed.cycles, model=model,
@@ -266,9 +267,11 @@ def predict_cli_flight(result: FlightResult, perturb: dict[str, float], *, speed
         raise NoPrediction("no perturbation")
     if "periodic orbit" not in result.trim_source:
         raise NoPrediction("the flight did not start on a periodic orbit (--start trim)")
-    if aero != "quasi-steady":
-        raise NoPrediction(f"--aero {aero}: the linear prediction (monodromy, averaged A) is computed for the "
-                           "quasi-steady backend only")
+    from hawksim.backends.registry import descriptor
+
+    support = descriptor(aero).linear_prediction
+    if not support:
+        raise NoPrediction(f"--aero {aero}: {support.why_not}")
     orbit = shipped_orbit(speed, aero) if kinematics is None else None
     if orbit is None:
         orbit = periodic_orbit(speed, aero, kinematics=kinematics)

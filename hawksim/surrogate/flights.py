@@ -182,11 +182,12 @@ class FlightSample:
 @functools.lru_cache(maxsize=1)
 def _orbit_rows() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(speeds (k,), kinematics (k, 7) SI, launch states (k, 9), chi_ref (k,)) of the shipped UVLM orbits."""
-    from hawksim.flight.orbit import ORBIT_TABLE_FILES, Orbit
-
     from importlib import resources
 
-    rows = json.loads((resources.files("hawksim") / "data" / ORBIT_TABLE_FILES["uvlm"]).read_text())["rows"]
+    from hawksim.backends.registry import descriptor
+    from hawksim.flight.orbit import Orbit
+
+    rows = json.loads((resources.files("hawksim") / "data" / descriptor("uvlm").orbit_table).read_text())["rows"]
     orbits = sorted((Orbit.from_json(r) for r in rows), key=lambda o: o.speed)
     return (np.array([o.speed for o in orbits]), np.array([o.kinematics.as_array() for o in orbits]),
             np.array([o.launch_state.as_array() for o in orbits]), np.array([o.chi_ref for o in orbits]))

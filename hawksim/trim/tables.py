@@ -18,13 +18,21 @@ import numpy as np
 from hawksim.insect.kinematics import PARAM_NAMES, TABLE3_DEG, TABLE3_SPEEDS, Kinematics
 from hawksim.trim.point import Trim
 
-TABLE_FILES = {"uvlm": "trim_table.json", "quasi-steady": "trim_table_quasi_steady.json",
-               "surrogate-mean": "trim_table_surrogate.json", "surrogate": "trim_table.json"}
+
+def _trim_model(aero: str) -> str:
+    """The backend whose shipped trim table ``aero`` flies: its own (its descriptor's ``trim_table``), else the
+    UVLM's (vacuum, an unregistered name, a backend that ships none)."""
+    from hawksim.backends.registry import find
+
+    desc = find(aero)
+    return aero if desc is not None and desc.trim_table else "uvlm"
 
 
 @lru_cache(maxsize=4)
 def _table(aero: str = "uvlm") -> tuple[str, tuple[float, ...], dict[str, tuple[float, ...]]]:
-    name = TABLE_FILES.get(aero, TABLE_FILES["uvlm"])
+    from hawksim.backends.registry import descriptor
+
+    name = descriptor(_trim_model(aero)).trim_table
     path = resources.files("hawksim") / "data" / name
     if path.is_file():
         data = json.loads(path.read_text())
@@ -47,7 +55,7 @@ def shipped_trim(speed: float, aero: str = "uvlm") -> Trim:
     if not (speeds[0] <= speed <= speeds[-1]):
         raise ValueError(f"speed {speed:g} m/s is outside the trim table's range [{speeds[0]:g}, {speeds[-1]:g}] m/s")
     kin = Kinematics.from_edge({k: float(np.interp(speed, speeds, v)) for k, v in table.items()})
-    return Trim(float(speed), kin, model=aero if aero in TABLE_FILES else "uvlm", source=source)
+    return Trim(float(speed), kin, model=_trim_model(aero), source=source)
 
 
 def trim_kinematics(speed: float, aero: str = "uvlm") -> Kinematics:

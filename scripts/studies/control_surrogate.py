@@ -5,7 +5,7 @@ derivatives (hawksim/data/orbit_table_surrogate.json, control_models_surrogate.j
 * the open- and closed-loop multipliers at every schedule speed, without and with a one-beat sensing delay;
 * 100 controlled wingbeats from each orbit, and from a perturbed start (v, w +0.05 m/s, phi, theta +1 deg);
 * the ascent profile 0:2, 1:25, 2:25 (60 beats; the surrogate's speed reference moves 0.05 m/s per beat,
-  hawksim.control.closed_loop.SPEED_RATES) and its overshoot;
+  hawksim.backends.builtin.SURROGATE_SPEED_RATE) and its overshoot;
 * a 0.5 m/s lateral gust (world +y) over beats 5-6, 30 beats, at every speed: beats until recovered; and the same
   for lateral gusts of 0.05-0.4 m/s (the largest the loop recovers from within 10 beats);
 * the one-beat sensing delay: the perturbed start at every speed and a 0.2 m/s lateral gust at 1 m/s, 100 beats
@@ -164,7 +164,7 @@ def figure(rate):
                              caption=f"hawksim fly --aero surrogate --speed 0 --cycles 75 --ascent-profile "
                                      f"0:2,1:25,2:48 --gust 0,0.5,0@58:2 --control-rate {rate} "
                                      "(scripts/studies/control_surrogate.py --rate half-stroke). The speed reference "
-                                     "moves 0.05 m/s per beat (SPEED_RATES).")
+                                     "moves 0.05 m/s per beat (SURROGATE_SPEED_RATE).")
     return out
 
 

@@ -182,12 +182,12 @@ def test_cli_surrogate_refusals(capsys, monkeypatch):
                  "--control-rate", "half-stroke", "--no-progress"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--control clqr" in err[0] and "--control-rate beat" in err[0]
-    monkeypatch.setattr("hawksim.control.schedule.surrogate_schedule_speeds", lambda: (1.0, 1.5, 2.0))
+    monkeypatch.setattr("hawksim.control.schedule.shipped_schedule_speeds", lambda aero: (1.0, 1.5, 2.0))
     with pytest.raises(ValueError, match="covers 1 to 2 m/s"):
         command.check_surrogate_control(0.5, None)
     with pytest.raises(ValueError, match="--ascent-profile speed 0"):
         command.check_surrogate_control(1.0, [(0.0, 3)])
-    monkeypatch.setattr("hawksim.control.schedule.surrogate_schedule_speeds", lambda: ())
+    monkeypatch.setattr("hawksim.control.schedule.shipped_schedule_speeds", lambda aero: ())
     with pytest.raises(ValueError, match="no shipped surrogate orbit"):
         command.check_surrogate_control(1.0, None)
 

@@ -8,7 +8,8 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from hawksim.flight.orbit import (ORBIT_TABLE_FILES, ORBIT_TOL, Orbit, OrbitFlight, orbit_residual,
+from hawksim.backends.registry import descriptor
+from hawksim.flight.orbit import (ORBIT_TOL, Orbit, OrbitFlight, orbit_residual,
                                   orbit_within_uvlm_tolerance)
 
 REPRODUCE_TOL = 1e-9
@@ -18,7 +19,7 @@ by at most the largest multiplier 2.4 over one beat from a 1e-15 round-off)."""
 
 
 def _rows(aero):
-    path = resources.files("hawksim") / "data" / ORBIT_TABLE_FILES[aero]
+    path = resources.files("hawksim") / "data" / descriptor(aero).orbit_table
     return [Orbit.from_json(r) for r in json.loads(path.read_text())["rows"]] if path.is_file() else []
 
 

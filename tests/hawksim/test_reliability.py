@@ -588,7 +588,9 @@ def test_an_interrupted_table_is_not_under_its_final_name(tmp_path, monkeypatch)
             return orbit.shipped_orbit(v, aero)
         return solve
 
-    final = tmp_path / orbit.ORBIT_TABLE_FILES["quasi-steady"]
+    from hawksim.backends.registry import descriptor
+
+    final = tmp_path / descriptor("quasi-steady").orbit_table
     monkeypatch.setattr(orbit, "periodic_orbit", interrupted_at(1.0))
     with pytest.raises(KeyboardInterrupt):
         orbits_all(tmp_path, log=lambda m: None, aeros=("quasi-steady",), speeds=(0.5, 1.0, 1.5))
