@@ -44,7 +44,7 @@ PHASE_ATOL_DEG = 0.5
 
 def _stored(key: str) -> dict:
     if not RESULTS.exists():
-        pytest.skip(f"{RESULTS} missing (run scripts/studies/pterasoftware_cases.py)")
+        pytest.skip(f"{RESULTS} missing (the PteraSoftware study writes it: docs/validation.md, section 6)")
     return json.loads(RESULTS.read_text())["runs"][key]["ptera"]
 
 
