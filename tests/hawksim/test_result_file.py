@@ -125,3 +125,28 @@ def test_load_never_unpickles(tmp_path, monkeypatch):
     monkeypatch.setattr(pickle, "loads", boom)
     with pytest.raises(ValueError):
         hawksim.FlightResult.load(_not_a_flight(tmp_path, "pickle"))
+
+
+def test_a_richer_beat_table_is_saved_as_given(flight, tmp_path):
+    """save(beats=...): a controlled flight's table (nested keys flattened, as `hawksim fly --out` writes it)."""
+    rows = [{**b, "commands": {"f_hz": 30.0 + k}} for k, b in enumerate(flight.beats())]
+    flight.save(tmp_path / "f.npz", beats=rows)
+    with np.load(tmp_path / "f.npz", allow_pickle=False) as z:
+        assert np.array_equal(z["beat_commands_f_hz"], [30.0, 31.0])
+        assert json.loads(str(z["metadata"]))["units"]["beat_commands_f_hz"] == "Hz"
+    assert np.array_equal(hawksim.FlightResult.load(tmp_path / "f.npz").force, flight.force)
+
+
+def test_loads_the_file_of_hawksim_fly_out(tmp_path, capsys):
+    """`hawksim fly --out` (open loop, quasi-steady): the loaded result gives the command's own beat table."""
+    from hawksim.cli import main
+
+    path = tmp_path / "cli.npz"
+    assert main(["fly", "--speed", "1", "--cycles", "2", "--aero", "quasi-steady", "--control", "none", "--json",
+                 "--no-progress", "--out", str(path)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    back = hawksim.FlightResult.load(path)
+    assert back.aero == "quasi-steady" and back.cycles == 2 and back.kinematics.to_edge() == out["kinematics"]
+    keys = ("mean_vertical_speed", "horizontal_speed", "pitch_deg", "roll_deg", "yaw_deg")
+    assert [{k: b[k] for k in keys} for b in out["beats"]] == back.beats()  # exact: JSON floats round-trip
+    assert back.summary()["last_cycle"]["L_plus"] == pytest.approx(out["last_cycle"]["L_plus"], rel=1e-12)
