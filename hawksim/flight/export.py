@@ -12,10 +12,13 @@ The file holds plain arrays only (``np.load(path, allow_pickle=False)`` reads it
   ``beat_commands_f_hz``); vectors become (beats, k) arrays;
 - ``metadata``: a 0-d unicode array holding one JSON object: ``format`` (:data:`FORMAT`), ``hawksim_version``,
   ``command`` (the argument list), ``seed`` (None: a flight is deterministic), ``units`` (array name -> unit),
-  ``descriptions`` (array name -> shape, frame and meaning), ``frames``, and the run's ``summary`` (the compact JSON of
-  ``hawksim fly --json``). Read it with ``json.loads(str(z["metadata"]))``.
+  ``descriptions`` (array name -> shape, frame and meaning), ``frames``, the run's ``summary`` (the compact JSON of
+  ``hawksim fly --json``), and what :meth:`FlightResult.load` needs to rebuild the result exactly (``kinematics_si``,
+  ``aero_every``, ``flight_wall_time_s``). Read it with ``json.loads(str(z["metadata"]))``.
 
-The layout is documented for users in docs/output.md.
+:func:`read_flight` reads a file back (arrays and metadata, the format checked); :meth:`FlightResult.save` and
+:meth:`FlightResult.load` write and read a result through this module. The layout is documented for users in
+docs/output.md.
 """
 
 from __future__ import annotations
@@ -23,6 +26,8 @@ from __future__ import annotations
 import datetime
 import io
 import json
+import zipfile
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -159,9 +164,11 @@ def flight_file_bytes(result: FlightResult, beats: list[dict], *, command: list[
             "aero": result.aero, "speed_target_m_s": result.speed_target, "cycles": result.cycles,
             "steps_per_cycle": result.steps_per_cycle, "steps": int(len(result.t)),
             "kinematics": result.kinematics.to_edge(),
+            "kinematics_si": {k: float(v) for k, v in asdict(result.kinematics).items()},
             "kinematics_units": "f [Hz], the angles [deg] (the flight's start; a controlled flight's per-beat "
                                 "commands are in the beat_commands_* columns)",
-            "trim_source": result.trim_source, "end_t_s": result.end_t,
+            "trim_source": result.trim_source, "aero_every": int(result.aero_every),
+            "flight_wall_time_s": float(result.wall_time_s), "end_t_s": result.end_t,
             "end_pos_m": None if result.end_pos is None else [float(x) for x in result.end_pos],
             "frames": FRAMES, "units": units, "descriptions": descriptions, "summary": summary}
     buf = io.BytesIO()
@@ -175,3 +182,33 @@ def save_flight(path: str | Path, result: FlightResult, beats: list[dict], **kw)
     from hawksim.atomic import write_bytes
 
     return write_bytes(path, flight_file_bytes(result, beats, **kw), what="flight data")
+
+
+def read_flight(path: str | Path) -> tuple[dict[str, np.ndarray], dict]:
+    """The arrays (name -> array, ``metadata`` left out) and the metadata (a dict) of a file of this layout, read
+    with ``np.load(path, allow_pickle=False)`` (nothing is unpickled). ValueError (one line, naming the path) for a
+    file that is not one: not an ``.npz`` archive, no ``metadata``, or a ``format`` other than :data:`FORMAT`;
+    OSError (FileNotFoundError, ...) when it cannot be read."""
+    path = Path(path)
+    what = f"{str(path)!r} is not a hawksim flight file ({FORMAT})"
+    try:
+        z = np.load(path, allow_pickle=False)
+    except (ValueError, zipfile.BadZipFile, EOFError) as exc:  # a pickle, or bytes numpy cannot read
+        raise ValueError(f"{what}: numpy cannot read it without unpickling ({type(exc).__name__})") from None
+    if not isinstance(z, np.lib.npyio.NpzFile):
+        raise ValueError(f"{what}: a single .npy array, not an .npz archive")
+    with z:
+        if "metadata" not in z.files:
+            raise ValueError(f"{what}: no metadata array")
+        try:
+            meta = json.loads(str(z["metadata"]))
+        except (ValueError, zipfile.BadZipFile) as exc:
+            raise ValueError(f"{what}: its metadata is not JSON ({type(exc).__name__})") from None
+        fmt = meta.get("format") if isinstance(meta, dict) else None
+        if fmt != FORMAT:
+            raise ValueError(f"{what}: its format is {fmt!r}")
+        try:
+            arrays = {k: z[k] for k in z.files if k != "metadata"}
+        except (ValueError, zipfile.BadZipFile) as exc:  # an object array (pickled) or a damaged member
+            raise ValueError(f"{what}: an array numpy cannot read without unpickling ({type(exc).__name__})") from None
+    return arrays, meta

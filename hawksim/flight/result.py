@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from hawksim.flight.power import P_plus
 from hawksim.frames import attitude_of, pitch_of, quat_to_matrix, roll_of
-from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 from hawksim.insect.morphology import HAWKMOTH
 
 DEPARTURE_SPEED = 0.1
@@ -30,6 +31,9 @@ class FlightResult:
     the last wingbeat's mean speed spans the whole beat like the others. aero_every: steps per backend update (the
     loads are held in between; row 0 is an update), which the required power samples
     (:mod:`hawksim.flight.power`).
+
+    :meth:`save` and :meth:`load` write and read it as the ``.npz`` file of ``hawksim fly --out``
+    (:mod:`hawksim.flight.export`, docs/output.md), readable by numpy alone.
     """
 
     speed_target: float
@@ -152,3 +156,45 @@ class FlightResult:
                 "P_plus": P_plus(self.power_joint[last], self.aero_every, first=last.start),
             },
         }
+
+    def save(self, path: str | Path, *, beats: list[dict] | None = None) -> Path:
+        """Write the flight to ``path`` as the ``.npz`` file of ``hawksim fly --out`` (:mod:`hawksim.flight.export`:
+        the per-step arrays, the per-beat table, the metadata with units), all or nothing. ``beats``: the per-beat
+        table (default :meth:`beats`; a controlled flight's richer table, e.g.
+        ``hawksim.control.closed_loop.ClosedLoopFlight.beats``, may be given). The backend's ``extras`` are not
+        saved. OSError naming the path when it cannot be written. Returns ``path``."""
+        from hawksim.flight.export import save_flight
+
+        return save_flight(path, self, self.beats() if beats is None else beats, summary=self.summary())
+
+    @classmethod
+    def load(cls, path: str | Path) -> FlightResult:
+        """The flight saved at ``path`` (:meth:`save` or ``hawksim fly --out``): every per-step array and scalar field
+        as saved, bit for bit (``extras`` empty: they are not saved). Read with ``np.load(allow_pickle=False)``; a file
+        of another format is refused with a one-line ValueError naming the path
+        (:func:`hawksim.flight.export.read_flight`). A file written before the metadata held ``kinematics_si``,
+        ``aero_every`` and ``flight_wall_time_s`` loads with the kinematics to 12 significant digits, the backend's
+        update interval and the summary's flight wall time."""
+        from hawksim.flight.export import STEP_ARRAYS, read_flight
+
+        arrays, meta = read_flight(path)
+        derived = ("attitude", "wing_angles")
+        missing = [k for k in STEP_ARRAYS if k not in derived and k not in arrays]
+        if missing:
+            raise ValueError(f"{str(path)!r} is a hawksim flight file without the array(s) {missing}")
+        if "kinematics_si" in meta:
+            kin = Kinematics(**{k: float(meta["kinematics_si"][k]) for k in PARAM_NAMES})
+        else:
+            kin = Kinematics.from_edge(meta["kinematics"], check_bounds=False)
+        aero_every = meta.get("aero_every")
+        if aero_every is None:
+            from hawksim.backends.registry import descriptor
+
+            aero_every = descriptor(meta["aero"]).update_interval(meta["steps_per_cycle"])
+        wall = meta.get("flight_wall_time_s", (meta.get("summary") or {}).get("flight_wall_time_s", 0.0))
+        end_pos = meta.get("end_pos_m")
+        return cls(speed_target=meta["speed_target_m_s"], cycles=meta["cycles"], aero=meta["aero"], kinematics=kin,
+                   steps_per_cycle=meta["steps_per_cycle"],
+                   **{k: arrays[k] for k in STEP_ARRAYS if k not in derived},
+                   wall_time_s=wall, trim_source=meta["trim_source"], end_t=meta.get("end_t_s"),
+                   end_pos=None if end_pos is None else np.array(end_pos, dtype=float), aero_every=int(aero_every))

@@ -1,0 +1,126 @@
+"""The examples gallery (examples/): each script runs in a subprocess, in a temporary directory (where it writes its
+files), matplotlib on the Agg backend, and what it prints is checked against the numbers it should show.
+
+Wall times measured on the shared 2-core host (December 2026, numba kernels cached): fly_and_plot 2 s,
+floquet_of_your_kinematics 2 s, heavier_insect 2 s, export_and_read 1-1.5 s, dask_dataset 6-10 s (the LocalCluster and
+3 UVLM samples); 13 s for the file. None is over 20 s, so none is marked slow; ``TIMEOUT_S`` allows for a loaded
+host."""
+
+import ast
+import json
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+TIMEOUT_S = 300
+MAX_LINES = 40
+"""'Short': the scripts' length limit in lines, docstring included."""
+
+
+def numbers(line: str) -> list[float]:
+    return [float(x) for x in re.findall(r"-?\d+\.\d+(?:e[-+]?\d+)?", line)]
+
+
+def run_example(name: str, tmp_path: Path) -> list[str]:
+    env = {**os.environ, "MPLBACKEND": "Agg",
+           "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))}
+    r = subprocess.run([sys.executable, str(EXAMPLES / name)], cwd=tmp_path, env=env, capture_output=True, text=True,
+                       timeout=TIMEOUT_S)
+    assert r.returncode == 0, r.stderr[-3000:]
+    return r.stdout.splitlines()
+
+
+def line_with(lines: list[str], start: str) -> str:
+    found = [s for s in lines if s.strip().startswith(start)]
+    assert found, f"no line starting {start!r} in {lines}"
+    return found[0]
+
+
+def test_fly_and_plot(tmp_path):
+    out = run_example("fly_and_plot.py", tmp_path)
+    beats = [numbers(s) for s in out if s.startswith("beat mean")]
+    assert len(beats) == 4
+    for vz, pitch in beats:  # held on the orbit: 1 m/s, pitch near the orbit's 57.7 deg
+        assert abs(vz - 1.0) < 1e-3 and abs(pitch - 57.72) < 0.5
+    png = tmp_path / "fly_and_plot.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+
+
+def test_floquet_of_your_kinematics(tmp_path):
+    out = run_example("floquet_of_your_kinematics.py", tmp_path)
+    assert "orbit converged: True" in out[0]
+    f_given, f_solved, phi_given, phi_solved = numbers(out[1])
+    assert (f_given, phi_given) == (28.5, -4.5) and abs(f_solved - 30.89) < 0.05 and abs(phi_solved + 4.51) < 0.05
+    long = numbers(line_with(out, "longitudinal"))  # docs/guide/floquet.md: 1.459 1.459 0.904 0.387
+    lat = numbers(line_with(out, "lateral"))  # 1.049 0.851 0.53 0.093
+    np.testing.assert_allclose(long, [1.459, 1.459, 0.904, 0.387], atol=0.01)
+    np.testing.assert_allclose(lat, [1.049, 0.851, 0.530, 0.093], atol=0.01)
+    assert "unstable" in out[-1] and numbers(out[-1]) == [max(long)]
+
+
+def test_heavier_insect(tmp_path):
+    out = run_example("heavier_insect.py", tmp_path)
+    m0, m1, weight = numbers(out[0])
+    assert abs(m1 / m0 - 1.2) < 1e-3 and abs(weight - 1.2 * 15.487) < 0.01
+    assert "<mujoco" in (tmp_path / "heavier.xml").read_text()
+    f0, vz_sink = numbers(line_with(out, "default orbit"))
+    # 20 % of the weight unbalanced: the body loses ~0.2 g T = 0.07 m/s of ascent per beat
+    assert abs(f0 - 28.53) < 0.01 and 0.85 < vz_sink < 0.97
+    f1, vz, L_plus, L_plus_default_w = numbers(line_with(out, "own orbit"))
+    assert "converged True" in line_with(out, "own orbit")
+    assert 30.0 < f1 < 31.5 and abs(vz - 1.0) < 1e-3 and abs(L_plus - 1.0) < 2e-3
+    assert abs(L_plus_default_w - 1.2 * L_plus) < 1e-3  # the summary's L+ is against the default insect's weight
+    mu_heavy, mu_default = numbers(line_with(out, "largest Floquet"))
+    assert 1.2 < mu_heavy < 1.7 and abs(mu_default - 1.475) < 0.01
+
+
+def test_export_and_read(tmp_path):
+    out = run_example("export_and_read.py", tmp_path)
+    assert out[0].startswith("hawksim-flight-npz/1: 18 arrays, 1000 steps of quasi-steady at 1 m/s")
+    assert "force (1000, 2, 3) [N]" in line_with(out, "force")
+    lift, weight = numbers(line_with(out, "mean lift"))
+    assert abs(lift - weight) < 0.02 * weight  # on the orbit the mean lift carries the weight
+    assert "arrays equal bit for bit: True; kinematics equal: True" in out[-1]
+    with np.load(tmp_path / "flight.npz", allow_pickle=False) as z:
+        meta = json.loads(str(z["metadata"]))
+        vz = z["beat_mean_vertical_speed"]
+    csv = np.loadtxt(tmp_path / "beats.csv", delimiter=",", skiprows=1)
+    assert meta["steps"] == 1000 and csv.shape == (5, 5) and np.array_equal(csv[:, 0], vz)
+
+
+def test_dask_dataset(tmp_path):
+    out = run_example("dask_dataset.py", tmp_path)
+    assert out[0].startswith("3 new samples (3 in the file)") and "on 2 workers" in out[0]
+    samples = [s for s in out if s.strip().startswith("sample")]
+    assert len(samples) == 3 and all(s.endswith("(ok)") for s in samples)
+    for s in samples:
+        _, f, phi_a, L, P = numbers(s.replace("sample ", "sample 0."))
+        assert 15 < f < 45 and 0 < phi_a <= 70 and -1 < L < 3 and 0 < P < 5
+    assert out[-1] == "rerun: 0 new samples (the file is resumable)"
+
+
+def test_the_gallery_is_listed_short_and_documented():
+    scripts = sorted(p.name for p in EXAMPLES.glob("*.py"))
+    tested = sorted(n.removeprefix("test_") + ".py" for n in globals() if n.startswith("test_")
+                    and (EXAMPLES / (n.removeprefix("test_") + ".py")).exists())
+    assert scripts == tested and len(scripts) >= 5
+    readme = (EXAMPLES / "README.md").read_text()
+    for name in scripts:
+        text = (EXAMPLES / name).read_text()
+        assert f"({name})" in readme, name
+        assert len(text.splitlines()) <= MAX_LINES, name
+        assert len(ast.get_docstring(ast.parse(text)) or "") > 100, name
+    assert "examples/README.md" in (ROOT / "README.md").read_text()
+
+
+def test_the_runner_reports_a_failing_script(tmp_path):
+    """A script that fails (here: a missing file, exit status 2) fails its test."""
+    with pytest.raises(AssertionError):
+        run_example("not_here.py", tmp_path)
