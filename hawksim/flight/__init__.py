@@ -25,6 +25,6 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, {
     ".result": ("FlightResult",),
     ".orbit": ("Orbit", "Beats", "OrbitFlight", "periodic_orbit", "shipped_orbit", "fly_orbit", "beat_map"),
     ".power": ("P_plus", "required_power"),
-    ".export": ("save_flight",),
+    ".export": ("save_flight", "read_flight"),
     ".recording": ("write_rrd",),
 })

@@ -14,7 +14,7 @@ Modules:
 from hawksim.lazy import lazy_exports
 
 __all__, __getattr__, __dir__ = lazy_exports(__name__, {
-    ".dataset": ("open_dataset", "DatasetError", "Sample"),
+    ".dataset": ("open_dataset", "DatasetError", "Sample", "generate", "read_samples"),
     ".flights": ("FlightSpec", "FlightSample", "StoredFlight", "sample_flight", "evaluate_flight", "read_flights"),
     ".train": ("TrainResult", "Scores"),
     ".step_train": ("fit", "flight_cycle_means"),
