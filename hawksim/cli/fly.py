@@ -7,7 +7,8 @@ from hawksim.backends.registry import names as backend_names
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE as STEPS_PER_CYCLE
 from hawksim.backends.resolution import FLY_WAKE_CYCLES
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
-from hawksim.cli.args import (INSECT_HELP, KINEMATICS_HELP, insect_arg, MAX_FLY_STEPS, MAX_STEPS_PER_CYCLE, UsageError, cycles_arg,
+from hawksim.cli.args import (INSECT_HELP, KINEMATICS_HELP, MAX_FLY_STEPS, MAX_STEPS_PER_CYCLE, UsageError, cycles_arg,
+                              insect_arg,
                               parse_kinematics, perturbation_arg, positive_int_arg, speed_arg, wake_precision_arg,
                               writable_file)
 from hawksim.cli.progress import progress_for
@@ -437,7 +438,8 @@ def register(sub) -> None:
     f.add_argument("--kinematics", type=parse_kinematics, help="override the trim: " + KINEMATICS_HELP)
     f.add_argument("--model", help="MJCF file (default: the model generated from the insect's morphology; its total "
                                    "mass must be the insect's)")
-    f.add_argument("--insect", type=insect_arg, metavar="FILE", help=INSECT_HELP + " (flies open loop: --control none, the default with --insect)")
+    f.add_argument("--insect", type=insect_arg, metavar="FILE",
+                   help=INSECT_HELP + " (flies open loop: --control none, the default with --insect)")
     f.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle", MAX_STEPS_PER_CYCLE),
                    default=STEPS_PER_CYCLE,
                    help=f"integration steps per wingbeat ({STEPS_PER_CYCLE}; at least {MIN_STEPS_PER_CYCLE})")

@@ -121,7 +121,8 @@ class Insect:
             elif key == "bounds_deg":
                 bounds = _bounds(value)
             elif key not in names:
-                raise ValueError(f"unknown insect field {key!r}; known: {', '.join(sorted([*names, 'P0_W', 'bounds_deg']))}")
+                known = ", ".join(sorted([*names, "P0_W", "bounds_deg"]))
+                raise ValueError(f"unknown insect field {key!r}; known: {known}")
             else:
                 morph_kw[key] = _morph_value(key, value)
         try:
@@ -197,7 +198,8 @@ def _bounds(value) -> dict:
     out = dict(DEFAULT_INSECT.bounds_deg)
     for k, v in value.items():
         if k not in PARAM_NAMES:
-            raise ValueError(f"insect field 'bounds_deg' has an unknown parameter {k!r}; known: {', '.join(PARAM_NAMES)}")
+            raise ValueError(f"insect field 'bounds_deg' has an unknown parameter {k!r}; "
+                             f"known: {', '.join(PARAM_NAMES)}")
         if not isinstance(v, (list, tuple)) or len(v) != 2:
             raise ValueError(f"insect field 'bounds_deg.{k}' must be [lower, upper], got {v!r}")
         lo, hi = (_number(f"bounds_deg.{k}", x) for x in v)
