@@ -45,7 +45,7 @@ def test_fly_insect_from_its_own_orbit(tmp_path):
     assert out.get("control") is None and out["start"]["from"] == "orbit"
     assert "shipped" not in out["start"]["source"]  # its own orbit, solved here
     assert out["last_cycle"]["L_plus"] == pytest.approx(1.0, abs=1e-4)  # its own weight, not the hawkmoth's 1.2
-    assert out["kinematics"]["f"] > 30.5  # the hawkmoth's shipped orbit flaps at 29.6 Hz
+    assert out["kinematics"]["f"] > 30.5  # the hawkmoth's shipped orbit flaps at 28.5 Hz
 
 
 @pytest.mark.parametrize("text, field", [('{"wingspan": 0.1}', "unknown insect field 'wingspan'"),
