@@ -76,7 +76,8 @@ def test_heavier_insect(tmp_path):
     f1, vz, L_plus, L_plus_default_w = numbers(line_with(out, "own orbit"))
     assert "converged True" in line_with(out, "own orbit")
     assert 30.0 < f1 < 31.5 and abs(vz - 1.0) < 1e-3 and abs(L_plus - 1.0) < 2e-3
-    assert abs(L_plus_default_w - 1.2 * L_plus) < 1e-3  # the summary's L+ is against the default insect's weight
+    # the summary's L+ is against the flight's own insect's weight; against the default hawkmoth's it would be 1.2
+    assert abs(L_plus_default_w - 1.2 * L_plus) < 1e-3
     mu_heavy, mu_default = numbers(line_with(out, "largest Floquet"))
     assert 1.2 < mu_heavy < 1.7 and abs(mu_default - 1.475) < 0.01
 

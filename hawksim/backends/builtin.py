@@ -64,10 +64,25 @@ UVLM_WARM_BEATS = 2
 
 
 # ---- factories ----------------------------------------------------------------------------------------------------
-def _quasi_steady(**_):
+def _morph_kw(morphology) -> dict:
+    """The ``morph`` keyword of a backend built from the insect's morphology (none for the default: the class's)."""
+    return {} if morphology is None else {"morph": morphology}
+
+
+def _default_morphology_only(morphology, name: str) -> None:
+    """ValueError naming ``morphology`` unless it is None or the default hawkmoth's (a network's training insect)."""
+    if morphology is not None:
+        from hawksim.insect.insect import DEFAULT_INSECT
+
+        if morphology != DEFAULT_INSECT.morphology:
+            raise ValueError(f"morphology: the {name} backend's network was trained on the default hawkmoth only; "
+                             f"fly the insect {morphology.name!r} with the quasi-steady model or the UVLM")
+
+
+def _quasi_steady(*, morphology=None, **_):
     from hawksim.backends.quasi_steady import QuasiSteadyBackend
 
-    return QuasiSteadyBackend()
+    return QuasiSteadyBackend(**_morph_kw(morphology))
 
 
 def _vacuum(**_):
@@ -77,18 +92,20 @@ def _vacuum(**_):
 
 
 def _uvlm(*, resolution=None, symmetric: bool = True, freestream=None, keep_panels: bool = False,
-          max_wake_rows: int | None = None, wake_summation: str = "direct", wake_precision: str = "float64", **_):
+          max_wake_rows: int | None = None, wake_summation: str = "direct", wake_precision: str = "float64",
+          morphology=None, **_):
     from hawksim.backends.uvlm import UVLMBackend
 
     res = resolution if resolution is not None else DEFAULT
     return UVLMBackend(n_chord=res.n_chord, n_span=res.n_span, symmetric=symmetric, freestream=freestream,
                        keep_panels=keep_panels, max_wake_rows=max_wake_rows, wake_summation=wake_summation,
-                       wake_precision=wake_precision)
+                       wake_precision=wake_precision, **_morph_kw(morphology))
 
 
-def _step_surrogate(*, kinematics=None, **_):
+def _step_surrogate(*, kinematics=None, morphology=None, **_):
     from hawksim.backends.step_surrogate import StepSurrogateBackend
 
+    _default_morphology_only(morphology, "surrogate")
     if kinematics is None:
         raise ValueError("the surrogate backend needs the flight's kinematics")
     return StepSurrogateBackend(kinematics)
@@ -100,9 +117,10 @@ def _controlled_step_surrogate(kinematics):
     return ControlledStepSurrogate(kinematics)
 
 
-def _mean_surrogate(*, kinematics=None, **_):
+def _mean_surrogate(*, kinematics=None, morphology=None, **_):
     from hawksim.backends.surrogate import SurrogateBackend
 
+    _default_morphology_only(morphology, "surrogate-mean")
     if kinematics is None:
         raise ValueError("the surrogate-mean backend needs the flight's kinematics")
     return SurrogateBackend(kinematics)

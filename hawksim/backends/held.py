@@ -34,7 +34,7 @@ from hawksim.frames import quat_from_matrix, rot_y
 from hawksim.insect.accessors import ModelIndex
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
-from hawksim.insect.morphology import HAWKMOTH, Morphology
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
 
 
 @dataclass(frozen=True)
@@ -69,18 +69,21 @@ class HeldResult:
 
 def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: int = 3,
                 average_cycles: int = 1, steps_per_cycle: int = 40, model: mujoco.MjModel | None = None,
-                morph: Morphology = HAWKMOTH, progress=None, start_cycle: int = 0) -> HeldResult:
+                insect: Insect | None = None, progress=None, start_cycle: int = 0) -> HeldResult:
     """Run ``backend`` for ``cycles`` wingbeats with the body held at ascent ``speed`` [m/s].
 
     The averages are over the last ``average_cycles`` wingbeats (the earlier ones carry the start-up transient).
     start_cycle > 0 continues a backend that has already run that many wingbeats (its state, e.g. a wake, is
-    kept: no reset), starting at t = start_cycle T.
+    kept: no reset), starting at t = start_cycle T. ``insect`` (default :data:`hawksim.insect.insect.DEFAULT_INSECT`):
+    its MJCF unless ``model`` is given, and its weight, mean chord and P0 are the units of the averages; ``backend``
+    must be built for its wings (:func:`hawksim.backends.make_backend`'s ``morphology``).
     """
     if not (np.isfinite(speed) and speed >= 0):
         raise ValueError(f"speed must be a finite ascent speed >= 0 m/s, got {speed}")
     if not 1 <= average_cycles <= cycles:
         raise ValueError(f"average_cycles must be in [1, cycles={cycles}], got {average_cycles}")
-    m = model if model is not None else load_model()
+    insect = DEFAULT_INSECT if insect is None else insect
+    m = model if model is not None else load_model(morph=insect.morphology)
     m.opt.gravity[:] = 0.0
     d = mujoco.MjData(m)
     ix = ModelIndex.of(m)
@@ -119,11 +122,11 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
     per_cycle = tuple(
         cycle_averages(*out[:3, c * steps_per_cycle:(c + 1) * steps_per_cycle],
                        out[3, c * steps_per_cycle:(c + 1) * steps_per_cycle]
-                       + out[4, c * steps_per_cycle:(c + 1) * steps_per_cycle], morph)
+                       + out[4, c * steps_per_cycle:(c + 1) * steps_per_cycle], insect)
         for c in range(cycles)
     )
     last = slice(n - average_cycles * steps_per_cycle, n)
-    avg = cycle_averages(*out[:3, last], out[3, last] + out[4, last], morph)
+    avg = cycle_averages(*out[:3, last], out[3, last] + out[4, last], insect)
     return HeldResult(kinematics=kin, speed=float(speed), steps_per_cycle=steps_per_cycle, t=times,
                       lift=out[0], drag=out[1], moment=out[2], power_aero=out[3], power_inertial=out[4],
                       averages=avg, per_cycle=per_cycle, wall_time_s=wall, force_world=FM[:, :3],
@@ -132,10 +135,13 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
 
 # ---- one evaluation: the unit of work of data sets, trim checks and `hawksim aero` ----------------------
 
-def run(kin: Kinematics, speed: float, res: Resolution = DEFAULT, progress=None) -> HeldResult:
-    """The held-body run of one evaluation (time series and averages)."""
-    return held_flight(kin, speed, backend_for(res), cycles=res.cycles, average_cycles=res.average_cycles,
-                       steps_per_cycle=res.steps_per_cycle, progress=progress)
+def run(kin: Kinematics, speed: float, res: Resolution = DEFAULT, progress=None, insect: Insect | None = None
+        ) -> HeldResult:
+    """The held-body run of one evaluation (time series and averages) of ``insect`` (default
+    :data:`hawksim.insect.insect.DEFAULT_INSECT`)."""
+    return held_flight(kin, speed, backend_for(res, morphology=None if insect is None else insect.morphology),
+                       cycles=res.cycles, average_cycles=res.average_cycles, steps_per_cycle=res.steps_per_cycle,
+                       progress=progress, insect=insect)
 
 
 def evaluate(kin: Kinematics, speed: float, res: Resolution = DEFAULT) -> CycleAverages:

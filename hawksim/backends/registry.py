@@ -95,9 +95,12 @@ class BackendDescriptor:
         summary: one line: what the model is.
         factory: ``factory(**options) -> AeroBackend``: a new backend. The options the flight code passes
             (each factory takes what it needs and ignores the rest): ``kinematics`` (the flight's
-            :class:`hawksim.insect.kinematics.Kinematics`), ``symmetric`` (the motion stays left/right symmetric),
-            ``resolution`` (:class:`hawksim.backends.resolution.Resolution`), ``freestream``, ``keep_panels``,
-            ``max_wake_rows``, ``wake_summation``, ``wake_precision`` (:func:`hawksim.backends.make_backend`).
+            :class:`hawksim.insect.kinematics.Kinematics`), ``morphology`` (the insect's
+            :class:`hawksim.insect.morphology.Morphology`, None: the default hawkmoth's; a backend that cannot
+            model another refuses it with a ValueError naming ``morphology``), ``symmetric`` (the motion stays
+            left/right symmetric), ``resolution`` (:class:`hawksim.backends.resolution.Resolution`), ``freestream``,
+            ``keep_panels``, ``max_wake_rows``, ``wake_summation``, ``wake_precision``
+            (:func:`hawksim.backends.make_backend`).
         calls_per_beat: None: the flight loop calls the backend at every integrator step; n: at most n times per
             wingbeat, holding the loads in between (:meth:`update_interval`).
         fd: its finite-difference steps (:class:`FiniteDifferenceSteps`).

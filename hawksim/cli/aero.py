@@ -6,7 +6,8 @@ import math
 from dataclasses import replace
 
 from hawksim.backends.resolution import AERO_MODELS, DEFAULT
-from hawksim.cli.args import KINEMATICS_HELP, add_resolution_args, parse_kinematics, resolution_from, speed_arg
+from hawksim.cli.args import (INSECT_HELP, KINEMATICS_HELP, add_resolution_args, insect_arg, parse_kinematics,
+                              resolution_from, speed_arg)
 from hawksim.cli.loads_report import render_aero
 from hawksim.cli.progress import progress_for
 
@@ -22,7 +23,8 @@ def cmd_aero(args) -> dict:
 
     res = replace(resolution_from(args, DEFAULT), aero=args.aero)
     progress = progress_for(args, "aero")
-    r = run(args.kinematics, args.speed, res, progress=progress)
+    insect = getattr(args, "insect", None)
+    r = run(args.kinematics, args.speed, res, progress=progress, insect=insect)
     a = r.averages
     status, peak = held_status(r, res.average_cycles)
     if status == "diverged":
@@ -38,7 +40,7 @@ def cmd_aero(args) -> dict:
         "resolution": res.to_dict(),
         "per_cycle": [{"L_plus": c.L_plus, "D_plus": c.D_plus, "M_plus": c.M_plus, "P_plus": c.P_plus}
                       for c in r.per_cycle],
-    }
+    } | ({} if insect is None else {"insect": insect.name})
 
 
 def register(sub) -> None:
@@ -54,6 +56,7 @@ def register(sub) -> None:
     p.add_argument("--kinematics", type=parse_kinematics, required=True,
                    help=KINEMATICS_HELP)
     p.add_argument("--aero", choices=AERO_MODELS, default=DEFAULT.aero)
+    p.add_argument("--insect", type=insect_arg, metavar="FILE", help=INSECT_HELP)
     add_resolution_args(p, DEFAULT)
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")

@@ -33,6 +33,23 @@ def _number(option: str, text: str, convert, what: str):
         raise argparse.ArgumentTypeError(f"--{option} {text!r} is not {what}") from None
 
 
+def insect_arg(text: str):
+    """The insect of ``--insect FILE`` (a JSON spec: :func:`hawksim.insect.insect.read_insect`), or
+    argparse.ArgumentTypeError naming the file and the field."""
+    from hawksim.insect.insect import read_insect
+
+    try:
+        return read_insect(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+INSECT_HELP = ("JSON spec of the insect: Morphology's fields by name (SI: total_mass [kg], wing_mass, R, cbar [m], "
+               "r2_hat, axis_fraction, hinge_from_thorax, ...; any left out keep the default hawkmoth's), P0_W "
+               "(reference power [W]) and bounds_deg; default: the hawkmoth (hawksim.insect.insect.Insect)")
+"""Help text of every --insect option."""
+
+
 def speed_arg(text: str) -> float:
     v = _number("speed", text, float, "a number")
     lo, hi = SPEED_RANGE

@@ -7,7 +7,8 @@ from hawksim.backends.registry import names as backend_names
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE as STEPS_PER_CYCLE
 from hawksim.backends.resolution import FLY_WAKE_CYCLES
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
-from hawksim.cli.args import (KINEMATICS_HELP, MAX_FLY_STEPS, MAX_STEPS_PER_CYCLE, UsageError, cycles_arg,
+from hawksim.cli.args import (INSECT_HELP, KINEMATICS_HELP, MAX_FLY_STEPS, MAX_STEPS_PER_CYCLE, UsageError, cycles_arg,
+                              insect_arg,
                               parse_kinematics, perturbation_arg, positive_int_arg, speed_arg, wake_precision_arg,
                               writable_file)
 from hawksim.cli.progress import progress_for
@@ -39,17 +40,20 @@ class _Quiet:
 
 
 def plan_start(speed: float, aero: str, kinematics=None, steps_per_cycle: int = STEPS_PER_CYCLE,
-               start: str | None = None):
+               start: str | None = None, insect=None):
     """Where an open-loop `hawksim fly` starts, decided before any work: (start, shipped orbit or None, why).
 
     start: 'orbit' (the free body's periodic orbit: the shipped one of ``aero`` at ``speed``, else solved here for
     the quasi-steady model and the surrogate) or 'trim' (the held-body trim, or the given kinematics, with one
     calibration wingbeat). why: None where the start is the one asked for or the default orbit; otherwise one line
     saying what the flight starts from instead of an orbit, and why (the CLI prints it on stderr and in the
-    summary). ValueError / FloatingPointError for a start that cannot be had (``--start orbit`` without an orbit)."""
+    summary). ValueError / FloatingPointError for a start that cannot be had (``--start orbit`` without an orbit).
+    ``insect``: another insect than the default (--insect) has no shipped orbit."""
     from hawksim.flight.orbit import shipped_orbit
+    from hawksim.insect.insect import DEFAULT_INSECT
 
-    shipped = shipped_orbit(speed, aero) if kinematics is None else None
+    own = insect is None or insect == DEFAULT_INSECT
+    shipped = shipped_orbit(speed, aero) if kinematics is None and own else None
     unconverged = shipped is not None and not shipped.converged
     if unconverged:
         if start == "orbit":
@@ -77,6 +81,9 @@ def plan_start(speed: float, aero: str, kinematics=None, steps_per_cycle: int = 
                 reason = f"the shipped {aero} orbit at {speed:g} m/s did not converge"
             elif not desc.orbits:
                 reason = desc.orbits.why_not
+            elif not own:
+                reason = (f"no {aero} periodic orbit is shipped for the insect {insect.name!r} and solving one takes "
+                          "minutes")
             else:
                 reason = f"no {aero} periodic orbit is shipped at {speed:g} m/s and solving one takes minutes"
             why = (f"starting from {what} with one calibration wingbeat, not from a periodic orbit of the free body "
@@ -97,7 +104,7 @@ def plan_start(speed: float, aero: str, kinematics=None, steps_per_cycle: int = 
 def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinematics=None, perturb=None,
               model_path=None, steps_per_cycle: int = STEPS_PER_CYCLE, keep_extras_every: int = 0,
               start: str | None = None, log=None, wake_cycles: int | None = None, wake_summation: str = "auto",
-              wake_precision: str = "float64", note=None, stage=None, **kw):
+              wake_precision: str = "float64", note=None, stage=None, insect=None, **kw):
     """`hawksim fly`'s flight: from the free body's periodic orbit (``start='orbit'``, the default where one is
     available: no given kinematics, the orbit solver's 200 steps per beat, and a shipped orbit of ``aero`` at
     ``speed`` or the quasi-steady backend or the surrogate, whose orbits are solved in seconds) or from the shipped
@@ -107,7 +114,9 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
     the UVLM's (:func:`hawksim.backends.flight_backend`). ``note``: called with :func:`plan_start`'s line (what the
     flight starts from when that is not the default orbit) once the inputs are checked, before the work; ``stage``:
     a factory of progress stages (:func:`hawksim.cli.progress.stage_for`'s signature without args) for the orbit
-    solve; ``log``: also gets the orbit solver's lines."""
+    solve; ``log``: also gets the orbit solver's lines. ``insect``: the insect flown (default the hawkmoth,
+    :class:`hawksim.insect.insect.Insect`): its MJCF unless ``model_path`` is given, its wings in the backend, its own
+    orbit (never the shipped ones; the held-body trim, if the start is one, is the default insect's)."""
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
     from hawksim.flight.start import is_lateral, parse_perturbations
@@ -118,8 +127,9 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
     perturb = parse_perturbations(perturb or {})
     from hawksim.flight.orbit import periodic_orbit
 
-    start, shipped, why = plan_start(speed, aero, kinematics, steps_per_cycle, start)
-    model = load_model(model_path)
+    start, shipped, why = plan_start(speed, aero, kinematics, steps_per_cycle, start, insect)
+    model = load_model(model_path) if model_path is not None or insect is None else load_model(morph=insect.morphology)
+    morphology = None if insect is None else insect.morphology
     if why is not None and note is not None:
         note(why)
     stage = stage or _Quiet
@@ -134,7 +144,7 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
                     if log is not None:
                         log(m)
 
-                orbit = periodic_orbit(speed, aero, kinematics=kinematics, log=lines, model=model)
+                orbit = periodic_orbit(speed, aero, kinematics=kinematics, log=lines, model=model, insect=insect)
         if not orbit.converged:
             raise FloatingPointError(f"the periodic orbit at {speed:g} m/s did not converge "
                                      f"(residual {orbit.residual:.2e}); fly with --start trim")
@@ -152,12 +162,12 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
                 if kinematics is not None else shipped_trim(speed, aero))
     backend = flight_backend(aero, kinematics=trim.kinematics, symmetric=not is_lateral(perturb),
                              keep_panels=keep_extras_every > 0, wake_summation=wake_summation,
-                             wake_precision=wake_precision,
+                             wake_precision=wake_precision, morphology=morphology,
                              **({} if wake_cycles is None else {"wake_cycles": wake_cycles}))
     if start_state is not None:
         orbit.seed(backend)  # a history network's orbit: the flight starts with its record
     return fly(trim, backend, cycles, perturb=perturb, model=model, steps_per_cycle=steps_per_cycle,
-               keep_extras_every=keep_extras_every, start_state=start_state, **kw)
+               keep_extras_every=keep_extras_every, start_state=start_state, insect=insect, **kw)
 
 
 def cmd_fly(args) -> dict:
@@ -174,7 +184,12 @@ def cmd_fly(args) -> dict:
         if getattr(args, opt, None) is not None and opt not in descriptor(args.aero).flight_options:
             raise UsageError(f"--{opt.replace('_', '-')} applies to --aero "
                              f"{' or '.join(n for n in backend_names() if opt in descriptor(n).flight_options)} only")
+    if getattr(args, "insect", None) is not None and getattr(args, "control", None) is None:
+        args.control = "none"  # another insect flies open loop (its controller is not designed here yet)
     control = _control_of(args)  # issue 20: --control lqr (default for quasi-steady from the orbit), --gust
+    if getattr(args, "insect", None) is not None and control is not None:
+        raise UsageError(f"--insect flies open loop only (--control none, no --gust or --ascent-profile): the "
+                         f"controller's orbits and gains are the default hawkmoth's (got --control {control})")
     for opt in ("wake_cycles", "wake_precision"):
         if control is not None and getattr(args, opt, None) is not None:
             raise UsageError(f"--{opt.replace('_', '-')} applies to open-loop flights only (no --control, --gust or "
@@ -221,6 +236,7 @@ def _fly_open_loop(args, progress, guard) -> dict:
         _note(text)
 
     result = fly_named(args.speed, args.cycles, args.aero, perturb=dict(args.perturb or []), model_path=args.model,
+                       insect=getattr(args, "insect", None),
                        kinematics=args.kinematics, steps_per_cycle=args.steps_per_cycle,
                        # the UVLM's panels and wake at every UVLM update (every aero_every steps)
                        keep_extras_every=(descriptor(args.aero).update_interval(args.steps_per_cycle)
@@ -420,7 +436,10 @@ def register(sub) -> None:
     f.add_argument("--perturb", type=perturbation_arg, action="append", metavar="NAME=VALUE",
                    help="initial disturbance: u, v, w [m/s]; p, q, r [deg/s]; theta, phi [deg] (stability axes)")
     f.add_argument("--kinematics", type=parse_kinematics, help="override the trim: " + KINEMATICS_HELP)
-    f.add_argument("--model", help="MJCF file (default: the model generated from hawksim.insect.morphology)")
+    f.add_argument("--model", help="MJCF file (default: the model generated from the insect's morphology; its total "
+                                   "mass must be the insect's)")
+    f.add_argument("--insect", type=insect_arg, metavar="FILE",
+                   help=INSECT_HELP + " (flies open loop: --control none, the default with --insect)")
     f.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle", MAX_STEPS_PER_CYCLE),
                    default=STEPS_PER_CYCLE,
                    help=f"integration steps per wingbeat ({STEPS_PER_CYCLE}; at least {MIN_STEPS_PER_CYCLE})")

@@ -41,7 +41,7 @@ def beat_table(result, control_beats: list[dict] | None) -> list[dict]:
     for k, b in enumerate(result.beats(), 1):
         row = {"beat": k, **b}
         a = (k - 1) * n
-        row["P_plus"] = P_plus(result.power_joint[a:a + n], result.aero_every, first=a)
+        row["P_plus"] = P_plus(result.power_joint[a:a + n], result.aero_every, first=a, P0=result.insect.P0)
         if control_beats is not None and k <= len(control_beats):
             c = control_beats[k - 1]
             row["P_plus"] = c.get("P_plus", row["P_plus"])

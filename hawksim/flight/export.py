@@ -170,6 +170,9 @@ def flight_file_bytes(result: FlightResult, beats: list[dict], *, command: list[
             "trim_source": result.trim_source, "aero_every": int(result.aero_every),
             "flight_wall_time_s": float(result.wall_time_s), "end_t_s": result.end_t,
             "end_pos_m": None if result.end_pos is None else [float(x) for x in result.end_pos],
+            "insect": result.insect.to_dict(),
+            "insect_units": "SI (kg, m); P0_W [W]; bounds_deg: f [Hz], the angles [deg] "
+                            "(hawksim.insect.insect.Insect.to_dict)",
             "frames": FRAMES, "units": units, "descriptions": descriptions, "summary": summary}
     buf = io.BytesIO()
     np.savez(buf, metadata=np.array(json.dumps(_finite(meta), allow_nan=False)), **arrays, **table)

@@ -21,21 +21,28 @@ from hawksim.flight.result import FlightResult
 from hawksim.flight.simulator import Simulator, aero_every_for
 from hawksim.flight.start import inertial_pitch_offset, parse_perturbations, start_on_orbit
 from hawksim.frames import STABILITY_TO_WORLD, quat_from_matrices, quat_from_matrix, rot_x, rot_y
-from hawksim.insect.model import load_model
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.model import load_model, model_total_mass
 from hawksim.trim.point import Trim
 
 
 def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, float] | None = None,
         model: mujoco.MjModel | None = None, steps_per_cycle: int = FLY_STEPS_PER_CYCLE, gravity: bool = True,
         keep_extras_every: int = 0, periodic_start: bool = True, start_state: tuple | None = None,
-        progress: Callable[[int, int], None] | None = None, partial_on_interrupt: bool = False) -> FlightResult:
+        progress: Callable[[int, int], None] | None = None, partial_on_interrupt: bool = False,
+        insect: Insect | None = None) -> FlightResult:
     """Fly for ``cycles`` wingbeats from ``trim`` (its kinematics and ascent speed) with ``backend``'s loads. SI in
     and out (angles in radians, rates in rad/s), except ``perturb``, which takes the CLI's units: m/s, and deg and
     deg/s for the angles and rates (:data:`hawksim.flight.start.PERTURBATIONS`).
 
     Args:
         perturb: stability-axes disturbances of the initial state (see :data:`hawksim.flight.start.PERTURBATIONS`).
-        model: the MuJoCo model (default: generated from the morphology, :func:`hawksim.insect.model.load_model`).
+        model: the MuJoCo model (default: generated from the insect's morphology,
+            :func:`hawksim.insect.model.load_model`); given, its total mass must be the insect's (ValueError naming
+            ``model`` otherwise: the result's L+ and D+ are in units of the insect's weight).
+        insect: the insect flown (default :data:`hawksim.insect.insect.DEFAULT_INSECT`, the hawkmoth): its MJCF,
+            and the units of the result's L+, D+, M+ and P+ (:attr:`FlightResult.insect`). ``backend`` must be built
+            for its wings (:func:`hawksim.backends.flight_backend`'s ``morphology``).
         keep_extras_every: keep the backend's extras every this many steps (0: never).
         periodic_start: start on the trim's periodic path by one calibration wingbeat (``start_on_orbit``).
         start_state: (x (9,), chi_ref) the body state at phase 0 of a periodic orbit of the free body
@@ -55,7 +62,15 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
 
         descriptor_of(backend).hover.require("hover (speed 0)", getattr(backend, "name", type(backend).__name__))
     perturb = parse_perturbations(perturb or {})
-    model = model if model is not None else load_model()
+    insect = DEFAULT_INSECT if insect is None else insect
+    if model is None:
+        model = load_model(morph=insect.morphology)
+    else:
+        m_model, m_insect = model_total_mass(model), insect.morphology.total_mass
+        if abs(m_model - m_insect) > 1e-6 * m_insect:
+            raise ValueError(f"model: its total mass {m_model * 1e6:.2f} mg is not the insect's "
+                             f"({insect.name!r}, {m_insect * 1e6:.2f} mg); pass the insect the model was generated "
+                             "from (insect=, --insect)")
     sim = Simulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity,
                     aero_every=aero_every_for(backend, steps_per_cycle))
 
@@ -115,5 +130,5 @@ def fly(trim: Trim, backend: AeroBackend, cycles: int, *, perturb: dict[str, flo
         body_v=a["body_v"], body_omega=a["body_omega"], wing_R=a["wing_R"], wing_origin=a["wing_origin"],
         force=a["force"], moment=a["moment"], power_aero=a["power_aero"], power_joint=a["power_joint"],
         wall_time_s=wall, extras=extras, trim_source=trim.source, end_t=end_t, end_pos=end_pos,
-        aero_every=sim.aero_every,
+        aero_every=sim.aero_every, insect=insect,
     )

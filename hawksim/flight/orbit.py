@@ -42,6 +42,7 @@ from hawksim.backends.builtin import (FD_STEP, QUASI_STEADY, SURROGATE_FD_STEP, 
                                       UVLM_WARM_BEATS)
 from hawksim.backends.memory import RECORD
 from hawksim.backends.registry import descriptor, descriptor_of
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, reference_speed
 from hawksim.insect.model import load_model
 from hawksim.backends import flight_backend
@@ -72,13 +73,15 @@ ORBIT_TOL = QUASI_STEADY.orbit_tolerance.residual
 """The default orbit tolerance (max abs normalized residual, :data:`hawksim.backends.builtin.ORBIT_TOL`)."""
 
 
-def make_orbit_backend(aero: str, *, symmetric: bool = True, kinematics: Kinematics | None = None
-                       ) -> tuple[AeroBackend, int]:
+def make_orbit_backend(aero: str, *, symmetric: bool = True, kinematics: Kinematics | None = None,
+                       insect: Insect | None = None) -> tuple[AeroBackend, int]:
     """(backend, aero_every) of `hawksim fly --aero NAME` (:func:`hawksim.backends.flight_backend`) for
     ``STEPS_PER_CYCLE`` integrator steps per beat, at its descriptor's update interval (quasi-steady every step, the
-    UVLM and the surrogate at ``FLY_UVLM``'s rate). ValueError for a backend without periodic orbits."""
+    UVLM and the surrogate at ``FLY_UVLM``'s rate), with ``insect``'s wings (None: the default insect's).
+    ValueError for a backend without periodic orbits."""
     descriptor(aero).orbits.require("a periodic orbit", aero)
-    backend = flight_backend(aero, symmetric=symmetric, kinematics=kinematics)
+    backend = flight_backend(aero, symmetric=symmetric, kinematics=kinematics,
+                             morphology=None if insect is None else insect.morphology)
     return backend, aero_every_for(backend, STEPS_PER_CYCLE)
 
 
@@ -86,8 +89,8 @@ def make_orbit_backend(aero: str, *, symmetric: bool = True, kinematics: Kinemat
 class Beats:
     """A free flight strobed at phase 0, nb beats. states (nb + 1, 9): the state at t = k T; mean_velocity
     (nb, 3): each beat's mean centre-of-mass velocity of the body (displacement / T), world frame [m/s];
-    mean_pitch (nb,) [rad]; P_plus (nb,): cycle mean of max(0, joint power) / P0 over the backend-update steps
-    (:func:`hawksim.flight.power.P_plus`); wall_time_s."""
+    mean_pitch (nb,) [rad]; P_plus (nb,): cycle mean of max(0, joint power) / P0 (the insect's) over the
+    backend-update steps (:func:`hawksim.flight.power.P_plus`); wall_time_s."""
 
     states: np.ndarray
     mean_velocity: np.ndarray
@@ -110,19 +113,23 @@ def backend_record(backend, every: int) -> np.ndarray | None:
 
 class OrbitFlight:
     """Free flights of the orbit solver from phase 0: one reusable MjModel, a Simulator per kinematics (aero: the
-    name of a registered backend that supports periodic orbits, :mod:`hawksim.backends.registry`)."""
+    name of a registered backend that supports periodic orbits, :mod:`hawksim.backends.registry`) of ``insect``
+    (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): its wings in the backend, its MJCF unless ``model`` is
+    given, its P0 in :attr:`Beats.P_plus`."""
 
-    def __init__(self, aero: str, symmetric: bool = True, model: mujoco.MjModel | None = None):
+    def __init__(self, aero: str, symmetric: bool = True, model: mujoco.MjModel | None = None,
+                 insect: Insect | None = None):
         self.aero = aero
         self.symmetric = symmetric
-        self.model = model if model is not None else load_model()
+        self.insect = DEFAULT_INSECT if insect is None else insect
+        self.model = model if model is not None else load_model(morph=self.insect.morphology)
 
     def fly(self, kin: Kinematics, x0: np.ndarray, beats: int, chi_ref: float, backend=None,
             record: np.ndarray | None = None) -> Beats:
         """``beats`` beats from x0 at phase 0; ``record`` (n, 6): a history network's record of the calls before
         the start (:attr:`Orbit.record`; default none)."""
         if backend is None:
-            backend, _ = make_orbit_backend(self.aero, symmetric=self.symmetric, kinematics=kin)
+            backend, _ = make_orbit_backend(self.aero, symmetric=self.symmetric, kinematics=kin, insect=self.insect)
         every = aero_every_for(backend, STEPS_PER_CYCLE)
         if record is not None:
             backend.seed(np.asarray(record, float), kin.period * every / STEPS_PER_CYCLE)
@@ -143,7 +150,7 @@ class OrbitFlight:
             vel.append((new - pos) / kin.period)
             pos = new
             pitch.append(th.mean())
-            pp.append(P_plus(pw, every, first=b.first))
+            pp.append(P_plus(pw, every, first=b.first, P0=self.insect.P0))
         return Beats(np.array(states), np.array(vel), np.array(pitch), np.array(pp), time.perf_counter() - t0,
                      backend_record(backend, every))
 
@@ -193,6 +200,9 @@ class Orbit:
     record_change: float = 0.0
     """max ``|record after the periodic beat - record before|`` (normalized: velocities / U, rates x T) at the solution
     (the fixed point of the record, :data:`RECORD_TOL`); 0 without a record."""
+    insect: Insect = field(default=DEFAULT_INSECT, repr=False)
+    """The insect whose orbit this is (its wings, MJCF and P0); the flights from it (:func:`fly_orbit`,
+    :func:`beat_map`, the monodromy) fly it."""
 
     @property
     def has_memory(self) -> bool:
@@ -216,7 +226,8 @@ class Orbit:
                 "floor": self.floor, "history": list(self.history), "wall_time_s": self.wall_time_s,
                 "chi_ref": self.chi_ref} | ({} if self.record is None else {
                     "record": np.asarray(self.record).tolist(), "record_dt": self.record_dt,
-                    "record_change": self.record_change})
+                    "record_change": self.record_change}) | ({} if self.insect == DEFAULT_INSECT else {
+                    "insect": self.insect.to_dict()})
 
     @staticmethod
     def from_json(d: dict) -> Orbit:
@@ -229,7 +240,8 @@ class Orbit:
                      converged=bool(d["converged"]), floor=float(d["floor"]), history=tuple(d["history"]),
                      wall_time_s=float(d["wall_time_s"]), chi_ref=float(d["chi_ref"]),
                      record=np.asarray(d["record"], float) if d.get("record") is not None else None,
-                     record_dt=float(d.get("record_dt", 0.0)), record_change=float(d.get("record_change", 0.0)))
+                     record_dt=float(d.get("record_dt", 0.0)), record_change=float(d.get("record_change", 0.0)),
+                     insect=Insect.from_dict(d["insect"]) if d.get("insect") is not None else DEFAULT_INSECT)
 
 
 def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
@@ -314,7 +326,7 @@ def initial_guess(kin: Kinematics, speed: float, flight: OrbitFlight, warm: int 
 def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kinematics | None = None,
                    tol: float | None = None, max_iter: int = 20, warm_beats: int | None = None,
                    model: mujoco.MjModel | None = None, x0: np.ndarray | None = None, log=None,
-                   fd_step: float | None = None) -> Orbit:
+                   fd_step: float | None = None, insect: Insect | None = None) -> Orbit:
     """Newton shooting for the symmetric periodic orbit at ascent ``speed`` [m/s].
 
     SI throughout: u, w [m/s], q [rad/s], theta [rad], f [Hz], phi0 [rad].
@@ -327,7 +339,10 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     (default: the backend's ``warm_beats``: 0 for the quasi-steady backend and the surrogate,
     :data:`UVLM_WARM_BEATS` for the UVLM). ``tol``: the max abs normalized residual (default: the backend's
     ``orbit_tolerance``, :class:`hawksim.backends.registry.OrbitTolerance`). ``fd_step``: the Jacobian's step
-    (default: the backend's ``fd.orbit``). ``log``: called with a line per iteration.
+    (default: the backend's ``fd.orbit``). ``log``: called with a line per iteration. ``insect``: the insect flown
+    (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): its wings in the backend, its MJCF unless ``model`` is
+    given (then the two must describe the same insect), its P0 in :attr:`Orbit.P_plus`; the start is the default
+    insect's held-body trim unless ``kinematics`` is given.
 
     A per-step surrogate with history inputs (and ``warm_beats`` not given) is a delay system: its state is the
     body state and the record of its last calls (:mod:`hawksim.stability.history_floquet`). Its orbit is solved on
@@ -340,6 +355,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     t_start = time.perf_counter()
     desc = descriptor(aero)
     desc.orbits.require("a periodic orbit", aero)
+    insect = DEFAULT_INSECT if insect is None else insect
     guess = shipped_orbit(speed, desc.orbit_guess) if desc.orbit_guess else None  # the surrogate mimics the UVLM
     if kinematics is None and guess is not None:
         kinematics = guess.kinematics
@@ -347,11 +363,11 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     base = kinematics if kinematics is not None else trim_kinematics(speed, aero)
     chi = base.chi
     delay = (desc.memory == RECORD and warm_beats is None  # the orbit of a delay system
-             and desc.make(kinematics=base).memory_beats() > 0)
+             and desc.make(kinematics=base, morphology=insect.morphology).memory_beats() > 0)
     if warm_beats is None:  # beats before the measured one: the UVLM's wake (a history network's: its record)
         warm_beats = desc.warm_beats
     warm = warm_beats
-    fl = OrbitFlight(aero, symmetric=True, model=model)
+    fl = OrbitFlight(aero, symmetric=True, model=model, insect=insect)
     h_fd = fd_step if fd_step is not None else desc.fd.orbit
     f_ref = base.f
     if x0 is None:
@@ -428,13 +444,14 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         floor = float(np.abs(rf[:4]).max())
     extra = {}
     if rec is not None:
-        _, every = make_orbit_backend(aero, kinematics=kin)
+        _, every = make_orbit_backend(aero, kinematics=kin, insect=insect)
         extra = {"record": rec, "record_dt": kin.period * every / STEPS_PER_CYCLE, "record_change": change}
     return Orbit(speed=float(speed), aero=aero, kinematics=kin, initial_state=BodyState.from_array(b.states[warm]),
                  launch_state=BodyState.from_array(x_launch), warm_beats=warm, residual=hist[-1], residuals=r,
                  mean_velocity=b.mean_velocity[warm], mean_pitch=float(b.mean_pitch[warm]),
                  P_plus=float(b.P_plus[warm]), iterations=it, converged=met(r, z) and change <= RECORD_TOL,
-                 floor=floor, history=tuple(hist), wall_time_s=time.perf_counter() - t_start, chi_ref=chi, **extra)
+                 floor=floor, history=tuple(hist), wall_time_s=time.perf_counter() - t_start, chi_ref=chi,
+                 insect=insect, **extra)
 
 
 def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = None,
@@ -449,13 +466,14 @@ def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = Non
     ``perturbation`` (9,) is added to the launch state (SI, state order).
     For the UVLM the flight includes the orbit's ``warm_beats`` (the returned rows start at the periodic beat); an
     orbit with a record (a history network's) starts with it.
-    symmetric: mirror the UVLM (default: unless the perturbation is lateral)."""
+    symmetric: mirror the UVLM (default: unless the perturbation is lateral). The insect flown is the orbit's
+    (:attr:`Orbit.insect`; its MJCF unless ``model`` is given)."""
     x = orbit.launch_state.as_array()
     if perturbation is not None:
         x = x + np.asarray(perturbation, float)
     if symmetric is None:
         symmetric = perturbation is None or not np.any(np.asarray(perturbation)[[1, 3, 5, 6, 8]])
-    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model)
+    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model, insect=orbit.insect)
     w = orbit.warm_beats
     if iterate_map:
         if orbit.has_memory:
@@ -474,7 +492,8 @@ def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = Non
 def beat_map(orbit: Orbit, x: np.ndarray, *, model: mujoco.MjModel | None = None, symmetric: bool = True,
              beats: int = 1) -> np.ndarray:
     """The one-beat map at the orbit's kinematics: state (9,) at the launch -> state (9,) ``beats`` beats after
-    the measured beat starts (for the UVLM the launch is ``warm_beats`` earlier, from an empty wake)."""
-    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model)
+    the measured beat starts (for the UVLM the launch is ``warm_beats`` earlier, from an empty wake); the orbit's
+    insect."""
+    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model, insect=orbit.insect)
     return fl.fly(orbit.kinematics, np.asarray(x, float), orbit.warm_beats + beats, orbit.chi_ref,
                   record=orbit.record).states[-1]

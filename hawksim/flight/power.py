@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from hawksim.insect.morphology import P0_W
 
 SAMPLINGS = ("updates", "steps")
 """The two estimators of the required power (module docstring)."""
@@ -67,6 +66,12 @@ def required_power(power_joint: np.ndarray, aero_every: int = 1, *, first: int =
     return float(np.maximum(p, 0.0).mean())
 
 
-def P_plus(power_joint: np.ndarray, aero_every: int = 1, *, first: int = 0, sampling: str | None = None) -> float:
-    """:func:`required_power` over P0 (:data:`hawksim.insect.morphology.P0_W`), dimensionless."""
-    return required_power(power_joint, aero_every, first=first, sampling=sampling) / P0_W
+def P_plus(power_joint: np.ndarray, aero_every: int = 1, *, first: int = 0, sampling: str | None = None,
+           P0: float | None = None) -> float:
+    """:func:`required_power` over the reference power ``P0`` [W] (a flight's own:
+    :attr:`hawksim.insect.insect.Insect.P0`; None: the default insect's, 84.2 mW), dimensionless."""
+    if P0 is None:
+        from hawksim.insect.insect import DEFAULT_INSECT
+
+        P0 = DEFAULT_INSECT.P0
+    return required_power(power_joint, aero_every, first=first, sampling=sampling) / P0

@@ -61,7 +61,8 @@ from hawksim.flight.recording_layout import (  # noqa: F401  (re-exported: the r
 from hawksim.flight.result import FlightResult
 from hawksim.frames import quat_from_matrices
 from hawksim.insect.accessors import WING_SIDES as SIDES
-from hawksim.insect.morphology import HAWKMOTH, Morphology
+from hawksim.insect.insect import DEFAULT_INSECT
+from hawksim.insect.morphology import Morphology
 
 N_SPAN, N_CHORD = 21, 4
 """Wing mesh resolution: spanwise stations (cosine spaced, tips included) and chordwise divisions."""
@@ -76,7 +77,7 @@ def _xyzw(q_wxyz: np.ndarray) -> np.ndarray:
     return np.concatenate([q_wxyz[..., 1:], q_wxyz[..., :1]], axis=-1)
 
 
-def wing_mesh(morph: Morphology = HAWKMOTH, side: str = "left") -> tuple[np.ndarray, np.ndarray]:
+def wing_mesh(morph: Morphology = DEFAULT_INSECT.morphology, side: str = "left") -> tuple[np.ndarray, np.ndarray]:
     """Triangulated planform in the wing frame: vertices (N_SPAN (N_CHORD+1), 3) [m], triangles (m, 3).
 
     Stations r = R (1 - cos(pi k / (N_SPAN-1))) / 2, each from the leading to the trailing edge in N_CHORD
@@ -111,9 +112,10 @@ def _write_error(path: Path, exc: OSError) -> Exception:
     return OSError(exc.errno, text) if exc.errno in ENVIRONMENT_ERRNOS else ValueError(text)
 
 
-def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, prediction=None, control=None,
+def write_rrd(path, result: FlightResult, morph: Morphology | None = None, *, prediction=None, control=None,
               application_id: str = "hawksim") -> Path:
-    """Write ``result`` as a Rerun recording (with its default blueprint) to ``path``; return the Path.
+    """Write ``result`` as a Rerun recording (with its default blueprint) to ``path``; return the Path. ``morph``:
+    the body and wings drawn (default the flight's own insect's, :attr:`FlightResult.insect`).
 
     ``prediction``: a :class:`hawksim.stability.prediction.Prediction` of the flight (ghost body and per-beat
     plots), or None. ``control``: the per-beat objects of a controlled flight (`hawksim fly --control lqr` JSON's
@@ -130,6 +132,7 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
     on stderr and no errno.)
     """
     path = Path(path)
+    morph = result.insect.morphology if morph is None else morph
     target = output_target(path, "recording")  # a link's target; a device, FIFO or directory: ValueError
     _check_target(target)
     tmp = temporary_beside(target)
@@ -166,7 +169,7 @@ def write_rrd(path, result: FlightResult, morph: Morphology = HAWKMOTH, *, predi
     return path
 
 
-def wing_outline(morph: Morphology = HAWKMOTH, side: str = "left") -> np.ndarray:
+def wing_outline(morph: Morphology = DEFAULT_INSECT.morphology, side: str = "left") -> np.ndarray:
     """Closed planform outline in the wing frame (2 N_SPAN + 1, 3) [m]: leading edge root to tip, trailing edge
     back to the root (the stations of :func:`wing_mesh`)."""
     verts, _ = wing_mesh(morph, side)
@@ -174,7 +177,7 @@ def wing_outline(morph: Morphology = HAWKMOTH, side: str = "left") -> np.ndarray
     return np.concatenate([grid[:, 0], grid[::-1, -1], grid[:1, 0]])
 
 
-def body_labels(morph: Morphology = HAWKMOTH) -> tuple[np.ndarray, list[str]]:
+def body_labels(morph: Morphology = DEFAULT_INSECT.morphology) -> tuple[np.ndarray, list[str]]:
     """Label positions (3, 3) [m] in the body frame and the names: ahead of the head, above the thorax and behind
     the abdomen, :data:`LABEL_GAP_M` beyond each part's surface."""
     c = morph.segment_centres()

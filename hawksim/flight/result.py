@@ -10,7 +10,7 @@ import numpy as np
 from hawksim.flight.power import P_plus
 from hawksim.frames import attitude_of, pitch_of, quat_to_matrix, roll_of
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
-from hawksim.insect.morphology import HAWKMOTH
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
 
 DEPARTURE_SPEED = 0.1
 """A flight has departed when a wingbeat's mean vertical speed leaves the target, or its horizontal speed leaves
@@ -59,6 +59,9 @@ class FlightResult:
     end_pos: np.ndarray | None = None
     """Backend extras (e.g. UVLM pressure and wake) for the steps where they were kept, as (step, dict)."""
     aero_every: int = 1
+    insect: Insect = DEFAULT_INSECT
+    """The insect flown (:class:`hawksim.insect.insect.Insect`): its weight, mean chord and P0 are the units of
+    :meth:`summary`'s L+, D+, M+ and P+."""
 
     @property
     def body_R(self) -> np.ndarray:
@@ -134,7 +137,7 @@ class FlightResult:
         beats = self.beats()
         horiz = self.body_pos[-1, :2] - self.body_pos[0, :2]
         L, D = self.lift_drag()
-        W = HAWKMOTH.weight
+        W = self.insect.weight
         return {
             "speed_target": self.speed_target,
             "cycles": self.cycles,
@@ -152,8 +155,8 @@ class FlightResult:
             "last_cycle": {
                 "L_plus": float(L[last].mean() / W),
                 "D_plus": float(D[last].mean() / W),
-                "M_plus": float(self.pitching_moment()[last].mean() / (W * HAWKMOTH.cbar)),
-                "P_plus": P_plus(self.power_joint[last], self.aero_every, first=last.start),
+                "M_plus": float(self.pitching_moment()[last].mean() / (W * self.insect.cbar)),
+                "P_plus": P_plus(self.power_joint[last], self.aero_every, first=last.start, P0=self.insect.P0),
             },
         }
 
@@ -193,8 +196,10 @@ class FlightResult:
             aero_every = descriptor(meta["aero"]).update_interval(meta["steps_per_cycle"])
         wall = meta.get("flight_wall_time_s", (meta.get("summary") or {}).get("flight_wall_time_s", 0.0))
         end_pos = meta.get("end_pos_m")
+        insect = Insect.from_dict(meta["insect"]) if meta.get("insect") is not None else DEFAULT_INSECT
         return cls(speed_target=meta["speed_target_m_s"], cycles=meta["cycles"], aero=meta["aero"], kinematics=kin,
                    steps_per_cycle=meta["steps_per_cycle"],
                    **{k: arrays[k] for k in STEP_ARRAYS if k not in derived},
                    wall_time_s=wall, trim_source=meta["trim_source"], end_t=meta.get("end_t_s"),
-                   end_pos=None if end_pos is None else np.array(end_pos, dtype=float), aero_every=int(aero_every))
+                   end_pos=None if end_pos is None else np.array(end_pos, dtype=float), aero_every=int(aero_every),
+                   insect=insect)

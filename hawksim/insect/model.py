@@ -142,6 +142,11 @@ def load_model(path: str | Path | None = None, morph: Morphology | None = None) 
     return model
 
 
+def model_total_mass(model: mujoco.MjModel) -> float:
+    """Total mass [kg] of the free body and its wings (the subtree of the body ``body``)."""
+    return float(model.body_subtreemass[body_id(model, "body")])
+
+
 def _check_model(model: mujoco.MjModel, path) -> None:
     where = f"model file {str(path)!r}" if path is not None else "generated model"
     needed = ["body", *(f"wing_{s}" for s in WING_SIDES)]

@@ -1,0 +1,73 @@
+"""`--insect FILE` on `hawksim aero` and `hawksim fly` (issue 50, item 1): a JSON spec of the insect's fields, its
+numbers in its own units, and a one-line exit 2 naming an unknown or invalid field."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from hawksim.insect.morphology import HAWKMOTH, P0_W
+
+KIN = "f=29.4,beta=2.8,phi0=-4.7,theta0=15.0,alpha0=1.2,phi_a=60.0,alpha_a=65.0"
+"""Table 3's kinematics at 1 m/s (Hz, deg)."""
+
+
+def hawksim(*args):
+    return subprocess.run([sys.executable, "-m", "hawksim", *args], capture_output=True, text=True, timeout=300)
+
+
+def aero(*extra):
+    r = hawksim("aero", "--speed", "1", "--kinematics", KIN, "--aero", "quasi-steady", "--json", "--no-progress",
+                *extra)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout)
+
+
+def test_aero_insect_scales_by_its_own_weight_and_power(tmp_path):
+    spec = tmp_path / "heavy.json"
+    spec.write_text(json.dumps({"name": "heavier", "total_mass": 1.2 * HAWKMOTH.total_mass, "P0_W": 2 * P0_W}))
+    base, heavy = aero(), aero("--insect", str(spec))
+    assert "insect" not in base and heavy["insect"] == "heavier"
+    # wings unchanged: the same loads [N, W], in units of 1.2 x the weight and 2 x P0
+    assert heavy["power_W"] == pytest.approx(base["power_W"], rel=1e-12)
+    assert heavy["L_plus"] == pytest.approx(base["L_plus"] / 1.2, rel=1e-9)
+    assert heavy["M_plus"] == pytest.approx(base["M_plus"] / 1.2, rel=1e-9)
+    assert heavy["P_plus"] == pytest.approx(base["P_plus"] / 2, rel=1e-9)
+
+
+def test_fly_insect_from_its_own_orbit(tmp_path):
+    spec = tmp_path / "heavy.json"
+    spec.write_text(json.dumps({"name": "heavier", "total_mass": 1.2 * HAWKMOTH.total_mass}))
+    r = hawksim("fly", "--speed", "1", "--cycles", "2", "--insect", str(spec), "--json", "--no-progress")
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert out.get("control") is None and out["start"]["from"] == "orbit"
+    assert "shipped" not in out["start"]["source"]  # its own orbit, solved here
+    assert out["last_cycle"]["L_plus"] == pytest.approx(1.0, abs=1e-4)  # its own weight, not the hawkmoth's 1.2
+    assert out["kinematics"]["f"] > 30.5  # the hawkmoth's shipped orbit flaps at 28.5 Hz
+
+
+@pytest.mark.parametrize("text, field", [('{"wingspan": 0.1}', "unknown insect field 'wingspan'"),
+                                         ('{"R": "long"}', "insect field 'R' must be a finite number"),
+                                         ('{"P0_W": -1}', "insect field 'P0_W' must be positive"),
+                                         ("[1, 2]", "must be an object of fields"),
+                                         ("{", "is not valid JSON")])
+@pytest.mark.parametrize("command", ["aero", "fly"])
+def test_bad_insect_file_exits_2_naming_the_field(tmp_path, command, text, field):
+    spec = tmp_path / "bad.json"
+    spec.write_text(text)
+    args = ["--speed", "1", "--insect", str(spec), "--json"] + (["--kinematics", KIN] if command == "aero" else [])
+    r = hawksim(command, *args)
+    assert r.returncode == 2 and r.stdout == ""
+    assert len(r.stderr.strip().splitlines()) == 1 and field in r.stderr and str(spec) in r.stderr
+
+
+def test_fly_insect_refuses_control_and_networks(tmp_path):
+    spec = tmp_path / "longer.json"
+    spec.write_text(json.dumps({"R": 1.1 * HAWKMOTH.R}))
+    r = hawksim("fly", "--speed", "1", "--cycles", "1", "--insect", str(spec), "--control", "lqr")
+    assert r.returncode == 2 and "--insect flies open loop only" in r.stderr
+    r = hawksim("fly", "--speed", "1", "--cycles", "1", "--insect", str(spec), "--aero", "surrogate")
+    assert r.returncode == 2 and "morphology: the surrogate backend's network" in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
