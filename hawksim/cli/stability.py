@@ -22,7 +22,8 @@ def _averaged(args, kin, client=None) -> dict:
     from hawksim.stability.report import stability_report
 
     bar = progress_for(args, f"stability V={args.speed:g} (disturbed UVLM runs)", "run", mininterval=0.1)
-    return stability_report(args.speed, kinematics=kin, client=client, progress=bar)
+    out = stability_report(args.speed, kinematics=kin, client=client, progress=bar)
+    return {"speed": out.pop("speed", args.speed), "aero": args.aero, **out}
 
 
 def cmd_stability(args) -> dict:

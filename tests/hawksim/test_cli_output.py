@@ -174,3 +174,22 @@ def test_stability_kinematics_says_it_solved_f(capsys):
     assert solved["f_given"] == pytest.approx(28.5) and solved["f_solved"] == pytest.approx(28.53, abs=0.01)
     line = [s for s in cap.err.splitlines() if s.startswith("stability:")]
     assert len(line) == 1 and "f 28.5 -> 28.5" in line[0]
+
+
+def test_stability_uvlm_summary_names_its_model(capsys, monkeypatch):
+    """`hawksim stability` with its default UVLM model (the disturbed runs replaced by the quasi-steady report: the
+    summary's code path is what is tested) names the model and prints the eigenvalues; it raised KeyError before."""
+    from hawksim.stability import report
+    from hawksim.stability.floquet import quasi_steady_system
+
+    from hawksim.insect.kinematics import table3_kinematics
+
+    def fake(speed, kinematics=None, client=None, progress=None):
+        kin = kinematics if kinematics is not None else table3_kinematics(speed)
+        return {"speed": speed, "trim": {"kinematics": kin.to_edge()},
+                **report.averaged_json(quasi_steady_system(kin, speed))}
+
+    monkeypatch.setattr(report, "stability_report", fake)
+    assert main(["stability", "--speed", "1", "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    assert text.startswith("hawksim stability: uvlm model at 1 m/s") and "longitudinal" in text
