@@ -88,6 +88,12 @@ def floquet_of(out: dict) -> dict:
     loop's spectral radius); an open-loop flight computes none (``hawksim stability --floquet`` does)."""
     pts = (out.get("control") or {}).get("schedule") or []
     if not pts:
+        from hawksim.backends.registry import find
+
+        desc = find(out["aero"])
+        if desc is not None and not desc.orbits:
+            return {"open_loop_max": None, "closed_loop_max": None,
+                    "source": f"none: {out['aero']} has no periodic orbit ({desc.orbits.why_not})"}
         return {"open_loop_max": None, "closed_loop_max": None,
                 "source": f"not computed for an open-loop flight: hawksim stability --floquet --aero {out['aero']} "
                           f"--speed {out['speed_target']:g}"}

@@ -193,3 +193,11 @@ def test_stability_uvlm_summary_names_its_model(capsys, monkeypatch):
     assert main(["stability", "--speed", "1", "--no-progress"]) == 0
     text = capsys.readouterr().out
     assert text.startswith("hawksim stability: uvlm model at 1 m/s") and "longitudinal" in text
+
+
+def test_fly_summary_suggests_no_floquet_a_backend_cannot_do(capsys):
+    """The cycle-mean network has no periodic orbit: the summary says so instead of suggesting a stability command
+    that would be refused (the registry's reason)."""
+    assert main(["fly", "--speed", "1", "--cycles", "1", "--aero", "surrogate-mean", "--no-progress"]) == 0
+    floquet = [line for line in capsys.readouterr().out.splitlines() if line.strip().startswith("Floquet")]
+    assert len(floquet) == 1 and "has no periodic orbit" in floquet[0] and "hawksim stability" not in floquet[0]
