@@ -63,11 +63,32 @@ def test_bad_insect_file_exits_2_naming_the_field(tmp_path, command, text, field
     assert len(r.stderr.strip().splitlines()) == 1 and field in r.stderr and str(spec) in r.stderr
 
 
-def test_fly_insect_refuses_control_and_networks(tmp_path):
+def test_fly_insect_refuses_clqr_shipped_orbits_and_networks(tmp_path):
     spec = tmp_path / "longer.json"
     spec.write_text(json.dumps({"R": 1.1 * HAWKMOTH.R}))
-    r = hawksim("fly", "--speed", "1", "--cycles", "1", "--insect", str(spec), "--control", "lqr")
-    assert r.returncode == 2 and "--insect flies open loop only" in r.stderr
+    for extra in (["--control", "clqr"], ["--control", "lqr", "--aero", "uvlm"]):
+        r = hawksim("fly", "--speed", "1", "--cycles", "1", "--insect", str(spec), *extra)
+        assert r.returncode == 2 and r.stdout == ""
+        assert "--insect under control takes --control lqr with --aero quasi-steady" in r.stderr
     r = hawksim("fly", "--speed", "1", "--cycles", "1", "--insect", str(spec), "--aero", "surrogate")
     assert r.returncode == 2 and "morphology: the surrogate backend's network" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_fly_insect_under_lqr_holds_its_own_orbit(tmp_path):
+    """The 1.2x heavier hawkmoth under the per-beat LQR, its gains designed on its own orbit and MJCF, started off its
+    orbit (q = 60 deg/s): 10 beats at 1 m/s, the beat-mean speed within 1e-3 m/s of the command from beat 5 on."""
+    spec = tmp_path / "heavy.json"
+    spec.write_text(json.dumps({"name": "heavier", "total_mass": 1.2 * HAWKMOTH.total_mass}))
+    r = hawksim("fly", "--speed", "1", "--cycles", "10", "--insect", str(spec), "--control", "lqr",
+                "--perturb", "q=60", "--json", "--no-progress")
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert out["control"]["mode"] == "lqr" and out["departed_at_beat"] is None
+    (point,) = out["control"]["schedule"]
+    assert point["orbit_f_hz"] > 30.5  # its own orbit (the hawkmoth's flaps at 28.5 Hz)
+    assert out["kinematics"]["f"] == pytest.approx(point["orbit_f_hz"], rel=1e-9)
+    speeds = [b["mean_vertical_speed"] for b in out["beats"]]
+    assert len(speeds) == 10 and abs(speeds[0] - 1.0) > 2e-3  # the perturbation is felt
+    assert max(abs(v - 1.0) for v in speeds[4:]) < 1e-3
+    assert out["last_cycle"]["L_plus"] == pytest.approx(1.0, abs=5e-3)  # in its own weight
