@@ -446,7 +446,8 @@ def register(sub) -> None:
     f.add_argument("--model", help="MJCF file (default: the model generated from the insect's morphology; its total "
                                    "mass must be the insect's)")
     f.add_argument("--insect", type=insect_arg, metavar="FILE",
-                   help=INSECT_HELP + " (flies open loop: --control none, the default with --insect)")
+                   help=INSECT_HELP + " (open loop by default; --control lqr with --aero quasi-steady: its own orbits "
+                        "and gains, solved here)")
     f.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle", MAX_STEPS_PER_CYCLE),
                    default=STEPS_PER_CYCLE,
                    help=f"integration steps per wingbeat ({STEPS_PER_CYCLE}; at least {MIN_STEPS_PER_CYCLE})")
