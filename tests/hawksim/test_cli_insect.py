@@ -125,3 +125,46 @@ def test_stability_insect_uses_its_own_mass_inertia_and_orbit(tmp_path):
     assert plain["longitudinal"]["eigenvalues"] == heavy["longitudinal"]["eigenvalues"]
     r = hawksim("stability", "--speed", "1", "--insect", str(spec), "--json")
     assert r.returncode == 2 and r.stdout == "" and "--insect takes --aero quasi-steady" in r.stderr
+
+
+def trim(*extra):
+    return hawksim("trim", "--speed", "1", "--population", "2000", "--json", "--no-progress", *extra)
+
+
+def test_trim_insect_searches_its_own_bounds_in_its_own_P0(tmp_path):
+    """The hawkmoth with a narrower stroke amplitude (phi_a at most 55 deg: the default's trim sits on 60) and another
+    P0: the GA + Nelder-Mead trim on the shipped surrogate stays in its bounds, still balances, and P+ is in its P0."""
+    spec = tmp_path / "narrow.json"
+    spec.write_text(json.dumps({"name": "narrow", "bounds_deg": {"phi_a": [40, 55]}, "P0_W": 1.25 * P0_W}))
+    r0, r = trim(), trim("--insect", str(spec))
+    assert r0.returncode == 0 and r.returncode == 0, r.stderr
+    base, narrow = json.loads(r0.stdout), json.loads(r.stdout)
+    assert "insect" not in base and base["kinematics"]["phi_a"] == pytest.approx(60.0, abs=1e-6)
+    assert narrow["insect"] == "narrow" and narrow["bounds_deg"]["phi_a"] == [40.0, 55.0]
+    assert 40.0 <= narrow["kinematics"]["phi_a"] <= 55.0
+    assert narrow["L_plus"] == pytest.approx(1.0, abs=5e-3) and abs(narrow["M_plus"]) < 5e-3
+    # in watts (P+ x P0, its P0 1.25 x the hawkmoth's) the narrower envelope costs power: 0.88 x 1.25 vs 0.95
+    assert narrow["P_plus"] * 1.25 > base["P_plus"] + 0.1
+
+
+def test_trim_insect_refuses_another_morphology_or_wider_bounds_on_the_network(tmp_path):
+    heavy, wide = tmp_path / "heavy.json", tmp_path / "wide.json"
+    heavy.write_text(json.dumps({"total_mass": 1.2 * HAWKMOTH.total_mass}))
+    wide.write_text(json.dumps({"bounds_deg": {"phi_a": [30, 70]}}))
+    for spec, words in ((heavy, "trained on the default hawkmoth's morphology"),
+                        (wide, "'bounds_deg.phi_a' = [30, 70] leaves Table 2's [30, 60]")):
+        r = trim("--insect", str(spec))
+        assert r.returncode == 2 and r.stdout == "" and words in r.stderr
+        assert len(r.stderr.strip().splitlines()) == 1
+    r = trim("--insect", str(wide), "--verify")
+    assert r.returncode == 2 and "--verify does not apply with --insect" in r.stderr
+
+
+def test_trim_free_flight_insect_is_its_own_orbit(tmp_path):
+    spec = tmp_path / "heavy.json"
+    spec.write_text(json.dumps({"name": "heavier", "total_mass": 1.2 * HAWKMOTH.total_mass}))
+    r = hawksim("trim", "--speed", "1", "--free-flight", "--aero", "quasi-steady", "--insect", str(spec), "--json",
+                "--no-progress")
+    assert r.returncode == 0, r.stderr
+    orbit = json.loads(r.stdout)
+    assert orbit["converged"] and orbit["kinematics"]["f"] > 30.5  # the hawkmoth's flaps at 28.5 Hz
