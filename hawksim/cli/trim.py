@@ -123,8 +123,8 @@ def register(sub) -> None:
                    help="with --free-flight: the aerodynamic model (default uvlm)")
     p.add_argument("--insect", type=insect_arg, metavar="FILE",
                    help=INSECT_HELP + "; the GA searches its bounds_deg (inside Table 2, the network's training box; "
-                        "its morphology must be the hawkmoth's) and P+ is in its reference power; with --free-flight its own "
-                        "periodic orbit (any morphology)")
+                        "its morphology must be the hawkmoth's) and P+ is in its reference power; with --free-flight "
+                        "its own periodic orbit (any morphology)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_trim, human=render_trim)
