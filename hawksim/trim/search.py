@@ -35,7 +35,7 @@ import numpy as np
 
 from hawksim.backends.averages import CycleAverages
 from hawksim.insect.insect import DEFAULT_INSECT, Insect
-from hawksim.insect.kinematics import PARAM_NAMES, TABLE2_BOUNDS_DEG, Kinematics, bounds_si
+from hawksim.insect.kinematics import PARAM_NAMES, TABLE2_BOUNDS_DEG, Kinematics
 from hawksim.trim.point import Trim
 
 R_PENALTY = 2.0
@@ -47,7 +47,7 @@ S_PENALTY = 5.0
 def bound_violation(x: np.ndarray, lo: np.ndarray | None = None, hi: np.ndarray | None = None) -> np.ndarray:
     """Eq. 3's sum_i |zeta_i| / (Max_i - Min_i) for x (n, 7) SI (Table 2's bounds by default)."""
     if lo is None or hi is None:
-        lo, hi = bounds_si()
+        lo, hi = DEFAULT_INSECT.bounds_si()
     x = np.atleast_2d(x)
     zeta = np.maximum(lo - x, 0.0) + np.maximum(x - hi, 0.0)
     return np.sum(zeta / (hi - lo), axis=1)
