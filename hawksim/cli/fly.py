@@ -185,11 +185,12 @@ def cmd_fly(args) -> dict:
             raise UsageError(f"--{opt.replace('_', '-')} applies to --aero "
                              f"{' or '.join(n for n in backend_names() if opt in descriptor(n).flight_options)} only")
     if getattr(args, "insect", None) is not None and getattr(args, "control", None) is None:
-        args.control = "none"  # another insect flies open loop (its controller is not designed here yet)
+        args.control = "none"  # another insect flies open loop unless asked (its orbits are solved, not shipped)
     control = _control_of(args)  # issue 20: --control lqr (default for quasi-steady from the orbit), --gust
     if getattr(args, "insect", None) is not None and control is not None:
-        raise UsageError(f"--insect flies open loop only (--control none, no --gust or --ascent-profile): the "
-                         f"controller's orbits and gains are the default hawkmoth's (got --control {control})")
+        if control == "clqr" or descriptor(args.aero).shipped_orbits_only:
+            raise UsageError(f"--insect under control takes --control lqr with --aero {_insect_control()} (its own "
+                             f"orbits and gains are solved here; got --control {control} --aero {args.aero})")
     for opt in ("wake_cycles", "wake_precision"):
         if control is not None and getattr(args, opt, None) is not None:
             raise UsageError(f"--{opt.replace('_', '-')} applies to open-loop flights only (no --control, --gust or "
@@ -290,7 +291,8 @@ def _fly_controlled(args, control: str, progress, guard) -> dict:
         cl = fly_command(args.speed, args.cycles, control=control, profile=getattr(args, "ascent_profile", None),
                          gusts=getattr(args, "gust", None) or [], delay=args.sensing_delay or 0,
                          perturb=dict(args.perturb or []), model_path=args.model, progress=first,
-                         partial_on_interrupt=bool(args.rrd), aero=args.aero, rate=rate, log=st.note)
+                         partial_on_interrupt=bool(args.rrd), aero=args.aero, rate=rate, log=st.note,
+                         insect=getattr(args, "insect", None))
     flight_s = time.perf_counter() - t0
     interrupted = len(cl.result.t) < args.cycles * args.steps_per_cycle or (guard and guard.signum is not None)
     t_rec = time.perf_counter()
@@ -352,6 +354,11 @@ def _write_recording(args, result, guard, interrupted: bool, *, control=None, gh
         raise KeyboardInterrupt(f"interrupted at step {n} of {args.cycles * args.steps_per_cycle} (t = "
                                 f"{result.t[-1]:.5f} s); {path} holds steps 0 to {n - 1}")
     return path
+
+
+def _insect_control() -> str:
+    """The backends that control another insect than the default: those whose schedule solves its orbits."""
+    return " or ".join(n for n in backend_names() if descriptor(n).control and not descriptor(n).shipped_orbits_only)
 
 
 def _control_of(args) -> str | None:
@@ -439,7 +446,8 @@ def register(sub) -> None:
     f.add_argument("--model", help="MJCF file (default: the model generated from the insect's morphology; its total "
                                    "mass must be the insect's)")
     f.add_argument("--insect", type=insect_arg, metavar="FILE",
-                   help=INSECT_HELP + " (flies open loop: --control none, the default with --insect)")
+                   help=INSECT_HELP + " (open loop by default; --control lqr with --aero quasi-steady: its own orbits "
+                        "and gains, solved here)")
     f.add_argument("--steps-per-cycle", type=positive_int_arg("steps-per-cycle", MAX_STEPS_PER_CYCLE),
                    default=STEPS_PER_CYCLE,
                    help=f"integration steps per wingbeat ({STEPS_PER_CYCLE}; at least {MIN_STEPS_PER_CYCLE})")

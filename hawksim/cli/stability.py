@@ -8,7 +8,7 @@ import math
 import sys
 
 from hawksim.backends.registry import descriptor, names
-from hawksim.cli.args import UsageError, parse_kinematics, positive_int_arg, speed_arg
+from hawksim.cli.args import INSECT_HELP, UsageError, insect_arg, parse_kinematics, positive_int_arg, speed_arg
 
 
 def _averaged(args, kin, client=None) -> dict:
@@ -16,8 +16,13 @@ def _averaged(args, kin, client=None) -> dict:
         from hawksim.stability.floquet import quasi_steady_system
         from hawksim.stability.report import averaged_json
 
-        return {"speed": args.speed, "aero": args.aero, "trim": {"kinematics": kin.to_edge()},
-                **averaged_json(quasi_steady_system(kin, args.speed))}
+        insect = getattr(args, "insect", None)
+        if insect is None:
+            return {"speed": args.speed, "aero": args.aero, "trim": {"kinematics": kin.to_edge()},
+                    **averaged_json(quasi_steady_system(kin, args.speed))}
+        return {"speed": args.speed, "aero": args.aero, "insect": insect.name,
+                "trim": {"kinematics": kin.to_edge(), "source": args.trim_source},
+                **averaged_json(quasi_steady_system(kin, args.speed, insect=insect))}
     from hawksim.cli.progress import progress_for
     from hawksim.stability.report import stability_report
 
@@ -34,6 +39,11 @@ def cmd_stability(args) -> dict:
     from hawksim.trim.tables import shipped_trim
 
     kin = args.kinematics
+    insect = getattr(args, "insect", None)
+    if insect is not None and args.aero != "quasi-steady":
+        raise UsageError(f"--insect takes --aero quasi-steady (the {args.aero} stability analysis is the default "
+                         "hawkmoth's)")
+    args.trim_source = "given (--kinematics)" if kin is not None else None
     out_orbit = None
     if args.floquet:
         from hawksim.flight.orbit import periodic_orbit
@@ -44,10 +54,10 @@ def cmd_stability(args) -> dict:
 
         from hawksim.cli.progress import stage_for
 
-        orbit = shipped_orbit(args.speed, args.aero) if kin is None else None
+        orbit = shipped_orbit(args.speed, args.aero) if kin is None and insect is None else None
         if orbit is None:
             with stage_for(args, "stability: solving the periodic orbit") as st:
-                orbit = periodic_orbit(args.speed, args.aero, kinematics=kin, log=st.note)
+                orbit = periodic_orbit(args.speed, args.aero, kinematics=kin, log=st.note, insect=insect)
         if not orbit.converged:
             print(f"hawksim stability: the periodic orbit did not converge (residual {orbit.residual:.2e}); "
                   "the multipliers are of the nearest state found", file=sys.stderr)
@@ -55,6 +65,7 @@ def cmd_stability(args) -> dict:
         if args.kinematics is not None:
             print(f"stability: {solved_note(orbit, args.kinematics)['note']}", file=sys.stderr)
         kin = orbit.kinematics
+        args.trim_source = "the insect's periodic orbit (solved here)"
         # issue 20: the control derivatives (B matrices) beside the monodromy: the surrogate's and the UVLM's
         # shipped models (hawksim reproduce --only control_surrogate / control_uvlm) about the shipped orbit, else
         # differenced here (quasi-steady and surrogate: seconds; the UVLM's take minutes: none)
@@ -63,7 +74,7 @@ def cmd_stability(args) -> dict:
 
         desc = descriptor(args.aero)
         lin = source = None
-        if desc.control_model_table is not None and args.kinematics is None:
+        if desc.control_model_table is not None and args.kinematics is None and insect is None:
             lin = shipped_control_model(args.speed, args.aero)
             source = f"shipped: hawksim/data/{desc.control_model_table}"
         if lin is None and desc.linearize_cost == "seconds":
@@ -81,6 +92,17 @@ def cmd_stability(args) -> dict:
             out_orbit["floquet_record_held"] = {
                 **floquet_json(fl), "note": "the one-beat map with the network's record held at the orbit's (the "
                                             "body block of the augmented map): not the flight's dynamics"}
+    elif kin is None and insect is not None:  # no shipped trim: the kinematics of its own periodic orbit
+        from hawksim.cli.progress import stage_for
+        from hawksim.flight.orbit import periodic_orbit
+
+        with stage_for(args, "stability: solving the insect's periodic orbit") as st:
+            orbit = periodic_orbit(args.speed, args.aero, log=st.note, insect=insect)
+        if not orbit.converged:
+            raise ValueError(f"--insect {insect.name}: its periodic orbit at {args.speed:g} m/s did not converge "
+                             f"(residual {orbit.residual:.1e}): no kinematics to analyse")
+        kin = orbit.kinematics
+        args.trim_source = "the insect's periodic orbit (solved here)"
     elif kin is None and args.aero == "quasi-steady":
         kin = shipped_trim(args.speed, "quasi-steady").kinematics
     if not descriptor(args.aero).averaged_system:  # the per-step surrogate: Floquet only (no averaged A)
@@ -153,6 +175,9 @@ def register(sub) -> None:
                    help="single-threaded worker processes for the 14 UVLM runs (default: the machine's cores; "
                         "1: run them in this process)")
     p.add_argument("--scheduler", help="address of a running Dask scheduler to run them on instead")
+    p.add_argument("--insect", type=insect_arg, metavar="FILE",
+                   help=INSECT_HELP + "; --aero quasi-steady only: the averaged system at the kinematics of its own "
+                        "periodic orbit (solved here) unless --kinematics is given, its mass and inertia")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_stability, preload=_preload)

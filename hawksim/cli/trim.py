@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from hawksim.cli.args import MAX_POPULATION, positive_int_arg, seed_arg, speed_arg
+from hawksim.cli.args import INSECT_HELP, MAX_POPULATION, insect_arg, positive_int_arg, seed_arg, speed_arg
 from hawksim.cli.predict import NETWORK_FAMILIES
 from hawksim.cli.progress import progress_for
 from hawksim.backends.registry import names
@@ -22,7 +22,7 @@ def cmd_free_flight(args) -> dict:
     from hawksim.flight.orbit import periodic_orbit
 
     log = None if args.no_progress else (lambda m: print(f"orbit: {m}", file=sys.stderr))
-    orbit = periodic_orbit(args.speed, args.aero or "uvlm", log=log)
+    orbit = periodic_orbit(args.speed, args.aero or "uvlm", log=log, insect=getattr(args, "insect", None))
     if not orbit.converged:
         print(f"hawksim trim: the periodic orbit did not converge (residual {orbit.residual:.2e}, "
               f"{orbit.iterations} iterations): 'converged' is false", file=sys.stderr)
@@ -47,6 +47,11 @@ def _refuse_ignored(args) -> None:
     elif args.aero is not None:
         raise UsageError("--aero applies to --free-flight only: the trim searches on the surrogate network "
                          "(--model or --network)")
+    elif getattr(args, "insect", None) is not None:
+        for name in ("verify", "balance"):
+            if getattr(args, name, False):
+                raise UsageError(f"--{name} does not apply with --insect: the UVLM check and balance search Table 2 "
+                                 "with the default hawkmoth's P0")
 
 
 def cmd_trim(args) -> dict:
@@ -65,13 +70,16 @@ def cmd_trim(args) -> dict:
     cfg = replace(GAConfig(), population=args.population)
     bar = progress_for(args, "trim (GA)", "gen")
     progress = None if bar is None else (lambda g, n, best: bar(g, n, best=f"{best:.6f}"))
-    r = trim_on_surrogate(sur, args.speed, seed=args.seed, cfg=cfg, progress=progress)
+    insect = getattr(args, "insect", None)
+    r = trim_on_surrogate(sur, args.speed, seed=args.seed, cfg=cfg, progress=progress, insect=insect)
     if bar is not None:
         bar.close()
     out = {"kinematics": r.kinematics.to_edge(), "chi": math.degrees(r.kinematics.chi), **r.outputs,
            "fitness": r.fitness, "speed": args.speed, "seed": args.seed, "generations": r.search.generations,
            "nm_evaluations": r.evaluations, "wall_time_s": r.wall_time_s,
-           "model": sur.meta.get("command", args.model or args.network)}
+           "model": sur.meta.get("command", args.model or args.network)} | (
+               {} if insect is None else {"insect": insect.name,
+                                          "bounds_deg": {k: list(v) for k, v in insect.bounds_deg.items()}})
     if args.verify:
         from hawksim.backends.held import run
         from hawksim.backends.resolution import DEFAULT
@@ -113,6 +121,10 @@ def register(sub) -> None:
                         "frees f and phi0 and the body state at phase 0)")
     p.add_argument("--aero", choices=names(having="orbits"),
                    help="with --free-flight: the aerodynamic model (default uvlm)")
+    p.add_argument("--insect", type=insect_arg, metavar="FILE",
+                   help=INSECT_HELP + "; the GA searches its bounds_deg (inside Table 2, the network's training box; "
+                        "its morphology must be the hawkmoth's) and P+ is in its reference power; with --free-flight "
+                        "its own periodic orbit (any morphology)")
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_trim, human=render_trim)

@@ -38,9 +38,10 @@ from hawksim.flight.orbit import STEPS_PER_CYCLE, backend_record, read_body_stat
 from hawksim.flight.power import P_plus
 from hawksim.flight.result import FlightResult
 from hawksim.frames import attitude_of, pitch_of, quat_from_matrices
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
-from hawksim.insect.morphology import HAWKMOTH
+from hawksim.insect.morphology import Morphology
 
 SPEED_RATE = 0.2
 """Largest change of the speed reference per wingbeat [m/s]."""
@@ -51,8 +52,9 @@ SATURATION_TOL = 1e-9
 phi_a = 60 deg, so round-off-level antisymmetric commands are clipped all the time)."""
 
 
-def body_length(morph=HAWKMOTH) -> float:
-    """Head tip to abdomen tip along body x [m] (the segments of :mod:`hawksim.insect.morphology`): 0.0425 m."""
+def body_length(morph: Morphology | None = None) -> float:
+    """Head tip to abdomen tip along body x [m] of ``morph``'s segments (default the default insect's, 0.0425 m)."""
+    morph = DEFAULT_INSECT.morphology if morph is None else morph
     lo = min(s.centre[0] - s.semi_axes[0] for s in morph.segments)
     hi = max(s.centre[0] + s.semi_axes[0] for s in morph.segments)
     return float(hi - lo)
@@ -131,7 +133,8 @@ class ClosedLoop:
     def to_json(self) -> dict:
         return {"mode": self.control, "update_rate": self.schedule.rate, "delay_beats": self.delay,
                 "speed_rate_m_s_per_beat": self.speed_rate,
-                "body_length_m": body_length(), "schedule": [p.to_json() for p in self.schedule.points],
+                "body_length_m": body_length(self.schedule.insect.morphology),
+                "schedule": [p.to_json() for p in self.schedule.points],
                 "gusts": [{"velocity": list(map(float, g.velocity)), "start": g.start, "beats": g.beats}
                           for g in self.gusts],
                 "beats": self.beats} | ({"constrained": self.schedule.to_json_constrained()}
@@ -151,7 +154,8 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     model: mujoco.MjModel | None = None, record: bool = False, log=None,
                     progress: Callable[[int, int], None] | None = None,
                     design_delay: int | None = None, aero: str = "quasi-steady", rate: str = "beat",
-                    partial_on_interrupt: bool = False, speed_rate: float | None = None) -> ClosedLoop:
+                    partial_on_interrupt: bool = False, speed_rate: float | None = None,
+                    insect: Insect | None = None) -> ClosedLoop:
     """Fly ``beats`` wingbeats from the quasi-steady orbit at ``speed`` [m/s] (plus ``perturbation`` (9,) SI in
     :data:`hawksim.flight.orbit.STATE_NAMES` order: angles in radians, rates in rad/s) under the LQR
     (``control='lqr'``) or open loop (``'none'``:
@@ -169,10 +173,15 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     after each complete beat.
     ``partial_on_interrupt`` (with ``record``): a KeyboardInterrupt during the beats returns the steps and beats
     completed so far (``result`` with fewer than beats x 200 rows, ``beats`` the complete ones) instead of
-    propagating; with no step completed it propagates."""
+    propagating; with no step completed it propagates.
+    ``insect``: the insect flown (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): the schedule made here is of
+    its own orbits and gains (quasi-steady: solved here; ``control='clqr'`` and backends of shipped orbits take the
+    default insect only, ValueError), its wings in the backend, its MJCF unless ``model`` is given, its kinematic
+    bounds for the saturation, its weight and P0 in ``result``; a given ``schedule`` must be of the same insect."""
     if control not in ("lqr", "clqr", "none"):
         raise ValueError(f"--control {control!r}: choose lqr, clqr, none")
     t_start = time.perf_counter()
+    insect = DEFAULT_INSECT if insect is None else insect
     desc = descriptor(aero)
     gusts = list(gusts or [])
     cmd = profile_speeds(profile, speed, beats)
@@ -181,17 +190,19 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         from hawksim.control.constrained import ConstrainedSchedule
 
         schedule = ConstrainedSchedule(min(speed, cmd.min()), max(speed, cmd.max()), delay=dd, model=model, log=log,
-                                       aero=aero, rate=rate)
+                                       aero=aero, rate=rate, insect=insect)
     if schedule is None:
         schedule = Schedule(min(speed, cmd.min()), max(speed, cmd.max()), delay=dd, model=model, log=log, aero=aero,
-                            rate=rate)
+                            rate=rate, insect=insect)
     if any(p.orbit.aero != aero for p in schedule.points):
         raise ValueError(f"the schedule's orbits are not {aero} orbits")
+    if any(p.orbit.insect != insect for p in schedule.points):
+        raise ValueError(f"the schedule's orbits are not of the insect {insect.name!r}")
     if desc.memory == WAKE and not any(p.speed == speed for p in schedule.points):  # the wake needs its launch
         raise ValueError(f"speed={speed:g} with aero={aero!r} under control: the flight starts on a shipped orbit "
                          f"({', '.join(f'{p.speed:g}' for p in schedule.points)} m/s here), whose launch develops "
                          "the wake; command speeds in between with profile")
-    model = model if model is not None else load_model()
+    model = model if model is not None else load_model(morph=insect.morphology)
     start = schedule.reference(speed)
     kin0, x0, chi0, _ = start
     exact = [p for p in schedule.points if p.speed == speed]
@@ -199,7 +210,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
         kin0, x0, chi0 = exact[0].orbit.kinematics, exact[0].orbit.initial_state.as_array(), exact[0].orbit.chi_ref
     if perturbation is not None:
         x0 = x0 + np.asarray(perturbation, float)
-    sim = controlled_plant(model, kin0, aero)
+    sim = controlled_plant(model, kin0, aero, insect=insect)
     p_orbit = kin0.as_array()
     sim.set_wings(kin0, kin0)
     n = STEPS_PER_CYCLE
@@ -258,7 +269,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                     lp, rp = schedule.wings(v_ref, x_s, pos_s, flown[-1 - design_lag:], phase=seg, record=rec_s)
                 else:
                     lp = rp = p_orbit
-                ls, rs = saturate(lp), saturate(rp)
+                ls, rs = saturate(lp, insect), saturate(rp, insect)
                 saturated |= bool(max(np.abs(ls - lp).max(), np.abs(rs - rp).max()) > SATURATION_TOL)
                 applied.append(_edge_command(kin_ref, command_of(kin_ref, ls, rs)))
                 if nseg == 1:
@@ -294,7 +305,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
                         "air_velocity": [float(a) for a in air],
                         "state": [float(a) for a in x],
                         "commands": applied[0], "saturated": saturated,
-                        "P_plus": P_plus(pj, sim.aero_every)})
+                        "P_plus": P_plus(pj, sim.aero_every, P0=insect.P0)})
             if nseg > 1:
                 out[-1]["commands_half_stroke"] = applied[1]
             if progress is not None:  # after the beat is complete (an interrupt raised here keeps it)
@@ -315,6 +326,6 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
             wing_R=a["wR"], wing_origin=a["wo"], force=a["F"], moment=a["M"], power_aero=a["Pa"],
             power_joint=a["Pj"], wall_time_s=time.perf_counter() - t_start,
             trim_source=f"periodic orbit of the free body, {control} control", beat_steps=n,
-            speed_commands=np.array(refs), end_t=end_t, end_pos=end_pos, aero_every=sim.aero_every)
+            speed_commands=np.array(refs), end_t=end_t, end_pos=end_pos, aero_every=sim.aero_every, insect=insect)
     return ClosedLoop(beats=out, schedule=schedule, result=result, wall_time_s=time.perf_counter() - t_start,
                       control=control, delay=int(delay), gusts=gusts, speed_rate=speed_rate)

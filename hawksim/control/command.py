@@ -8,7 +8,7 @@ import sys
 
 import numpy as np
 
-from hawksim.control.closed_loop import Gust, body_length, fly_closed_loop
+from hawksim.control.closed_loop import Gust, fly_closed_loop
 from hawksim.insect.kinematics import SPEED_RANGE
 
 CONTROL_CHOICES = ("lqr", "clqr", "none")
@@ -108,11 +108,12 @@ def check_surrogate_control(speed: float, profile) -> None:
 
 def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=None, delay: int = 0,
                 perturb: dict | None = None, model_path=None, progress=None, log=None,
-                aero: str = "quasi-steady", rate: str = "beat", partial_on_interrupt: bool = False):
+                aero: str = "quasi-steady", rate: str = "beat", partial_on_interrupt: bool = False, insect=None):
     """The closed-loop flight of a `hawksim fly` under control (or open loop with a gust), recorded
     (:class:`hawksim.control.closed_loop.ClosedLoop` with ``result``). ``partial_on_interrupt``: a Ctrl-C or
     SIGTERM turned into KeyboardInterrupt during the beats returns the steps flown (see
-    :func:`hawksim.control.closed_loop.fly_closed_loop`)."""
+    :func:`hawksim.control.closed_loop.fly_closed_loop`). ``insect``: the insect flown (default the hawkmoth; its
+    MJCF unless ``model_path`` is given)."""
     from hawksim.flight.orbit import STATE_NAMES
     from hawksim.flight.start import parse_perturbations
     from hawksim.insect.model import load_model
@@ -128,8 +129,9 @@ def fly_command(speed: float, cycles: int, *, control: str, profile=None, gusts=
     if descriptor(aero).shipped_orbits_only:
         check_shipped_control(speed, profile, aero)
     return fly_closed_loop(speed, cycles, profile=profile, gusts=gusts, delay=delay, control=control, perturbation=x,
-                           model=load_model(model_path), record=True, log=log, progress=progress, aero=aero,
-                           rate=rate, partial_on_interrupt=partial_on_interrupt)
+                           model=load_model(model_path) if model_path is not None or insect is None else None,
+                           record=True, log=log, progress=progress, aero=aero, rate=rate,
+                           partial_on_interrupt=partial_on_interrupt, insect=insect)
 
 
 def command_summary(cl, cycles: int, control: str, aero: str = "quasi-steady", rate: str = "beat") -> dict:
@@ -158,5 +160,5 @@ def command_summary(cl, cycles: int, control: str, aero: str = "quasi-steady", r
               "beats: speed error <= "
               f"{m['speed_error']:.4f} m/s, pitch error <= {m['pitch_error_deg']:.2f} deg, roll <= "
               f"{m['roll_deg']:.2f} deg, drift <= {m['horizontal_drift_m'] * 1e3:.1f} mm "
-              f"(body length {body_length() * 1e3:.1f} mm)", file=sys.stderr)
+              f"(body length {ctl['body_length_m'] * 1e3:.1f} mm)", file=sys.stderr)
     return out

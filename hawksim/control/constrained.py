@@ -49,6 +49,7 @@ from hawksim.control.derivatives import (XI_NAMES, Snapshot, central_jacobians, 
 from hawksim.control.lqr import U_MAX, X_MAX, augment
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import Orbit
+from hawksim.insect.insect import DEFAULT_INSECT
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
 from hawksim.insect.model import load_model
 
@@ -311,6 +312,10 @@ class ConstrainedSchedule(Schedule):
                  held: tuple[str, ...] | None = None, **kw):
         if kw.get("rate", "beat") != "beat":
             raise ValueError("the constrained LQR updates once per wingbeat (--control-rate beat)")
+        insect = kw.get("insect")
+        if insect is not None and insect != DEFAULT_INSECT:  # its wing models and plans use Table 2's box
+            raise ValueError(f"insect {insect.name!r}: the constrained LQR is designed for the default hawkmoth only "
+                             "(control another insect with control='lqr')")
         super().__init__(v_lo, v_hi, **kw)
         self.horizon = int(horizon)
         self.envelope = envelope

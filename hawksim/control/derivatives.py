@@ -113,10 +113,10 @@ class Snapshot:
 
         self._copy = copy.deepcopy
         self.orbit, self.clip = orbit, clip
-        self.sat = saturate if clip else (lambda p: p)
+        self.sat = (lambda p: saturate(p, orbit.insect)) if clip else (lambda p: p)
         if sim is None:
             kin = orbit.kinematics
-            sim = controlled_plant(model, kin, orbit.aero)
+            sim = controlled_plant(model, kin, orbit.aero, insect=orbit.insect)
             orbit.seed(sim.backend)
             sim.set_wings(kin, kin)
             set_body_state(sim, orbit.launch_state.as_array(), orbit.chi_ref)
@@ -197,10 +197,10 @@ def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, 
     a bound the orbit sits on, e.g. phi_a = 60 deg). ``wings(base, du) -> (left, right)``: the command's
     parameterization (default :func:`hawksim.control.plant.wing_kinematics`, the seven channels of INPUTS;
     :func:`hawksim.control.constrained.wing_params` for the per-wing channels)."""
-    model = model if model is not None else load_model()
+    model = model if model is not None else load_model(morph=orbit.insect.morphology)
     kin = orbit.kinematics
-    sim = controlled_plant(model, kin, orbit.aero)
-    sat = saturate if clip else (lambda p: p)
+    sim = controlled_plant(model, kin, orbit.aero, insect=orbit.insect)
+    sat = (lambda p: saturate(p, orbit.insect)) if clip else (lambda p: p)
     lp, rp = (Kinematics.from_array(sat(p)) for p in wings(kin, du_prev))
     sim.set_wings(lp, rp)
     set_body_state(sim, x0, orbit.chi_ref)
@@ -374,7 +374,7 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
         clip = desc.saturated_plant
     if delta is None:
         delta = desc.fd.control
-    model = model if model is not None else load_model()
+    model = model if model is not None else load_model(morph=orbit.insect.morphology)
     kin = orbit.kinematics
     sc = xi_scale(kin)
     if orbit.has_memory:

@@ -62,12 +62,13 @@ def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray,
             raise ValueError("a half-stroke of an orbit with warm-up beats branches from a snapshot of the orbit's "
                              "flight at that phase (linearize_half_stroke)")
         return snapshot.beat(x0, du_prev, du, half=half, record=record)
-    model = model if model is not None else load_model()
+    model = model if model is not None else load_model(morph=orbit.insect.morphology)
     kin = orbit.kinematics
     if descriptor(orbit.aero).saturated_plant:  # the surrogate: its controlled plant, each wing clipped at Table 2
-        sim, sat = controlled_plant(model, kin, orbit.aero), saturate
+        sim = controlled_plant(model, kin, orbit.aero, insect=orbit.insect)
+        sat = lambda p: saturate(p, orbit.insect)  # noqa: E731
     else:
-        backend, every = make_orbit_backend(orbit.aero, symmetric=False)
+        backend, every = make_orbit_backend(orbit.aero, symmetric=False, insect=orbit.insect)
         sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True,
                                   aero_every=every)
         sat = None
@@ -148,7 +149,7 @@ def linearize_half_stroke(orbit: Orbit, *, delta: float | None = None,
     desc.half_stroke.require("a half-stroke controller", orbit.aero)
     if delta is None:
         delta = desc.fd.control
-    model = model if model is not None else load_model()
+    model = model if model is not None else load_model(morph=orbit.insect.morphology)
     key = None
     if orbit.record is not None:
         from hawksim.control import cache

@@ -36,7 +36,8 @@ import numpy as np
 
 from hawksim.backends.base import FlightState
 from hawksim.flight.simulator import Simulator
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 
 INPUTS = ("f", "phi0", "alpha0", "theta0", "dphi_a", "dphi0", "dalpha0")
 """Command channels: symmetric f (relative: f / f_base - 1), phi0, alpha0, theta0 [rad]; antisymmetric
@@ -63,9 +64,10 @@ def wing_kinematics(base: Kinematics, du: np.ndarray) -> tuple[np.ndarray, np.nd
     return p + sym + anti / 2, p + sym - anti / 2
 
 
-def saturate(params: np.ndarray) -> np.ndarray:
-    """A wing's parameters (7,) clipped to Table 2."""
-    lo, hi = bounds_si()
+def saturate(params: np.ndarray, insect: Insect | None = None) -> np.ndarray:
+    """A wing's parameters (7,) SI clipped to ``insect``'s kinematic bounds (:meth:`Insect.bounds_si`; default
+    :data:`hawksim.insect.insect.DEFAULT_INSECT`'s, Table 2)."""
+    lo, hi = (DEFAULT_INSECT if insect is None else insect).bounds_si()
     return np.clip(params, lo, hi)
 
 
@@ -218,13 +220,15 @@ class ControlledSimulator(Simulator):
         return st
 
 
-def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int | None = None) -> ControlledSimulator:
+def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int | None = None,
+                     insect: Insect | None = None) -> ControlledSimulator:
     """The controlled plant of `hawksim fly --aero NAME` (``aero``: quasi-steady, uvlm or surrogate) at base
     kinematics ``kin``: the backend of :func:`hawksim.flight.orbit.make_orbit_backend` (both wings solved: the
     commands break the symmetry), updated at its flight rate; a backend whose descriptor has a
     ``controlled_factory`` (the per-step surrogate: :class:`hawksim.backends.controlled_step_surrogate.
     ControlledStepSurrogate`) built by it and bound to the plant, so that it reads the commanded kinematics
-    (:meth:`ControlledSimulator.network_kinematics`)."""
+    (:meth:`ControlledSimulator.network_kinematics`). ``insect``: whose wings the backend flies (default
+    :data:`hawksim.insect.insect.DEFAULT_INSECT`); ``model`` must be its MJCF."""
     from hawksim.backends.registry import descriptor
     from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend
     from hawksim.flight.simulator import aero_every_for
@@ -232,9 +236,12 @@ def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int 
     n = STEPS_PER_CYCLE if steps_per_cycle is None else steps_per_cycle
     bound = descriptor(aero).controlled_factory
     if bound is not None:  # a backend that reads the commanded kinematics (the per-step surrogate's network)
+        if insect is not None and insect.morphology != DEFAULT_INSECT.morphology:
+            raise ValueError(f"insect {insect.name!r}: the {aero} backend's network was trained on the default "
+                             "hawkmoth's morphology")
         backend = bound(kin)
     else:
-        backend, _ = make_orbit_backend(aero, symmetric=False)
+        backend, _ = make_orbit_backend(aero, symmetric=False, insect=insect)
     sim = ControlledSimulator(model, kin, backend, steps_per_cycle=n, gravity=True,
                               aero_every=aero_every_for(backend, n))
     if bound is not None:

@@ -34,6 +34,7 @@ from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_s
 from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gains
 from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, command_of, wing_kinematics
 from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
 from hawksim.stability.history_floquet import RECORD_LAT, RECORD_LONG
 
@@ -198,12 +199,25 @@ def shipped_control_model(speed: float, aero: str) -> BeatMapModel | None:
 
 _POINTS: dict = {}
 _HALF: dict = {}
+"""The process's orbits and linear models: keyed (speed, aero) for the default insect and (speed, aero, insect key)
+for another (:func:`insect_key`), so that two insects never share an orbit or gains."""
 
 
-def _orbit_and_model(speed: float, aero: str, model, log) -> tuple[Orbit, BeatMapModel]:
-    key = (float(speed), aero)
+def insect_key(insect: Insect | None) -> tuple:
+    """The part of a cache key that names the insect: () for the default insect (the keys as they were), else its
+    spec as sorted JSON (:meth:`Insect.to_dict`: morphology, P0 and bounds), which two insects share only if equal."""
+    if insect is None or insect == DEFAULT_INSECT:
+        return ()
+    return (json.dumps(insect.to_dict(), sort_keys=True),)
+
+
+def _orbit_and_model(speed: float, aero: str, model, log, insect: Insect | None = None) -> tuple[Orbit, BeatMapModel]:
+    key = (float(speed), aero, *insect_key(insect))
     desc = descriptor(aero)
     if key not in _POINTS:
+        if insect_key(insect) and desc.shipped_orbits_only:
+            raise ValueError(f"insect {insect.name!r}: the {aero} schedule flies shipped orbits, which are the default "
+                             "hawkmoth's; control another insect with the quasi-steady backend")
         if desc.shipped_orbits_only:
             orb = shipped_orbit(speed, aero)
             if orb is None or not orb.converged:
@@ -216,7 +230,7 @@ def _orbit_and_model(speed: float, aero: str, model, log) -> tuple[Orbit, BeatMa
                         f"{desc.linearize_cost}) ...")
                 lin = linearize(orb, model=model)
         else:
-            orb = periodic_orbit(speed, aero, model=model, log=log)
+            orb = periodic_orbit(speed, aero, model=model, log=log, insect=insect)
             if not orb.converged:
                 raise FloatingPointError(f"the periodic orbit at {speed:g} m/s did not converge ({orb.residual:.1e})")
             lin = linearize(orb, model=model)
@@ -225,18 +239,22 @@ def _orbit_and_model(speed: float, aero: str, model, log) -> tuple[Orbit, BeatMa
 
 
 def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", model=None, log=None,
-                   x_max=None, u_max=None, rate: str = "beat", command_weight: float | None = None) -> SchedulePoint:
+                   x_max=None, u_max=None, rate: str = "beat", command_weight: float | None = None,
+                   insect: Insect | None = None) -> SchedulePoint:
     """Orbit, linearization and LQR gains at ``speed`` [m/s] for a sensing ``delay`` [wingbeats] and update
-    ``rate`` (:data:`RATES`); orbits and linear models are cached per process. ``x_max``/``u_max`` override
-    Bryson's bounds (:mod:`hawksim.control.lqr`); ``command_weight`` multiplies R of the half-stroke design
-    (default :data:`HALF_STROKE_COMMAND_WEIGHT`)."""
+    ``rate`` (:data:`RATES`); orbits and linear models are cached per process and per insect. ``x_max``/``u_max``
+    override Bryson's bounds (:mod:`hawksim.control.lqr`); ``command_weight`` multiplies R of the half-stroke design
+    (default :data:`HALF_STROKE_COMMAND_WEIGHT`). ``insect``: the insect controlled (default
+    :data:`hawksim.insect.insect.DEFAULT_INSECT`): its own orbit (solved here: backends of shipped orbits only take
+    the default insect, ValueError otherwise), linearized on its MJCF (``model`` must be its MJCF if given)."""
     if rate not in RATES:
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
     if rate == "half-stroke":
         descriptor(aero).half_stroke.require("rate='half-stroke'", aero)
-    orb, lin = _orbit_and_model(speed, aero, model, log)
+    ik = insect_key(insect)
+    orb, lin = _orbit_and_model(speed, aero, model, log, insect)
     if rate == "beat" and orb.record is not None:  # a history network: the per-beat design on the augmented state
-        key = (float(speed), aero, "records")
+        key = (float(speed), aero, "records", *ik)
         if key not in _POINTS:
             if log is not None:
                 log(f"linearizing the {aero} orbit at {speed:g} m/s with its record of calls (seconds) ...")
@@ -246,7 +264,7 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
     if rate == "beat":
         return SchedulePoint(float(speed), orb, lin, long, lat)
-    key = (float(speed), aero)
+    key = (float(speed), aero, *ik)
     if key not in _HALF:
         _HALF[key] = linearize_half_stroke(orb, model=model)
     h = _HALF[key]
@@ -282,10 +300,11 @@ BOUND_TOL = 1e-3
 
 def symmetric_inputs(orbit: Orbit) -> tuple[int, ...]:
     """The symmetric channels of :data:`hawksim.control.plant.SYM_INPUTS` whose parameter (f, phi0, alpha0, theta0)
-    is not on a Table 2 bound at ``orbit`` (:data:`BOUND_TOL`)."""
-    from hawksim.insect.kinematics import PARAM_NAMES, bounds_si
+    is not on a bound of the orbit's insect (:attr:`Orbit.insect`, Table 2 for the default) at ``orbit``
+    (:data:`BOUND_TOL`)."""
+    from hawksim.insect.kinematics import PARAM_NAMES
 
-    lo, hi = bounds_si()
+    lo, hi = orbit.insect.bounds_si()
     p = orbit.kinematics.as_array()
     keep = []
     for i in SYM_INPUTS:
@@ -298,12 +317,12 @@ def symmetric_inputs(orbit: Orbit) -> tuple[int, ...]:
 class Schedule:
     """Gain schedule over the ascent speed: :class:`SchedulePoint` at the grid speeds needed for [v_lo, v_hi]
     (``speeds``: default :func:`schedule_speeds` of ``aero``); a range outside the grid's is refused (ValueError).
-    ``rate``: :data:`RATES`; ``delay`` [wingbeats]; the rest as
-    :func:`schedule_point`."""
+    ``rate``: :data:`RATES`; ``delay`` [wingbeats]; ``insect`` (default
+    :data:`hawksim.insect.insect.DEFAULT_INSECT`, kept as :attr:`insect`); the rest as :func:`schedule_point`."""
 
     def __init__(self, v_lo: float, v_hi: float, *, delay: int = 0, aero: str = "quasi-steady", model=None,
                  log=None, speeds=None, x_max=None, u_max=None, rate: str = "beat",
-                 command_weight: float | None = None):
+                 command_weight: float | None = None, insect: Insect | None = None):
         if speeds is None:
             speeds = schedule_speeds(aero)
         if not len(speeds):
@@ -317,9 +336,10 @@ class Schedule:
         hi = sp[min(len(sp) - 1, np.searchsorted(sp, v_hi, side="left"))]
         self.delay = int(delay)
         self.rate = rate
+        self.insect = DEFAULT_INSECT if insect is None else insect
         self.per_beat = HALVES if rate == "half-stroke" else 1
         self.points = [schedule_point(v, delay=delay, aero=aero, model=model, log=log, x_max=x_max, u_max=u_max,
-                                      rate=rate, command_weight=command_weight)
+                                      rate=rate, command_weight=command_weight, insect=insect)
                        for v in sp if lo - 1e-12 <= v <= hi + 1e-12]
         self.speeds = np.array([p.speed for p in self.points])
 

@@ -30,6 +30,7 @@ import mujoco
 import numpy as np
 
 from hawksim.backends.held import held_flight
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import Kinematics
 from hawksim.backends.builtin import QUASI_STEADY
 from hawksim.backends.registry import descriptor
@@ -207,10 +208,10 @@ class _RelativeMotion:
 
     name = "quasi-steady"
 
-    def __init__(self, v_d: np.ndarray, omega_d: np.ndarray):
+    def __init__(self, v_d: np.ndarray, omega_d: np.ndarray, morph=None):
         from hawksim.backends.quasi_steady import QuasiSteadyBackend
 
-        self.inner = QuasiSteadyBackend()
+        self.inner = QuasiSteadyBackend(DEFAULT_INSECT.morphology if morph is None else morph)
         self.v_d, self.omega_d = np.asarray(v_d, float), np.asarray(omega_d, float)
 
     def reset(self, state):
@@ -254,20 +255,27 @@ class AveragedSystem:
     scalars: dict
 
 
-def _mean_loads_stability(kin, speed, v_d_s, w_d_s, steps_per_cycle):
-    r = held_flight(kin, speed, _RelativeMotion(S @ v_d_s, S @ w_d_s), cycles=QS_HELD_CYCLES,
-                    steps_per_cycle=steps_per_cycle)
+def _mean_loads_stability(kin, speed, v_d_s, w_d_s, steps_per_cycle, insect=None, model=None):
+    r = held_flight(kin, speed, _RelativeMotion(S @ v_d_s, S @ w_d_s, None if insect is None else insect.morphology),
+                    cycles=QS_HELD_CYCLES, steps_per_cycle=steps_per_cycle, insect=insect, model=model)
     F, M = r.mean_loads(1)
     return np.concatenate([S @ F, S @ M])
 
 
-def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int = 200) -> AveragedSystem:
+def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int = 200,
+                        insect: Insect | None = None) -> AveragedSystem:
     """Stability derivatives of the quasi-steady backend at ``kin`` on the held trim path (ascent ``speed``,
-    body at chi), and the nondimensional A matrices (hawksim.stability.system)."""
+    body at chi), and the nondimensional A matrices (hawksim.stability.system). ``insect`` (default
+    :data:`hawksim.insect.insect.DEFAULT_INSECT`): its wings in the backend, its MJCF for the held flights and the
+    mass and inertia, its morphology for Eq. 8's scales."""
+    from hawksim.insect.kinematics import reference_speed
+    from hawksim.insect.model import load_model
     from hawksim.stability.derivatives import mass_properties
     from hawksim.stability.system import about_centre_of_mass, nondimensional_system
 
-    U, T = scales(kin)
+    insect = DEFAULT_INSECT if insect is None else insect
+    model = load_model(morph=insect.morphology)
+    U, T = reference_speed(kin, insect.morphology), kin.period
     dv, dw = DERIV_DELTA_VELOCITY * U, DERIV_DELTA_RATE / T
     e = np.eye(3)
     z = np.zeros(3)
@@ -279,12 +287,13 @@ def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int =
         ys = []
         for s in (1, -1):
             vd, wd = (s * h * e[i], z) if trans else (z, s * h * e[i])
-            ys.append(_mean_loads_stability(kin, speed, vd, wd, steps_per_cycle))
+            ys.append(_mean_loads_stability(kin, speed, vd, wd, steps_per_cycle, insect, model))
         diff = (ys[0] - ys[1]) / (2 * h)
         for f in forces:
             out[f + var] = float(diff[comp[f]])
-    mp = mass_properties(kin)
-    d, Al, At, scalars = nondimensional_system(kin, speed, out, mp)  # moved to the system's centre of mass
+    mp = mass_properties(kin, model)
+    # moved to the system's centre of mass
+    d, Al, At, scalars = nondimensional_system(kin, speed, out, mp, insect.morphology)
 
     def ev(A):
         w = np.linalg.eigvals(A)

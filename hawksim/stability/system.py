@@ -25,7 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from hawksim.insect.kinematics import Kinematics, reference_speed
-from hawksim.insect.morphology import HAWKMOTH, RHO_AIR, G, Morphology
+from hawksim.insect.insect import DEFAULT_INSECT
+from hawksim.insect.morphology import RHO_AIR, G, Morphology
 
 LONG_DERIVATIVES = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
 LAT_DERIVATIVES = ("Yv", "Yp", "Yr", "Lv", "Lp", "Lr", "Nv", "Np", "Nr")
@@ -45,7 +46,9 @@ class Scales:
     rho: float
 
     @classmethod
-    def of(cls, kin: Kinematics, morph: Morphology = HAWKMOTH, rho: float = RHO_AIR) -> Scales:
+    def of(cls, kin: Kinematics, morph: Morphology | None = None, rho: float = RHO_AIR) -> Scales:
+        """The scales of ``kin`` flown by ``morph`` (default the default insect's morphology)."""
+        morph = DEFAULT_INSECT.morphology if morph is None else morph
         return cls(U=reference_speed(kin, morph), T=kin.period, S_t=2 * morph.wing_area, cbar=morph.cbar, rho=rho)
 
     @property
@@ -174,10 +177,12 @@ def modes_json(A: np.ndarray) -> dict:
 
 
 def nondimensional_system(kin: Kinematics, speed: float, derivs_dim: dict[str, float], mp: MassProperties,
-                          morph: Morphology = HAWKMOTH, g: float = G) -> tuple[dict, np.ndarray, np.ndarray, dict]:
+                          morph: Morphology | None = None, g: float = G) -> tuple[dict, np.ndarray, np.ndarray, dict]:
     """(nondimensional derivatives, A_long+, A_lat+, scalars) from dimensional derivatives in stability axes about
     the body's centre of mass (what the derivative runs give), moved to the system's (:func:`about_centre_of_mass`,
-    ``mp.body_cg``) where ``mp``'s inertia is."""
+    ``mp.body_cg``) where ``mp``'s inertia is (its mass and inertia are the insect's: :func:`hawksim.stability.
+    derivatives.mass_properties` of its MJCF). ``morph``: the insect's morphology, the wing of Eq. 8's scales
+    (default the default insect's)."""
     sc = Scales.of(kin, morph)
     d = {k: sc.derivative(k, v) for k, v in about_centre_of_mass(derivs_dim, mp.body_cg).items()}
     m = sc.mass(mp.m)

@@ -27,13 +27,15 @@ Everything random comes from ``numpy.random.default_rng(seed)``: same surrogate 
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from hawksim.backends.averages import CycleAverages
-from hawksim.insect.kinematics import Kinematics, bounds_si
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.kinematics import PARAM_NAMES, TABLE2_BOUNDS_DEG, Kinematics
 from hawksim.trim.point import Trim
 
 R_PENALTY = 2.0
@@ -45,17 +47,37 @@ S_PENALTY = 5.0
 def bound_violation(x: np.ndarray, lo: np.ndarray | None = None, hi: np.ndarray | None = None) -> np.ndarray:
     """Eq. 3's sum_i |zeta_i| / (Max_i - Min_i) for x (n, 7) SI (Table 2's bounds by default)."""
     if lo is None or hi is None:
-        lo, hi = bounds_si()
+        lo, hi = DEFAULT_INSECT.bounds_si()
     x = np.atleast_2d(x)
     zeta = np.maximum(lo - x, 0.0) + np.maximum(x - hi, 0.0)
     return np.sum(zeta / (hi - lo), axis=1)
 
 
-def fitness(y: np.ndarray, x: np.ndarray, r: float = R_PENALTY, s: float = S_PENALTY) -> np.ndarray:
-    """Eq. 3. y (n, 4): L+, D+, M+, P+; x (n, 7) SI kinematics. Returns F (n,)."""
+def fitness(y: np.ndarray, x: np.ndarray, r: float = R_PENALTY, s: float = S_PENALTY, *,
+            lo: np.ndarray | None = None, hi: np.ndarray | None = None) -> np.ndarray:
+    """Eq. 3. y (n, 4): L+, D+, M+, P+; x (n, 7) SI kinematics; ``lo``/``hi`` (7,) SI the bounds of zeta (Table 2's
+    by default). Returns F (n,)."""
     y = np.atleast_2d(y)
     return (y[:, 3] + r * (np.abs(1.0 - y[:, 0]) + np.abs(y[:, 1]) + np.abs(y[:, 2]))
-            + s * bound_violation(x))
+            + s * bound_violation(x, lo, hi))
+
+
+def surrogate_insect(insect: Insect | None) -> Insect:
+    """``insect`` (default :data:`hawksim.insect.insect.DEFAULT_INSECT`) checked for a trim on the shipped surrogate:
+    the network was trained on the default hawkmoth's morphology within Table 2, so the insect's morphology must be
+    that one (its label aside) and its kinematic bounds inside Table 2 (a narrower envelope); its P0 may differ (P+
+    is rescaled). ValueError naming the field otherwise."""
+    insect = DEFAULT_INSECT if insect is None else insect
+    if dataclasses.replace(insect.morphology, name=DEFAULT_INSECT.name) != DEFAULT_INSECT.morphology:  # any label
+        raise ValueError(f"insect {insect.name!r}: the surrogate network was trained on the default hawkmoth's "
+                         "morphology; another morphology's trim is its periodic orbit (free flight)")
+    for k in PARAM_NAMES:
+        lo, hi = insect.bounds_deg[k]
+        t_lo, t_hi = TABLE2_BOUNDS_DEG[k]
+        if lo < t_lo or hi > t_hi:
+            raise ValueError(f"insect field 'bounds_deg.{k}' = [{lo:g}, {hi:g}] leaves Table 2's [{t_lo:g}, "
+                             f"{t_hi:g}], the surrogate network's training box")
+    return insect
 
 
 @dataclass(frozen=True)
@@ -149,16 +171,27 @@ def ga_nelder_mead(objective, dim: int, cfg: GAConfig, rng: np.random.Generator,
 
 
 def trim_on_surrogate(surrogate, speed: float, *, seed: int = 0, cfg: GAConfig = GAConfig(),
-                      progress=None) -> Trim:
+                      progress=None, insect: Insect | None = None) -> Trim:
     """GA + Nelder-Mead minimum of Eq. 3 on ``surrogate`` (a :class:`hawksim.backends.network.Surrogate`) at ``speed``.
-    The Trim's ``evaluations`` are Nelder-Mead's, ``search`` the GA's result."""
+    The Trim's ``evaluations`` are Nelder-Mead's, ``search`` the GA's result. ``insect``
+    (:func:`surrogate_insect`: the default hawkmoth's morphology): the search box and Eq. 3's zeta are its
+    ``bounds_deg``, and P+ is in its P0."""
     t0 = time.perf_counter()
-    lo, hi = bounds_si()
+    insect = surrogate_insect(insect)
+    lo, hi = insect.bounds_si()
+    p_scale = DEFAULT_INSECT.P0 / insect.P0
     surrogate.features(np.zeros((1, 7)), speed)  # a per-speed network refuses another speed here
+
+    def own(y):  # the network's P+ is in the default insect's P0
+        if p_scale == 1.0:
+            return y
+        y = np.array(y, dtype=float)
+        y[:, 3] *= p_scale
+        return y
 
     def objective_batch(u):
         x = lo + u * (hi - lo)
-        f = fitness(surrogate.predict_torch(x, speed), x)
+        f = fitness(own(surrogate.predict_torch(x, speed)), x, lo=lo, hi=hi)
         if not np.any(np.isfinite(f)):  # a network whose weights overflow (issue 53): the search would never stall
             raise FloatingPointError(f"the surrogate's fitness is not finite at any of {len(f)} kinematics of the "
                                      "search (its outputs overflow)")
@@ -166,14 +199,15 @@ def trim_on_surrogate(surrogate, speed: float, *, seed: int = 0, cfg: GAConfig =
 
     def objective_one(u):
         x = lo + np.asarray(u)[None, :] * (hi - lo)
-        return float(fitness(surrogate.predict(x, speed), x)[0])
+        return float(fitness(own(surrogate.predict(x, speed)), x, lo=lo, hi=hi)[0])
 
     u, _, ga, nfev = ga_nelder_mead(objective_batch, len(lo), cfg, np.random.default_rng(seed),
                                     objective_one=objective_one, progress=progress)
     x = np.clip(lo + u * (hi - lo), lo, hi)  # an optimum past a bound (penalised, rare) is moved onto it
     kin = Kinematics.from_array(x)
-    y = surrogate.predict(x[None, :], speed)[0]
+    y = own(surrogate.predict(x[None, :], speed))[0]
     return Trim(float(speed), kin, model="surrogate", source="GA + Nelder-Mead minimum of Eq. 3 on the surrogate",
                 averages=CycleAverages.from_plus(y),
-                fitness=float(fitness(y[None], x[None])[0]), evaluations=nfev, wall_time_s=time.perf_counter() - t0,
+                fitness=float(fitness(y[None], x[None], lo=lo, hi=hi)[0]), evaluations=nfev,
+                wall_time_s=time.perf_counter() - t0,
                 seed=int(seed), search=ga)

@@ -63,11 +63,108 @@ def test_bad_insect_file_exits_2_naming_the_field(tmp_path, command, text, field
     assert len(r.stderr.strip().splitlines()) == 1 and field in r.stderr and str(spec) in r.stderr
 
 
-def test_fly_insect_refuses_control_and_networks(tmp_path):
+def test_fly_insect_refuses_clqr_shipped_orbits_and_networks(tmp_path):
     spec = tmp_path / "longer.json"
     spec.write_text(json.dumps({"R": 1.1 * HAWKMOTH.R}))
-    r = hawksim("fly", "--speed", "1", "--cycles", "1", "--insect", str(spec), "--control", "lqr")
-    assert r.returncode == 2 and "--insect flies open loop only" in r.stderr
+    for extra in (["--control", "clqr"], ["--control", "lqr", "--aero", "uvlm"]):
+        r = hawksim("fly", "--speed", "1", "--cycles", "1", "--insect", str(spec), *extra)
+        assert r.returncode == 2 and r.stdout == ""
+        assert "--insect under control takes --control lqr with --aero quasi-steady" in r.stderr
     r = hawksim("fly", "--speed", "1", "--cycles", "1", "--insect", str(spec), "--aero", "surrogate")
     assert r.returncode == 2 and "morphology: the surrogate backend's network" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("rate", ["beat", "half-stroke"])
+def test_fly_insect_under_lqr_holds_its_own_orbit(tmp_path, rate):
+    """The 1.2x heavier hawkmoth under the LQR (updated per beat or per half-stroke), its gains designed on its own
+    orbit and MJCF, started off its orbit (q = 60 deg/s): 10 beats at 1 m/s, the beat-mean speed within 1e-3 m/s of
+    the command from beat 5 on."""
+    spec = tmp_path / "heavy.json"
+    spec.write_text(json.dumps({"name": "heavier", "total_mass": 1.2 * HAWKMOTH.total_mass}))
+    r = hawksim("fly", "--speed", "1", "--cycles", "10", "--insect", str(spec), "--control", "lqr",
+                "--perturb", "q=60", "--control-rate", rate, "--json", "--no-progress")
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert out["control"]["mode"] == "lqr" and out["control"]["update_rate"] == rate
+    assert out["departed_at_beat"] is None
+    (point,) = out["control"]["schedule"]
+    assert point["orbit_f_hz"] > 30.5  # its own orbit (the hawkmoth's flaps at 28.5 Hz)
+    assert out["kinematics"]["f"] == pytest.approx(point["orbit_f_hz"], rel=1e-9)
+    speeds = [b["mean_vertical_speed"] for b in out["beats"]]
+    assert len(speeds) == 10 and abs(speeds[0] - 1.0) > 2e-3  # the perturbation is felt
+    assert max(abs(v - 1.0) for v in speeds[4:]) < 1e-3
+    assert out["last_cycle"]["L_plus"] == pytest.approx(1.0, abs=5e-3)  # in its own weight
+
+
+def test_stability_insect_uses_its_own_mass_inertia_and_orbit(tmp_path):
+    """`hawksim stability --insect FILE --aero quasi-steady`: the averaged A matrices at its own orbit's kinematics,
+    with its mass and inertia (m+ = m / (0.5 rho U S_t T) with U T = 2 phi_a r2 the same for both: exactly 1.2 x),
+    and the Floquet multipliers of its own orbit; the default's JSON is as it was (no insect, no trim source)."""
+    spec = tmp_path / "heavy.json"
+    spec.write_text(json.dumps({"name": "heavier", "total_mass": 1.2 * HAWKMOTH.total_mass}))
+
+    def stability(*extra):
+        r = hawksim("stability", "--speed", "1", "--aero", "quasi-steady", "--json", "--no-progress", *extra)
+        assert r.returncode == 0, r.stderr
+        return json.loads(r.stdout)
+
+    hawk, heavy = stability("--floquet"), stability("--floquet", "--insect", str(spec))
+    assert "insect" not in hawk and "source" not in hawk["trim"]
+    assert heavy["insect"] == "heavier" and heavy["trim"]["source"] == "the insect's periodic orbit (solved here)"
+    assert heavy["orbit"]["kinematics"]["f"] > 30.5 and heavy["trim"]["kinematics"] == heavy["orbit"]["kinematics"]
+    nd, nd0 = heavy["nondimensional"], hawk["nondimensional"]
+    assert nd["m_plus"] == pytest.approx(1.2 * nd0["m_plus"], rel=1e-12)
+    assert nd["Iy_plus"] / nd0["Iy_plus"] == pytest.approx(1.195, abs=5e-3)  # its heavier body's pitch inertia
+    ev, ev0 = (max(e[0] for e in o["longitudinal"]["eigenvalues"]) for o in (heavy, hawk))
+    assert ev0 - ev > 0.02  # its unstable oscillatory pair grows slower per beat (0.370 vs 0.411)
+    assert abs(heavy["floquet"]["max_abs_multiplier"] - hawk["floquet"]["max_abs_multiplier"]) > 0.02
+    # without --floquet: the same orbit's kinematics, the same averaged system
+    plain = stability("--insect", str(spec))
+    assert plain["trim"] == heavy["trim"]
+    assert plain["longitudinal"]["eigenvalues"] == heavy["longitudinal"]["eigenvalues"]
+    r = hawksim("stability", "--speed", "1", "--insect", str(spec), "--json")
+    assert r.returncode == 2 and r.stdout == "" and "--insect takes --aero quasi-steady" in r.stderr
+
+
+def trim(*extra):
+    return hawksim("trim", "--speed", "1", "--population", "2000", "--json", "--no-progress", *extra)
+
+
+def test_trim_insect_searches_its_own_bounds_in_its_own_P0(tmp_path):
+    """The hawkmoth with a narrower stroke amplitude (phi_a at most 55 deg: the default's trim sits on 60) and another
+    P0: the GA + Nelder-Mead trim on the shipped surrogate stays in its bounds, still balances, and P+ is in its P0."""
+    spec = tmp_path / "narrow.json"
+    spec.write_text(json.dumps({"name": "narrow", "bounds_deg": {"phi_a": [40, 55]}, "P0_W": 1.25 * P0_W}))
+    r0, r = trim(), trim("--insect", str(spec))
+    assert r0.returncode == 0 and r.returncode == 0, r.stderr
+    base, narrow = json.loads(r0.stdout), json.loads(r.stdout)
+    assert "insect" not in base and base["kinematics"]["phi_a"] == pytest.approx(60.0, abs=1e-6)
+    assert narrow["insect"] == "narrow" and narrow["bounds_deg"]["phi_a"] == [40.0, 55.0]
+    assert 40.0 <= narrow["kinematics"]["phi_a"] <= 55.0
+    assert narrow["L_plus"] == pytest.approx(1.0, abs=5e-3) and abs(narrow["M_plus"]) < 5e-3
+    # in watts (P+ x P0, its P0 1.25 x the hawkmoth's) the narrower envelope costs power: 0.88 x 1.25 vs 0.95
+    assert narrow["P_plus"] * 1.25 > base["P_plus"] + 0.1
+
+
+def test_trim_insect_refuses_another_morphology_or_wider_bounds_on_the_network(tmp_path):
+    heavy, wide = tmp_path / "heavy.json", tmp_path / "wide.json"
+    heavy.write_text(json.dumps({"total_mass": 1.2 * HAWKMOTH.total_mass}))
+    wide.write_text(json.dumps({"bounds_deg": {"phi_a": [30, 70]}}))
+    for spec, words in ((heavy, "trained on the default hawkmoth's morphology"),
+                        (wide, "'bounds_deg.phi_a' = [30, 70] leaves Table 2's [30, 60]")):
+        r = trim("--insect", str(spec))
+        assert r.returncode == 2 and r.stdout == "" and words in r.stderr
+        assert len(r.stderr.strip().splitlines()) == 1
+    r = trim("--insect", str(wide), "--verify")
+    assert r.returncode == 2 and "--verify does not apply with --insect" in r.stderr
+
+
+def test_trim_free_flight_insect_is_its_own_orbit(tmp_path):
+    spec = tmp_path / "heavy.json"
+    spec.write_text(json.dumps({"name": "heavier", "total_mass": 1.2 * HAWKMOTH.total_mass}))
+    r = hawksim("trim", "--speed", "1", "--free-flight", "--aero", "quasi-steady", "--insect", str(spec), "--json",
+                "--no-progress")
+    assert r.returncode == 0, r.stderr
+    orbit = json.loads(r.stdout)
+    assert orbit["converged"] and orbit["kinematics"]["f"] > 30.5  # the hawkmoth's flaps at 28.5 Hz
