@@ -11,7 +11,7 @@ from hawksim.cli.args import (INSECT_HELP, KINEMATICS_HELP, MAX_FLY_STEPS, MAX_S
                               insect_arg,
                               parse_kinematics, perturbation_arg, positive_int_arg, speed_arg, wake_precision_arg,
                               writable_file)
-from hawksim.cli.progress import progress_for
+from hawksim.cli.progress import NoStage, progress_for
 
 
 MAX_WAKE_CYCLES = 100
@@ -21,22 +21,6 @@ START_CHOICES = ("orbit", "trim")
 """Where `hawksim fly` starts: the periodic orbit of the free body (the shipped one of the backend at that speed,
 hawksim/data/orbit_table_*.json; the quasi-steady one is solved at other speeds) or the held-body trim with one
 calibration wingbeat (where no orbit is available, or on request)."""
-
-
-class _Quiet:
-    """The stand-in of a progress stage (:func:`hawksim.cli.progress.stage_for`) when none is given."""
-
-    def __init__(self, desc: str = ""):
-        pass
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc) -> None:
-        pass
-
-    def note(self, text: str) -> None:
-        pass
 
 
 def plan_start(speed: float, aero: str, kinematics=None, steps_per_cycle: int = STEPS_PER_CYCLE,
@@ -132,7 +116,7 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
     morphology = None if insect is None else insect.morphology
     if why is not None and note is not None:
         note(why)
-    stage = stage or _Quiet
+    stage = stage or NoStage
     start_state = None
     if start == "orbit":
         if shipped is not None:

@@ -100,7 +100,13 @@ class Stage:
         self.close()
 
 
-class _NoStage:
+class NoStage:
+    """The silent stand-in of a :class:`Stage` (``--no-progress``, or a caller that gives none); it takes and ignores
+    a description, so that the class itself can stand for ``Stage``."""
+
+    def __init__(self, desc: str = ""):
+        pass
+
     def __enter__(self):
         return self
 
@@ -116,4 +122,4 @@ class _NoStage:
 
 def stage_for(args, desc: str):
     """A :class:`Stage` for a subcommand, or a silent stand-in with ``--no-progress``."""
-    return _NoStage() if getattr(args, "no_progress", False) else Stage(desc)
+    return NoStage() if getattr(args, "no_progress", False) else Stage(desc)

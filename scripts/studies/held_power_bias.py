@@ -21,43 +21,14 @@ import argparse
 import json
 import time
 
-import mujoco
-import numpy as np
 
 from hawksim.backends.held import held_flight
 from hawksim.backends.quasi_steady import QuasiSteadyBackend
 from hawksim.flight.power import SAMPLINGS, P_plus
-from hawksim.flight.simulator import Simulator
-from hawksim.frames import quat_from_matrix, rot_y
+from hawksim.flight.heavy_body import CYCLES, HEAVY, heavy_free_flight
 from hawksim.insect.model import load_model
-from hawksim.insect.morphology import HAWKMOTH
 from hawksim.trim.tables import trim_kinematics
 
-HEAVY = 1e4
-"""Body mass and inertia factor of the heavy-body flights (tests/hawksim/test_heavy_body.py's)."""
-CYCLES = 3
-"""Wingbeats flown; the last one is compared (the UVLM's wake develops over the first two)."""
-
-
-def heavy_free_flight(kin, speed, backend, *, steps_per_cycle, aero_every, cycles=CYCLES):
-    """The last wingbeat of a free flight of a body ``HEAVY`` times heavier, gravity off, started at pitch chi
-    moving straight up at ``speed`` [m/s]: {"L", "D", "M"} (L+, D+, M+ of the loads as applied by the loop: world
-    frame, the pitching moment about the body's centre of mass, nose up) and {"P_updates", "P_steps"} (P+ of the
-    joint power, :func:`hawksim.flight.power.P_plus` with either sampling). The flight of
-    tests/hawksim/test_heavy_body.py (a test and a script share no code: docs/layout.md)."""
-    m = load_model()
-    b = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "body")
-    m.body_mass[b] *= HEAVY
-    m.body_inertia[b] *= HEAVY
-    sim = Simulator(m, kin, backend, steps_per_cycle=steps_per_cycle, gravity=False, aero_every=aero_every)
-    sim.reset(velocity=np.array([0.0, 0.0, speed]), quat=quat_from_matrix(rot_y(-kin.chi)))
-    sim.advance((cycles - 1) * steps_per_cycle)
-    r = sim.advance(steps_per_cycle)
-    F = r.force.sum(1)
-    W = HAWKMOTH.weight
-    pitching = -(r.moment_about_body() * r.body_R[:, :, 1]).sum(1)
-    return {"L": F[:, 2].mean() / W, "D": -F[:, 0].mean() / W, "M": pitching.mean() / (W * HAWKMOTH.cbar),
-            **{f"P_{s}": P_plus(r.power_joint, aero_every, first=r.first, sampling=s) for s in ("updates", "steps")}}
 
 
 def held_averages(kin, speed, backend, *, steps_per_cycle, cycles=CYCLES, power=False):
@@ -90,7 +61,6 @@ def orbit_case(aero: str, speed: float) -> dict | None:
     from hawksim.backends import flight_backend
     from hawksim.flight.fly import fly
     from hawksim.flight.orbit import shipped_orbit
-    from hawksim.insect.model import load_model
     from hawksim.trim.point import Trim
 
     orb = shipped_orbit(speed, aero)

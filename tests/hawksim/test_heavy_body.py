@@ -19,49 +19,20 @@ motion, and max(0, .) turns that lag into a bias (-2.7 % for the UVLM, -2.8 % qu
 samples the update steps only (:mod:`hawksim.flight.power`), which removes it. ``P_REL_TOL`` below.
 """
 
-import mujoco
-import numpy as np
 import pytest
 
 from hawksim.backends.held import held_flight
-from hawksim.insect.model import load_model
-from hawksim.insect.morphology import HAWKMOTH
 from hawksim.backends.quasi_steady import QuasiSteadyBackend
-from hawksim.frames import quat_from_matrix, rot_y
-from hawksim.flight.power import P_plus
-from hawksim.flight.simulator import Simulator
+from hawksim.flight.heavy_body import CYCLES, heavy_free_flight
 from hawksim.trim.tables import trim_kinematics
 
-HEAVY = 1e4
 REL_TOL = 0.005
 M_ABS_TOL = 0.005
-CYCLES = 3
-"""Wingbeats flown; the last one is compared (the UVLM's wake develops over the first two)."""
 P_REL_TOL = 0.005
 """Heavy-body free P+ against the held body's, relative: issue 48's 0.5 %. The bias it guards against (the
 zero-order hold's lag inside max(0, .), ``sampling="steps"``) measured -2.8 % quasi-steady (0.9206 against 0.9475,
 1 m/s, 200 steps, backend every 5) and -2.7 % UVLM (1.1035 against 1.1346); the update sampling gave 4e-5
 quasi-steady, so 0.5 % is 5x below the bias and 100x above the fixed estimate's error."""
-
-
-def heavy_free_flight(kin, speed, backend, *, steps_per_cycle, aero_every, cycles=CYCLES):
-    """The last wingbeat of a free flight of a body ``HEAVY`` times heavier, gravity off, started at pitch chi
-    moving straight up at ``speed`` [m/s]: {"L", "D", "M"} (L+, D+, M+ of the loads as applied by the loop: world
-    frame, the pitching moment about the body's centre of mass, nose up) and {"P_updates", "P_steps"} (P+ of the
-    joint power, :func:`hawksim.flight.power.P_plus` with either sampling)."""
-    m = load_model()
-    b = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "body")
-    m.body_mass[b] *= HEAVY
-    m.body_inertia[b] *= HEAVY
-    sim = Simulator(m, kin, backend, steps_per_cycle=steps_per_cycle, gravity=False, aero_every=aero_every)
-    sim.reset(velocity=np.array([0.0, 0.0, speed]), quat=quat_from_matrix(rot_y(-kin.chi)))
-    sim.advance((cycles - 1) * steps_per_cycle)
-    r = sim.advance(steps_per_cycle)
-    F = r.force.sum(1)
-    W = HAWKMOTH.weight
-    pitching = -(r.moment_about_body() * r.body_R[:, :, 1]).sum(1)
-    return {"L": F[:, 2].mean() / W, "D": -F[:, 0].mean() / W, "M": pitching.mean() / (W * HAWKMOTH.cbar),
-            **{f"P_{s}": P_plus(r.power_joint, aero_every, first=r.first, sampling=s) for s in ("updates", "steps")}}
 
 
 def heavy_free_averages(kin, speed, backend, *, steps_per_cycle, aero_every, cycles=CYCLES):
