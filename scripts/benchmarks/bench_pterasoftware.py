@@ -142,10 +142,8 @@ CASE = textwrap.dedent("""
 """)
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--steps", type=int, default=220, help="time steps (220: the reference case)")
-    args = ap.parse_args()
+def ensure_venv() -> str:
+    """The python of a venv under /tmp with PteraSoftware :data:`VERSION` (created and installed on first use)."""
     if not os.path.exists(f"{VENV}/bin/python"):
         subprocess.run([sys.executable, "-m", "venv", VENV], check=True)
     chk = subprocess.run([f"{VENV}/bin/python", "-c", "from importlib.metadata import version as v;"
@@ -153,6 +151,14 @@ def main():
     if chk.stdout.strip() != VERSION:
         subprocess.run([f"{VENV}/bin/python", "-m", "pip", "install", "-q", f"pterasoftware=={VERSION}"],
                        check=True)
+    return f"{VENV}/bin/python"
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--steps", type=int, default=220, help="time steps (220: the reference case)")
+    args = ap.parse_args()
+    ensure_venv()
     env = dict(os.environ)
     env.pop("NUMBA_NUM_THREADS", None)        # numba's default thread pool
     out = subprocess.run([f"{VENV}/bin/python", "-c", CASE, str(args.steps)], capture_output=True, text=True,

@@ -65,8 +65,6 @@ import time
 
 import numpy as np
 
-VENV = "/tmp/ptera-venv"
-VERSION = "5.1.0"
 RHO, NU = 1.225, 1.5e-5
 CORE_CHORDS = 0.03
 """PteraSoftware's initial core radius of every vortex (bound and wake), in standard mean chords."""
@@ -202,16 +200,12 @@ def ptera_side(name: str, p: dict) -> dict:
 
 def run_ptera(name: str, p: dict) -> dict:
     """PteraSoftware's side in its venv (created / installed on first use)."""
-    if not os.path.exists(f"{VENV}/bin/python"):
-        subprocess.run([sys.executable, "-m", "venv", VENV], check=True)
-    chk = subprocess.run([f"{VENV}/bin/python", "-c", "from importlib.metadata import version as v;"
-                          "print(v('pterasoftware'))"], capture_output=True, text=True)
-    if chk.stdout.strip() != VERSION:
-        subprocess.run([f"{VENV}/bin/python", "-m", "pip", "install", "-q", f"pterasoftware=={VERSION}"],
-                       check=True)
+    from scripts.benchmarks.bench_pterasoftware import ensure_venv  # here: the PteraSoftware side runs this file alone
+
+    python = ensure_venv()
     env = dict(os.environ)
     env.pop("NUMBA_NUM_THREADS", None)
-    out = subprocess.run([f"{VENV}/bin/python", os.path.abspath(__file__), "--ptera-side", name, json.dumps(p)],
+    out = subprocess.run([python, os.path.abspath(__file__), "--ptera-side", name, json.dumps(p)],
                          capture_output=True, text=True, env=env)
     lines = [ln for ln in out.stdout.splitlines() if ln.startswith("{")]
     if out.returncode or not lines:
@@ -445,6 +439,8 @@ def main():
             doc = json.load(f)
     doc.setdefault("runs", {})
     doc["cases"] = CASES
+    from scripts.benchmarks.bench_pterasoftware import VERSION
+
     doc["ptera_version"] = VERSION
     doc.pop("command", None)
     doc.setdefault("commands", []).append("python " + " ".join(sys.argv))   # every invocation that wrote the file
