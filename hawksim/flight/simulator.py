@@ -6,14 +6,11 @@ joint accelerations equal the prescribed ones (plus a stiff PD term that only re
 with zero wing torque, ``mj_fwdActuation`` + ``mj_fwdAcceleration`` give the generalized force f0
 (``qfrc_smooth``), and with the dense mass matrix (``mj_fullM``) the equations of motion, split into the body's
 dofs b and the wings' w, give the torques of the prescribed wing accelerations a_des in one solve with M_bb:
-M_bb a_b = f0_b - M_bw a_des, tau = M_wb a_b + M_ww a_des - f0_w (:func:`prescribed_torque`; the same torques
-as tau = ([M^-1]_ww)^-1 (a_des - a0) with the free acceleration a0 = (M^-1 f0)_w, without solving with M). The
-torques are internal, so the body responds to the wings' inertia exactly and the system's momentum is conserved
-(tested). Wing qpos/qvel are never overwritten.
-
-Aerodynamic loads come from an :class:`hawksim.backends.base.AeroBackend` once per step (zero-order hold over the
-step) and enter through ``data.xfrc_applied`` of the wing bodies (world-frame force and torque at the wing
-body's centre of mass ``xipos``), overwritten every step.
+M_bb a_b = f0_b - M_bw a_des, tau = M_wb a_b + M_ww a_des - f0_w (:func:`prescribed_torque`; the torques of
+tau = ([M^-1]_ww)^-1 (a_des - a0), a0 = (M^-1 f0)_w, without solving with M). They are internal: the body
+responds to the wings' inertia exactly, momentum is conserved (tested); wing qpos/qvel are never overwritten.
+Aerodynamic loads come from an :class:`hawksim.backends.base.AeroBackend` once per update (held in between) and
+enter through ``data.xfrc_applied`` of the wing bodies (world-frame force and torque at their ``xipos``).
 """
 
 from __future__ import annotations
