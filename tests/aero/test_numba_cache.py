@@ -52,15 +52,21 @@ def _run_probe(tmp_path: Path, import_aero: bool = True) -> subprocess.Completed
     return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
 
 
+CORRUPT_BYTES = b"\xff" * 300
+"""What a damaged cache file holds here: fixed bytes that no pickle starts with, so the unguarded load fails the
+same way every run (``UnpicklingError: invalid load key``; random bytes failed in several ways: one run raised
+``OverflowError`` from a garbage frame length, failing this test's precondition)."""
+
+
 def _corrupt(tmp_path: Path, suffix: str) -> None:
     files = list((tmp_path / "cache").rglob(f"*{suffix}"))
     assert files, f"no {suffix} file in the cache"
     for path in files:
-        path.write_bytes(os.urandom(300))
+        path.write_bytes(CORRUPT_BYTES)
 
 
 def test_a_corrupt_cache_entry_is_discarded_recompiled_and_reported_in_one_line(tmp_path):
-    """Issue 53, defect 6: random bytes in the cache's index (then data) files were an ``UnpicklingError``
+    """Issue 53, defect 6: damaged bytes in the cache's index (then data) files were an ``UnpicklingError``
     traceback in every command until the user deleted the cache; now one line, the kernel compiled again."""
     (tmp_path / "probe_kernel.py").write_text(PROBE_KERNEL)
     first = _run_probe(tmp_path)
