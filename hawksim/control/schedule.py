@@ -413,8 +413,11 @@ class Schedule:
 def operating_point_override(speed: float, aero: str, orbit: Orbit, model: BeatMapModel):
     """Within the block, the schedules at ``speed`` [m/s] with the backend ``aero`` design their per-beat gains on
     ``orbit`` and its linear model ``model`` (:func:`hawksim.control.derivatives.linearize`) instead of the shipped
-    or solved ones (an experiment on other kinematics); the process's cache is put back after."""
-    key = (float(speed), aero)
+    or solved ones (an experiment on other kinematics); the process's cache is put back after. The orbit's insect
+    (:attr:`Orbit.insect`) is the one whose schedules take it: another insect's orbit (its own start, where
+    :func:`hawksim.flight.orbit.periodic_orbit` from the default insect's trim does not converge) serves its flights
+    only."""
+    key = (float(speed), aero, *insect_key(orbit.insect))
     saved = _POINTS.get(key)
     _POINTS[key] = (orbit, model)
     try:

@@ -7,7 +7,7 @@ alpha0 (tilt the mean force, set D+) and the mean sweep phi0 (moves the centre o
 sets M+). The other three parameters stay at the starting point, which carries the minimum-power choice.
 Solver: Newton's method on the residuals (L+ - 1, D+, M+) with a forward-difference Jacobian (steps of
 2 % of each parameter's Table 2 range) refreshed by Broyden's update after each step, steps clipped to
-Table 2's box; parameters are scaled to [0, 1] by the bounds. (scipy's least_squares took steps too short
+Table 2's box (the insect's ``bounds_deg``); parameters are scaled to [0, 1] by the bounds. (scipy's least_squares took steps too short
 to move f by the 2 Hz needed.)
 """
 
@@ -18,9 +18,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from hawksim.backends.held import CycleAverages, evaluate
+from hawksim.backends.held import CycleAverages, run
 from hawksim.backends.resolution import DEFAULT, Resolution
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 from hawksim.trim.point import Trim
 
 FREE = ("f", "beta", "phi0", "alpha0")
@@ -40,26 +41,31 @@ RESTART_EVALS = 20
 
 
 def balance_on_uvlm(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOLUTION, *, tol: float = 0.01,
-                    max_evals: int = 30, free=FREE, diff_step: float = DIFF_STEP, restarts: int = 1) -> Trim:
+                    max_evals: int = 30, free=FREE, diff_step: float = DIFF_STEP, restarts: int = 1,
+                    insect: Insect | None = None) -> Trim:
     """Adjust ``free`` parameters of kin0 until the UVLM balances within tol (see the module docstring).
+
+    ``insect`` (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): the insect held (its wings, weight and P0 in
+    the averages); its ``bounds_deg`` take the place of Table 2's (the scaling of the free parameters, their
+    difference steps and the box the steps are clipped to).
 
     If ``max_evals`` evaluations do not reach tol, the balance restarts from its best point with a 4 times
     smaller difference step and RESTART_EVALS more evaluations, ``restarts`` times (the hover residual is not
     smooth in the kinematics at the scale of the first step: Broyden stalled at 0.012 there, the restart
     reaches 0.006)."""
-    first = _balance(kin0, speed, res, tol, max_evals, free, diff_step)
+    first = _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect)
     if first.converged or restarts < 1:
         return first
     again = balance_on_uvlm(first.kinematics, speed, res, tol=tol, max_evals=RESTART_EVALS, free=free,
-                            diff_step=diff_step / 4, restarts=restarts - 1)
+                            diff_step=diff_step / 4, restarts=restarts - 1, insect=insect)
     return replace(again, start=first.start, evaluations=first.evaluations + again.evaluations,
                    wall_time_s=first.wall_time_s + again.wall_time_s)
 
 
-def _balance(kin0, speed, res, tol, max_evals, free, diff_step) -> Trim:
+def _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect) -> Trim:
     """One Newton-Broyden pass of :func:`balance_on_uvlm`."""
     idx = [PARAM_NAMES.index(k) for k in free]
-    lo, hi = bounds_si()
+    lo, hi = (DEFAULT_INSECT if insect is None else insect).bounds_si()
     x0 = kin0.as_array()
     cache: dict[tuple, CycleAverages] = {}
 
@@ -71,7 +77,7 @@ def _balance(kin0, speed, res, tol, max_evals, free, diff_step) -> Trim:
     def averages(z):
         key = tuple(np.round(z, 12))
         if key not in cache:
-            cache[key] = evaluate(kin_of(z), speed, res)
+            cache[key] = run(kin_of(z), speed, res, insect=insect).averages
         return cache[key]
 
     def residual(z):

@@ -1,0 +1,254 @@
+"""The bumblebee in hover (issue 50, item 6): minimum-power trim, free-body orbit, Floquet multipliers beside the
+averaged modes, and a controlled hover of 20 beats, with the quasi-steady and the UVLM backends.
+
+The insect is ``hawksim/insects/bumblebee/bumblebee.json`` (its README gives each number's source or rule). Stages
+(each written to --out as it finishes; a rerun skips the stages already there, so the run is resumable):
+
+* ``qs_trim``: the minimum of Eq. 3 (:func:`hawksim.trim.search.fitness`, the insect's bounds and P0) on the
+  quasi-steady backend itself (there is no bumblebee network): :func:`hawksim.trim.search.ga_nelder_mead` with
+  :data:`GA` (a population of 128, not the paper's 1e5: each evaluation is a held-body run, not a network call) at
+  :data:`SEARCH_RES` (40 steps a beat), then balanced at :data:`QS_RES` (200 steps, the resolution of the hawkmoth's
+  quasi-steady trim table) by :func:`hawksim.trim.balance.balance_on_uvlm` (f, beta, phi0, alpha0) from the optimum:
+  the hawkmoth's pipeline (search on the cheap model, balance on the accurate one) with the step as the fidelity.
+* ``uvlm_trim``: the same balance on the UVLM (:data:`hawksim.trim.balance.TRIM_RESOLUTION`) from the quasi-steady
+  trim, as the hawkmoth's UVLM balance starts from the surrogate's optimum (a Nelder-Mead on the UVLM, at 6 s an
+  evaluation and thousands of evaluations, is not affordable here; the three minimum-power parameters theta0,
+  phi_a, alpha_a stay the quasi-steady optimum's).
+* ``qs_orbit``, ``uvlm_orbit``: :func:`hawksim.flight.orbit.periodic_orbit` from each trim, with its
+  :func:`hawksim.stability.floquet.monodromy` multipliers; beside them the averaged modes of
+  :func:`hawksim.stability.floquet.quasi_steady_system` at the quasi-steady orbit's kinematics (exp(lambda) per beat).
+* ``qs_lqr``: 20 beats of the per-beat LQR about the quasi-steady orbit, started off it (q = 60 deg/s), the
+  flight of ``hawksim fly --speed 0 --insect hawksim/insects/bumblebee/bumblebee.json --control lqr --cycles 20
+  --perturb q=60`` (in process: that command's own orbit solve starts from the hawkmoth's trim, :func:`qs_lqr`).
+
+    python scripts/studies/bumblebee_hover.py --out results/bumblebee_hover.json [--stages qs_trim,...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+SPEC = Path(__file__).resolve().parents[2] / "hawksim" / "insects" / "bumblebee" / "bumblebee.json"
+SEED = 0
+STAGES = ("qs_trim", "uvlm_trim", "qs_orbit", "qs_lqr", "uvlm_orbit")
+PERTURB_Q_DEG_S = 60.0
+BEATS = 20
+
+
+def _insect():
+    from hawksim.insect.insect import read_insect
+
+    return read_insect(SPEC)
+
+
+def _res():
+    from hawksim.backends.resolution import Resolution
+
+    search = Resolution(aero="quasi-steady", steps_per_cycle=40, cycles=2)
+    return search, replace(search, steps_per_cycle=200)
+
+
+def _ga():
+    from hawksim.trim.search import GAConfig
+
+    return GAConfig(population=128, max_generations=30, stall_generations=8, nm_max_evals=3000, nm_restarts=2)
+
+
+def _avg_json(a) -> dict:
+    return {"L_plus": a.L_plus, "D_plus": a.D_plus, "M_plus": a.M_plus, "P_plus": a.P_plus, "power_W": a.power_W}
+
+
+def _trim_json(t) -> dict:
+    a = t.averages
+    return {"kinematics": t.kinematics.to_edge(), "averages": _avg_json(a),
+            "residuals": {"L_plus_minus_1": a.L_plus - 1.0, "D_plus": a.D_plus, "M_plus": a.M_plus},
+            "converged": t.converged, "evaluations": t.evaluations, "wall_time_s": t.wall_time_s,
+            "source": t.source}
+
+
+def qs_trim(insect) -> dict:
+    """GA + Nelder-Mead on the quasi-steady backend (SEARCH_RES), then its balance at QS_RES."""
+    from hawksim.backends.held import run
+    from hawksim.insect.kinematics import Kinematics
+    from hawksim.trim.balance import balance_on_uvlm
+    from hawksim.trim.search import fitness, ga_nelder_mead
+
+    search, fine = _res()
+    cfg = _ga()
+    lo, hi = insect.bounds_si()
+    calls = [0]
+
+    def y_of(x):
+        calls[0] += 1
+        a = run(Kinematics.from_array(x), 0.0, search, insect=insect).averages
+        return np.array([a.L_plus, a.D_plus, a.M_plus, a.P_plus])
+
+    def objective(u):
+        x = lo + np.atleast_2d(u) * (hi - lo)
+        y = np.array([y_of(xi) for xi in x])
+        return fitness(y, x, lo=lo, hi=hi)
+
+    def progress(gen, total, best):
+        print(f"  GA generation {gen}/{total}: best F {best:.5f} ({calls[0]} evaluations)", file=sys.stderr,
+              flush=True)
+
+    t0 = time.perf_counter()
+    u, F, ga, nfev = ga_nelder_mead(objective, 7, cfg, np.random.default_rng(SEED), progress=progress)
+    x = np.clip(lo + u * (hi - lo), lo, hi)
+    kin = Kinematics.from_array(x)
+    a40 = run(kin, 0.0, search, insect=insect).averages
+    print(f"  GA+NM optimum F = {F:.5f} after {ga.generations} generations + {nfev} Nelder-Mead evaluations "
+          f"({time.perf_counter() - t0:.0f} s): {kin.to_edge()}", file=sys.stderr, flush=True)
+    bal = balance_on_uvlm(kin, 0.0, fine, insect=insect)
+    return {"method": "GA + Nelder-Mead (hawksim.trim.search.ga_nelder_mead) of Eq. 3 on the quasi-steady backend "
+                      "at 40 steps a beat, then balanced at 200 steps (hawksim.trim.balance.balance_on_uvlm, free: "
+                      "f, beta, phi0, alpha0)",
+            "seed": SEED, "ga": {"population": cfg.population, "max_generations": cfg.max_generations,
+                                 "stall_generations": cfg.stall_generations, "generations": ga.generations,
+                                 "best_history": list(ga.best_history), "nm_evaluations": nfev,
+                                 "nm_max_evals": cfg.nm_max_evals, "nm_restarts": cfg.nm_restarts},
+            "search_resolution": search.to_dict(), "resolution": fine.to_dict(),
+            "optimum": {"kinematics": kin.to_edge(), "fitness": F, "averages_40_steps": _avg_json(a40)},
+            "balanced": _trim_json(bal), "wall_time_s": time.perf_counter() - t0}
+
+
+def uvlm_trim(insect, out) -> dict:
+    from hawksim.insect.kinematics import Kinematics
+    from hawksim.trim.balance import TRIM_RESOLUTION, balance_on_uvlm
+
+    kin = Kinematics.from_edge(out["qs_trim"]["balanced"]["kinematics"], check_bounds=False)
+    bal = balance_on_uvlm(kin, 0.0, TRIM_RESOLUTION, insect=insect)
+    return {"method": "UVLM balance (hawksim.trim.balance.balance_on_uvlm, free: f, beta, phi0, alpha0) started "
+                      "from the quasi-steady trim", "resolution": TRIM_RESOLUTION.to_dict(),
+            "start_averages": _avg_json(bal.start.averages), "balanced": _trim_json(bal)}
+
+
+def _floquet_json(fl) -> dict:
+    def c(z):
+        return [[float(np.real(v)), float(np.imag(v))] for v in z]
+
+    return {"multipliers_long": c(fl.multipliers_long), "multipliers_lat": c(fl.multipliers_lat),
+            "max_multiplier": fl.max_multiplier, "delta": fl.delta, "reach_long": list(fl.reach_long),
+            "reach_lat": list(fl.reach_lat), "coupling": fl.coupling, "wall_time_s": fl.wall_time_s}
+
+
+def _orbit_json(orbit) -> dict:
+    return {"converged": orbit.converged, "residual": orbit.residual, "iterations": orbit.iterations,
+            "kinematics": orbit.kinematics.to_edge(), "initial_state": orbit.initial_state.as_array().tolist(),
+            "mean_velocity": np.asarray(orbit.mean_velocity).tolist(), "mean_pitch_deg": np.rad2deg(orbit.mean_pitch),
+            "P_plus": orbit.P_plus, "power_W": orbit.P_plus * orbit.insect.P0, "floor": orbit.floor,
+            "warm_beats": orbit.warm_beats, "wall_time_s": orbit.wall_time_s}
+
+
+def orbit_stage(insect, out, aero: str) -> dict:
+    from hawksim.flight.orbit import periodic_orbit
+    from hawksim.insect.kinematics import Kinematics
+    from hawksim.stability.floquet import monodromy
+
+    key = "qs_trim" if aero == "quasi-steady" else "uvlm_trim"
+    kin = Kinematics.from_edge(out[key]["balanced"]["kinematics"], check_bounds=False)
+    orbit = periodic_orbit(0.0, aero, kinematics=kin, insect=insect,
+                           log=lambda s: print("  " + s, file=sys.stderr, flush=True))
+    res = {"aero": aero, "start": f"the {key.replace('_', ' ')}", "orbit": _orbit_json(orbit)}
+    if not orbit.converged:
+        return res
+    fl = monodromy(orbit)
+    res["floquet"] = _floquet_json(fl)
+    if aero == "quasi-steady":
+        from hawksim.stability.floquet import quasi_steady_system
+
+        sys_ = quasi_steady_system(orbit.kinematics, 0.0, insect=insect)
+        res["averaged"] = {"eig_long": [[float(z.real), float(z.imag)] for z in sys_.eig_long],
+                           "eig_lat": [[float(z.real), float(z.imag)] for z in sys_.eig_lat],
+                           "exp_eig_long": [[float(np.exp(z).real), float(np.exp(z).imag)] for z in sys_.eig_long],
+                           "exp_eig_lat": [[float(np.exp(z).real), float(np.exp(z).imag)] for z in sys_.eig_lat],
+                           "nondimensional": {k: float(v) for k, v in sys_.nondimensional.items()
+                                              if isinstance(v, (int, float))}}
+    return res
+
+
+def qs_lqr(insect, out) -> dict:
+    """20 beats of the per-beat LQR (`hawksim fly --control lqr`'s flight, in process) about the bumblebee's own
+    quasi-steady orbit. The schedule's own orbit solve starts from the default insect's held-body trim
+    (hawksim/flight/orbit.py, ``trim_kinematics``: the hawkmoth's 23.7 Hz), from which Newton does not reach the
+    bumblebee's orbit; so the orbit is solved from the bumblebee's trim (as in ``qs_orbit``) and handed to the
+    schedule by :func:`hawksim.control.schedule.operating_point_override`."""
+    from hawksim.control.command import command_summary, fly_command
+    from hawksim.control.derivatives import linearize
+    from hawksim.control.schedule import operating_point_override
+    from hawksim.flight.orbit import periodic_orbit
+    from hawksim.insect.kinematics import Kinematics
+
+    kin = Kinematics.from_edge(out["qs_trim"]["balanced"]["kinematics"], check_bounds=False)
+    orbit = periodic_orbit(0.0, "quasi-steady", kinematics=kin, insect=insect)
+    if not orbit.converged:
+        return {"error": f"the quasi-steady orbit did not converge ({orbit.residual:.1e})"}
+    with operating_point_override(0.0, "quasi-steady", orbit, linearize(orbit)):
+        cl = fly_command(0.0, BEATS, control="lqr", perturb={"q": PERTURB_Q_DEG_S}, insect=insect,
+                         aero="quasi-steady", rate="beat")
+    fly = command_summary(cl, BEATS, "lqr", "quasi-steady", "beat")
+    beats = fly["beats"]
+    return {"flight": f"hawksim fly --speed 0 --insect hawksim/insects/bumblebee/bumblebee.json --control lqr "
+                      f"--cycles {BEATS} --perturb q={PERTURB_Q_DEG_S:g} (in process, on the orbit of the bumblebee's "
+                      "trim)",
+            "departed_at_beat": fly.get("departed_at_beat"), "orbit_f_hz": orbit.kinematics.f,
+            "kinematics": fly["kinematics"], "last_cycle": fly["last_cycle"],
+            "last_beats_max_abs": fly["control"]["last_beats_max_abs"],
+            "beats": [{k: b[k] for k in b if isinstance(b[k], (int, float))} for b in beats]}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--stages", default=",".join(STAGES), help="comma-separated subset of " + ", ".join(STAGES))
+    a = ap.parse_args()
+    path = Path(a.out)
+    out = json.loads(path.read_text()) if path.exists() else {}
+    from aero.numba_cache import sources_digest
+    from hawksim.jsonout import host_info
+
+    insect = _insect()
+    out.update(command="python " + " ".join(sys.argv[:1] + ["--out", a.out]), seed=SEED,
+               sources_digest=sources_digest(), insect=insect.to_dict(), speed=0.0)
+    stages = [s for s in a.stages.split(",") if s]
+    for s in stages:
+        if s not in STAGES:
+            ap.error(f"unknown stage {s!r}")
+
+    def save():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".tmp")
+        tmp.write_text(json.dumps(out, indent=1) + "\n")
+        tmp.replace(path)
+
+    for s in STAGES:
+        if s not in stages or s in out:
+            continue
+        print(f"stage {s}", file=sys.stderr, flush=True)
+        t0 = time.perf_counter()
+        if s == "qs_trim":
+            out[s] = qs_trim(insect)
+        elif s == "uvlm_trim":
+            out[s] = uvlm_trim(insect, out)
+        elif s == "qs_orbit":
+            out[s] = orbit_stage(insect, out, "quasi-steady")
+        elif s == "uvlm_orbit":
+            out[s] = orbit_stage(insect, out, "uvlm")
+        elif s == "qs_lqr":
+            out[s] = qs_lqr(insect, out)
+        out[s]["stage_wall_time_s"] = time.perf_counter() - t0
+        out[s]["host"] = host_info()
+        print(f"stage {s} done in {out[s]['stage_wall_time_s']:.0f} s", file=sys.stderr, flush=True)
+        save()
+    save()
+
+
+if __name__ == "__main__":
+    main()
