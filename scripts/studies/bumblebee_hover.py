@@ -4,12 +4,13 @@ averaged modes, and a controlled hover of 20 beats, with the quasi-steady and th
 The insect is ``hawksim/insects/bumblebee/bumblebee.json`` (its README gives each number's source or rule). Stages
 (each written to --out as it finishes; a rerun skips the stages already there, so the run is resumable):
 
-* ``qs_trim``: the minimum of Eq. 3 (:func:`hawksim.trim.search.fitness`, the insect's bounds and P0) on the
-  quasi-steady backend itself (there is no bumblebee network): :func:`hawksim.trim.search.ga_nelder_mead` with
-  :data:`GA` (a population of 128, not the paper's 1e5: each evaluation is a held-body run, not a network call) at
-  :data:`SEARCH_RES` (40 steps a beat), then balanced at :data:`QS_RES` (200 steps, the resolution of the hawkmoth's
-  quasi-steady trim table) by :func:`hawksim.trim.balance.balance_on_uvlm` (f, beta, phi0, alpha0) from the optimum:
-  the hawkmoth's pipeline (search on the cheap model, balance on the accurate one) with the step as the fidelity.
+* ``qs_search``: the minimum of Eq. 3 (:func:`hawksim.trim.search.fitness`, the insect's bounds and P0) on the
+  quasi-steady backend itself (there is no bumblebee network): :func:`hawksim.trim.search.ga_nelder_mead` (a
+  population of 128, not the paper's 1e5: each evaluation is a held-body run, not a network call; :func:`_ga`) at 40
+  steps a beat (:func:`_res`).
+* ``qs_trim``: Nelder-Mead of Eq. 3 at 200 steps a beat (the resolution of the hawkmoth's quasi-steady trim table)
+  from that optimum, then balanced there by :func:`hawksim.trim.balance.balance_on_uvlm` (f, beta, phi0, alpha0):
+  the hawkmoth's pipeline (search on the cheap model, refine on the accurate one) with the step as the fidelity.
 * ``uvlm_trim``: the same balance on the UVLM (:data:`hawksim.trim.balance.TRIM_RESOLUTION`) from the quasi-steady
   trim, as the hawkmoth's UVLM balance starts from the surrogate's optimum (a Nelder-Mead on the UVLM, at 6 s an
   evaluation and thousands of evaluations, is not affordable here; the three minimum-power parameters theta0,
@@ -21,13 +22,15 @@ The insect is ``hawksim/insects/bumblebee/bumblebee.json`` (its README gives eac
   flight of ``hawksim fly --speed 0 --insect hawksim/insects/bumblebee/bumblebee.json --control lqr --cycles 20
   --perturb q=60`` (in process: that command's own orbit solve starts from the hawkmoth's trim, :func:`qs_lqr`).
 
-    python scripts/studies/bumblebee_hover.py --out results/bumblebee_hover.json [--stages qs_trim,...]
+    python scripts/studies/bumblebee_hover.py --out results/bumblebee_hover.json [--stages qs_trim,...] \\
+        [--plot docs/images/bumblebee_hover.png]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 from dataclasses import replace
@@ -37,9 +40,15 @@ import numpy as np
 
 SPEC = Path(__file__).resolve().parents[2] / "hawksim" / "insects" / "bumblebee" / "bumblebee.json"
 SEED = 0
-STAGES = ("qs_trim", "uvlm_trim", "qs_orbit", "qs_lqr", "uvlm_orbit")
-PERTURB_Q_DEG_S = 60.0
+STAGES = ("qs_search", "qs_trim", "uvlm_trim", "qs_orbit", "qs_lqr", "uvlm_orbit")
+PERTURB_Q_DEG_S = 400.0
+"""The controlled hover's start off the orbit: pitch rate [deg/s]. The hawkmoth's tests start 60 deg/s off at ~30 Hz
+(q T = 2 deg); the same q T at the bumblebee's ~190 Hz is about 400 deg/s."""
 BEATS = 20
+UVLM_MAX_ITER = 6
+"""Newton iterations of the UVLM orbit (each ~7 UVLM flights of 3 beats): the hawkmoth's UVLM hover orbit stalls at
+its wake's floor (2.6e-2 after 20 iterations, 869 s; docs/free_flight.md), so a few show whether the bumblebee's
+does the same."""
 
 
 def _insect():
@@ -73,49 +82,99 @@ def _trim_json(t) -> dict:
             "source": t.source}
 
 
-def qs_trim(insect) -> dict:
-    """GA + Nelder-Mead on the quasi-steady backend (SEARCH_RES), then its balance at QS_RES."""
+def _qs_objective(insect, res, calls):
+    """Eq. 3 on the quasi-steady backend at ``res``: u (m, 7) in the insect's box -> F (m,)."""
     from hawksim.backends.held import run
     from hawksim.insect.kinematics import Kinematics
-    from hawksim.trim.balance import balance_on_uvlm
-    from hawksim.trim.search import fitness, ga_nelder_mead
+    from hawksim.trim.search import fitness
 
-    search, fine = _res()
-    cfg = _ga()
     lo, hi = insect.bounds_si()
-    calls = [0]
 
     def y_of(x):
         calls[0] += 1
-        a = run(Kinematics.from_array(x), 0.0, search, insect=insect).averages
+        a = run(Kinematics.from_array(x), 0.0, res, insect=insect).averages
         return np.array([a.L_plus, a.D_plus, a.M_plus, a.P_plus])
 
     def objective(u):
         x = lo + np.atleast_2d(u) * (hi - lo)
-        y = np.array([y_of(xi) for xi in x])
-        return fitness(y, x, lo=lo, hi=hi)
+        return fitness(np.array([y_of(xi) for xi in x]), x, lo=lo, hi=hi)
+
+    return objective
+
+
+def qs_search(insect) -> dict:
+    """GA + Nelder-Mead of Eq. 3 on the quasi-steady backend at SEARCH_RES (40 steps a beat)."""
+    from hawksim.backends.held import run
+    from hawksim.insect.kinematics import Kinematics
+    from hawksim.trim.search import ga_nelder_mead
+
+    search, _ = _res()
+    cfg = _ga()
+    lo, hi = insect.bounds_si()
+    calls = [0]
 
     def progress(gen, total, best):
         print(f"  GA generation {gen}/{total}: best F {best:.5f} ({calls[0]} evaluations)", file=sys.stderr,
               flush=True)
 
     t0 = time.perf_counter()
-    u, F, ga, nfev = ga_nelder_mead(objective, 7, cfg, np.random.default_rng(SEED), progress=progress)
+    u, F, ga, nfev = ga_nelder_mead(_qs_objective(insect, search, calls), 7, cfg, np.random.default_rng(SEED),
+                                    progress=progress)
     x = np.clip(lo + u * (hi - lo), lo, hi)
     kin = Kinematics.from_array(x)
     a40 = run(kin, 0.0, search, insect=insect).averages
     print(f"  GA+NM optimum F = {F:.5f} after {ga.generations} generations + {nfev} Nelder-Mead evaluations "
           f"({time.perf_counter() - t0:.0f} s): {kin.to_edge()}", file=sys.stderr, flush=True)
-    bal = balance_on_uvlm(kin, 0.0, fine, insect=insect)
     return {"method": "GA + Nelder-Mead (hawksim.trim.search.ga_nelder_mead) of Eq. 3 on the quasi-steady backend "
-                      "at 40 steps a beat, then balanced at 200 steps (hawksim.trim.balance.balance_on_uvlm, free: "
-                      "f, beta, phi0, alpha0)",
+                      "at 40 steps a beat",
             "seed": SEED, "ga": {"population": cfg.population, "max_generations": cfg.max_generations,
                                  "stall_generations": cfg.stall_generations, "generations": ga.generations,
                                  "best_history": list(ga.best_history), "nm_evaluations": nfev,
                                  "nm_max_evals": cfg.nm_max_evals, "nm_restarts": cfg.nm_restarts},
-            "search_resolution": search.to_dict(), "resolution": fine.to_dict(),
+            "search_resolution": search.to_dict(),
             "optimum": {"kinematics": kin.to_edge(), "fitness": F, "averages_40_steps": _avg_json(a40)},
+            "wall_time_s": time.perf_counter() - t0}
+
+
+def qs_trim(insect, out) -> dict:
+    """Nelder-Mead of Eq. 3 at QS_RES (200 steps) from the search's optimum (restarted as in
+    :func:`hawksim.trim.search.ga_nelder_mead`), then its balance (f, beta, phi0, alpha0) at QS_RES. The 40-step
+    optimum sits on the f bound with L+ 1.5 % short at 200 steps, which the balance alone cannot make up (f is
+    bounded): the fine Nelder-Mead moves the amplitudes too."""
+    from scipy.optimize import minimize
+
+    from hawksim.backends.held import run
+    from hawksim.insect.kinematics import Kinematics
+    from hawksim.trim.balance import balance_on_uvlm
+
+    _, fine = _res()
+    cfg = _ga()
+    lo, hi = insect.bounds_si()
+    calls = [0]
+    obj = _qs_objective(insect, fine, calls)
+
+    def one(u):
+        return float(obj(np.asarray(u)[None, :])[0])
+
+    t0 = time.perf_counter()
+    x0 = Kinematics.from_edge(out["qs_search"]["optimum"]["kinematics"], check_bounds=False).as_array()
+    u = (x0 - lo) / (hi - lo)
+    f, nfev = one(u), 0
+    for _ in range(cfg.nm_restarts + 1):
+        nm = minimize(one, u, method="Nelder-Mead",
+                      options={"xatol": cfg.nm_tol, "fatol": cfg.nm_tol, "maxfev": cfg.nm_max_evals, "adaptive": True})
+        nfev += int(nm.nfev)
+        print(f"  Nelder-Mead at 200 steps: F {nm.fun:.6f} ({nfev} evaluations)", file=sys.stderr, flush=True)
+        if not nm.fun < f - cfg.nm_tol:
+            break
+        u, f = np.asarray(nm.x), float(nm.fun)
+    kin = Kinematics.from_array(np.clip(lo + u * (hi - lo), lo, hi))
+    a = run(kin, 0.0, fine, insect=insect).averages
+    bal = balance_on_uvlm(kin, 0.0, fine, insect=insect)
+    return {"method": "Nelder-Mead of Eq. 3 on the quasi-steady backend at 200 steps a beat from the 40-step GA + "
+                      "Nelder-Mead optimum (qs_search), then balanced (hawksim.trim.balance.balance_on_uvlm, free: "
+                      "f, beta, phi0, alpha0) at 200 steps", "resolution": fine.to_dict(),
+            "optimum": {"kinematics": kin.to_edge(), "fitness": f, "averages": _avg_json(a), "nm_evaluations": nfev},
             "balanced": _trim_json(bal), "wall_time_s": time.perf_counter() - t0}
 
 
@@ -154,9 +213,10 @@ def orbit_stage(insect, out, aero: str) -> dict:
 
     key = "qs_trim" if aero == "quasi-steady" else "uvlm_trim"
     kin = Kinematics.from_edge(out[key]["balanced"]["kinematics"], check_bounds=False)
-    orbit = periodic_orbit(0.0, aero, kinematics=kin, insect=insect,
+    max_iter = 20 if aero == "quasi-steady" else UVLM_MAX_ITER
+    orbit = periodic_orbit(0.0, aero, kinematics=kin, insect=insect, max_iter=max_iter,
                            log=lambda s: print("  " + s, file=sys.stderr, flush=True))
-    res = {"aero": aero, "start": f"the {key.replace('_', ' ')}", "orbit": _orbit_json(orbit)}
+    res = {"aero": aero, "start": f"the {key.replace('_', ' ')}", "max_iter": max_iter, "orbit": _orbit_json(orbit)}
     if not orbit.converged:
         return res
     fl = monodromy(orbit)
@@ -204,10 +264,45 @@ def qs_lqr(insect, out) -> dict:
             "beats": [{k: b[k] for k in b if isinstance(b[k], (int, float))} for b in beats]}
 
 
+def plot(out: dict, path: Path) -> Path:
+    """The figure of docs/bumblebee.md: (a) the quasi-steady Floquet exponents ln(mu) per beat beside the averaged
+    eigenvalues, (b) the 20-beat controlled hover's beat-mean vertical speed and pitch."""
+    from hawksim import plotting
+
+    with plotting.style():
+        plt = plotting.pyplot()
+        fig, (ax, bx) = plt.subplots(1, 2, figsize=(plotting.WIDE, 3.4))
+        o = out["qs_orbit"]
+        for kind, mk in (("long", "o"), ("lat", "s")):
+            ln = np.log(np.array([complex(*z) for z in o["floquet"]["multipliers_" + kind]]))
+            ev = np.array([complex(*z) for z in o["averaged"]["eig_" + kind]])
+            ax.plot(ln.real, ln.imag, mk, mfc="none", color="C0", label=f"Floquet ln mu ({kind})")
+            ax.plot(ev.real, ev.imag, mk, color="C1", ms=3, label=f"averaged eig(A) ({kind})")
+        ax.axvline(0, color="0.6", lw=0.8)
+        ax.set_xlabel(plotting.RE_LAMBDA)
+        ax.set_ylabel(plotting.IM_LAMBDA)
+        ax.legend()
+        f = out["qs_lqr"]
+        k = np.arange(1, len(f["beats"]) + 1)
+        bx.plot(k, [b["mean_vertical_speed"] * 1e3 for b in f["beats"]], "o-", label="mean vertical speed [mm/s]")
+        bx.set_xlabel("wingbeat")
+        bx.set_ylabel("beat-mean vertical speed [mm/s]")
+        cx = bx.twinx()
+        cx.plot(k, [b["pitch_deg"] for b in f["beats"]], "s-", color="C2", label="pitch [deg]")
+        cx.set_ylabel("beat-mean pitch [deg]")
+        plotting.panel_letters([ax, bx], ("quasi-steady orbit: Floquet vs averaged", "LQR hover, q = 60 deg/s at 0"))
+        return plotting.save(fig, path, title="Bumblebee hover (quasi-steady)",
+                             caption="(a) Floquet exponents ln(mu) per wingbeat of the free-body orbit (open) and "
+                                     "the eigenvalues of the cycle-averaged A matrices at its kinematics (filled), "
+                                     "t+ = t/T. (b) 20 beats of the per-beat LQR from the orbit with a pitch-rate "
+                                     "perturbation of 60 deg/s. results/bumblebee_hover.json.")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", required=True)
     ap.add_argument("--stages", default=",".join(STAGES), help="comma-separated subset of " + ", ".join(STAGES))
+    ap.add_argument("--plot", help="also draw docs/bumblebee.md's figure to this PNG (and a PDF beside it)")
     a = ap.parse_args()
     path = Path(a.out)
     out = json.loads(path.read_text()) if path.exists() else {}
@@ -222,10 +317,14 @@ def main():
         if s not in STAGES:
             ap.error(f"unknown stage {s!r}")
 
-    def save():
+    done = set()
+
+    def save():  # the file as it is on disk now (another process may be writing other stages), with this run's stages
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(".tmp")
-        tmp.write_text(json.dumps(out, indent=1) + "\n")
+        disk = json.loads(path.read_text()) if path.exists() else {}
+        merged = {**disk, **{k: v for k, v in out.items() if k not in STAGES or k in done}}
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(json.dumps(merged, indent=1) + "\n")
         tmp.replace(path)
 
     for s in STAGES:
@@ -233,8 +332,10 @@ def main():
             continue
         print(f"stage {s}", file=sys.stderr, flush=True)
         t0 = time.perf_counter()
-        if s == "qs_trim":
-            out[s] = qs_trim(insect)
+        if s == "qs_search":
+            out[s] = qs_search(insect)
+        elif s == "qs_trim":
+            out[s] = qs_trim(insect, out)
         elif s == "uvlm_trim":
             out[s] = uvlm_trim(insect, out)
         elif s == "qs_orbit":
@@ -246,8 +347,12 @@ def main():
         out[s]["stage_wall_time_s"] = time.perf_counter() - t0
         out[s]["host"] = host_info()
         print(f"stage {s} done in {out[s]['stage_wall_time_s']:.0f} s", file=sys.stderr, flush=True)
+        done.add(s)
         save()
     save()
+    out = json.loads(path.read_text())
+    if a.plot and "qs_orbit" in out and "floquet" in out["qs_orbit"] and "beats" in out.get("qs_lqr", {}):
+        print(f"figure {plot(out, Path(a.plot))}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,177 @@
+"""The bumblebee (issue 50, item 6): its spec (hawksim/insects/bumblebee/bumblebee.json) loads and follows the rules
+its README states, the stored hover trim balances on the quasi-steady backend, the stored orbit's Floquet multipliers
+are reproduced, the 20-beat controlled hover stays within bounds, and adding the bumblebee changed nothing outside its
+folder (the default insect and the hawkmoth's quasi-steady averages are as they were; the folder is self-contained).
+
+The stored numbers are results/bumblebee_hover.json (written by the hover study named in its ``command``)."""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hawksim.backends.held import run
+from hawksim.backends.resolution import Resolution
+from hawksim.insect.insect import DEFAULT_INSECT, Insect, read_insect
+from hawksim.insect.kinematics import TABLE2_BOUNDS_DEG, Kinematics, table3_kinematics
+from hawksim.insect.morphology import HAWKMOTH, P0_W
+
+ROOT = Path(__file__).resolve().parents[2]
+FOLDER = ROOT / "hawksim" / "insects" / "bumblebee"
+SPEC = FOLDER / "bumblebee.json"
+RESULTS = ROOT / "results" / "bumblebee_hover.json"
+QS_RES = Resolution(aero="quasi-steady", steps_per_cycle=200, cycles=2)
+"""The resolution of the bumblebee's (and the hawkmoth's shipped) quasi-steady trim."""
+
+HAWKMOTH_QS_HOVER = (1.2560934220638713, -0.03423999205605157, -0.058740145505086806, 0.9421665607496423,
+                     0.07933042441511988)
+"""The default hawkmoth's quasi-steady L+, D+, M+, P+, power [W] at Table 3's hover kinematics (QS_RES), recorded at
+the commit before the bumblebee was added (e2e07e8)."""
+
+
+@pytest.fixture(scope="module")
+def bee() -> Insect:
+    return read_insect(SPEC)
+
+
+@pytest.fixture(scope="module")
+def stored() -> dict:
+    return json.loads(RESULTS.read_text())
+
+
+def _kin(edge: dict) -> Kinematics:
+    return Kinematics.from_edge(edge, check_bounds=False)
+
+
+def test_spec_loads_with_its_quoted_numbers(bee):
+    m = bee.morphology
+    assert bee.name == "bumblebee"
+    # Berman & Wang 2007, Table 2 (quoted)
+    assert (m.total_mass, m.wing_mass, m.R, m.cbar) == (175e-6, 0.46e-6, 13.2e-3, 4.02e-3)
+    assert m.wing_area == pytest.approx(53.064e-6, rel=1e-12)
+    assert m.body_mass == pytest.approx(174.08e-6, rel=1e-12)
+
+
+def test_spec_model_choices_follow_the_readme_rules(bee):
+    """Each model choice is the hawkmoth's number times the README's scale (6 significant digits)."""
+    m, h = bee.morphology, HAWKMOTH
+    s = (m.total_mass / h.total_mass) ** (1 / 3)
+    k_f = math.sqrt(m.total_mass * h.R**3 * h.cbar / (h.total_mass * m.R**3 * m.cbar))
+    assert s == pytest.approx(0.480374, abs=1e-6) and k_f == pytest.approx(4.79503, abs=1e-5)
+    assert (m.r2_hat, m.axis_fraction, m.wing_mass_model) == (h.r2_hat, h.axis_fraction, h.wing_mass_model)
+    assert m.wing_thickness == pytest.approx(h.wing_thickness * m.R / h.R, rel=1e-5)
+    seg_h = {x.name: x for x in h.segments}
+    total_h = sum(x.mass for x in h.segments)
+    for x in m.segments:
+        assert x.mass == pytest.approx(seg_h[x.name].mass / total_h * m.body_mass, rel=1e-5)
+        np.testing.assert_allclose(x.centre, s * np.array(seg_h[x.name].centre), rtol=1e-5, atol=1e-12)
+        np.testing.assert_allclose(x.semi_axes, s * np.array(seg_h[x.name].semi_axes), rtol=1e-5)
+    np.testing.assert_allclose(m.hinge_from_thorax, s * np.array(h.hinge_from_thorax), rtol=1e-5)
+    assert bee.P0 == pytest.approx(P0_W * m.total_mass / h.total_mass, rel=1e-5)
+    for k, (lo, hi) in TABLE2_BOUNDS_DEG.items():
+        if k == "f":
+            assert bee.bounds_deg[k] == pytest.approx((lo * k_f, hi * k_f), rel=1e-5)
+            assert lo * k_f < 116 < 155 < hi * k_f  # Berman & Wang's and Sun & Xiong's measured frequencies
+        else:
+            assert bee.bounds_deg[k] == (lo, hi)
+
+
+def test_stored_quasi_steady_trim_balances(bee, stored):
+    """The stored minimum-power trim, re-run on the quasi-steady backend: L+ within 1 % of 1, |D+|, |M+| <= 0.01, and
+    the stored averages reproduced."""
+    t = stored["qs_trim"]["balanced"]
+    a = run(_kin(t["kinematics"]), 0.0, QS_RES, insect=bee).averages
+    assert a.L_plus == pytest.approx(1.0, abs=0.01)
+    assert abs(a.D_plus) <= 0.01 and abs(a.M_plus) <= 0.01
+    for k in ("L_plus", "D_plus", "M_plus", "P_plus", "power_W"):
+        assert getattr(a, k) == pytest.approx(t["averages"][k], rel=1e-9, abs=1e-12)
+    # inside its bounds, at a flapping frequency of a bumblebee (between Table 2 x k_f's ends)
+    for k, v in t["kinematics"].items():
+        lo, hi = bee.bounds_deg[k]
+        assert lo <= v <= hi
+
+
+def test_stored_orbit_floquet_multipliers_are_reproduced(bee, stored):
+    """The quasi-steady orbit from its stored kinematics and phase-0 state (Newton starts converged), and its
+    monodromy's multipliers within 1e-6 of the stored ones."""
+    from hawksim.flight.orbit import periodic_orbit
+    from hawksim.stability.floquet import monodromy
+
+    o = stored["qs_orbit"]
+    orbit = periodic_orbit(0.0, "quasi-steady", kinematics=_kin(o["orbit"]["kinematics"]), insect=bee,
+                           x0=np.array(o["orbit"]["initial_state"]))
+    assert orbit.converged and orbit.kinematics.f == pytest.approx(o["orbit"]["kinematics"]["f"], rel=1e-8)
+    fl = monodromy(orbit)
+    for key in ("multipliers_long", "multipliers_lat"):
+        want = np.array([complex(*z) for z in o["floquet"][key]])
+        np.testing.assert_allclose(np.sort_complex(getattr(fl, key)), np.sort_complex(want), atol=1e-6)
+
+
+def test_stored_controlled_hover_stays_within_bounds(stored):
+    """The stored 20-beat LQR hover, started q = 400 deg/s off the orbit (q T = 2 deg, as the hawkmoth's 60 deg/s at
+    ~30 Hz): the perturbation is felt (beat 1 sinks > 1 mm/s, pitch moves > 0.5 deg), it did not depart, from beat 5 on
+    the beat-mean vertical speed is within 0.5 mm/s of 0, from beat 10 on the beat-mean pitch within 0.1 deg of the
+    orbit's, and the last beat's L+ within 1e-2 of 1."""
+    f, orbit = stored["qs_lqr"], stored["qs_orbit"]["orbit"]
+    assert f["departed_at_beat"] is None and len(f["beats"]) == 20
+    speeds = [b["mean_vertical_speed"] for b in f["beats"]]
+    pitch = np.array([b["pitch_deg"] for b in f["beats"]]) - orbit["mean_pitch_deg"]
+    assert abs(speeds[0]) > 1e-3 and np.abs(pitch).max() > 0.5
+    assert max(abs(v) for v in speeds[4:]) < 5e-4
+    assert np.abs(pitch[9:]).max() < 0.1
+    assert f["last_cycle"]["L_plus"] == pytest.approx(1.0, abs=1e-2)
+
+
+def test_controlled_hover_is_reproduced(bee, stored):
+    """The 20-beat LQR hover flown again (orbit from the stored trim, gains, flight: ~15 s): the same beats."""
+    from hawksim.control.command import command_summary, fly_command
+    from hawksim.control.derivatives import linearize
+    from hawksim.control.schedule import operating_point_override
+    from hawksim.flight.orbit import periodic_orbit
+
+    f = stored["qs_lqr"]
+    orbit = periodic_orbit(0.0, "quasi-steady", kinematics=_kin(stored["qs_trim"]["balanced"]["kinematics"]),
+                           insect=bee)
+    with operating_point_override(0.0, "quasi-steady", orbit, linearize(orbit)):
+        cl = fly_command(0.0, 20, control="lqr", perturb={"q": 400.0}, insect=bee, aero="quasi-steady", rate="beat")
+    out = command_summary(cl, 20, "lqr", "quasi-steady", "beat")
+    got = [b["mean_vertical_speed"] for b in out["beats"]]
+    np.testing.assert_allclose(got, [b["mean_vertical_speed"] for b in f["beats"]], atol=1e-9)
+
+
+# ---- adding the bumblebee changed nothing outside its folder ----------------------------------------------------
+
+def test_default_insect_is_the_hawkmoth():
+    assert DEFAULT_INSECT == Insect() and DEFAULT_INSECT.morphology == HAWKMOTH and DEFAULT_INSECT.P0 == P0_W
+    assert dict(DEFAULT_INSECT.bounds_deg) == {k: tuple(map(float, v)) for k, v in TABLE2_BOUNDS_DEG.items()}
+    assert (HAWKMOTH.total_mass, HAWKMOTH.R, HAWKMOTH.cbar, HAWKMOTH.name) == (1578.70e-6, 48.50e-3, 16.81e-3,
+                                                                               "default")
+
+
+def test_hawkmoth_quasi_steady_averages_unchanged():
+    a = run(table3_kinematics(0.0), 0.0, QS_RES).averages
+    assert (a.L_plus, a.D_plus, a.M_plus, a.P_plus, a.power_W) == pytest.approx(HAWKMOTH_QS_HOVER, rel=1e-12,
+                                                                                 abs=1e-15)
+
+
+def test_no_hawksim_module_names_the_bumblebee():
+    """The bumblebee is data: no module of hawksim refers to it (only its own folder does)."""
+    hits = [p.relative_to(ROOT) for p in (ROOT / "hawksim").rglob("*.py")
+            if FOLDER not in p.parents and "bumblebee" in p.read_text().lower()]
+    assert hits == []
+
+
+def test_folder_is_self_contained(bee, stored, tmp_path):
+    """The folder copied elsewhere loads to the same insect and gives the same quasi-steady averages."""
+    copy = tmp_path / "elsewhere" / "bumblebee"
+    shutil.copytree(FOLDER, copy)
+    other = read_insect(copy / "bumblebee.json")
+    assert other == bee
+    kin = _kin(stored["qs_trim"]["balanced"]["kinematics"])
+    a, b = (run(kin, 0.0, QS_RES, insect=i).averages for i in (bee, other))
+    assert a == b
