@@ -40,11 +40,15 @@ import numpy as np
 
 SPEC = Path(__file__).resolve().parents[2] / "hawksim" / "insects" / "bumblebee" / "bumblebee.json"
 SEED = 0
-STAGES = ("qs_search", "qs_trim", "uvlm_trim", "qs_orbit", "qs_lqr", "uvlm_orbit")
+STAGES = ("qs_search", "qs_trim", "qs_measured_amplitude", "uvlm_trim", "qs_orbit", "qs_lqr", "uvlm_orbit")
 PERTURB_Q_DEG_S = 400.0
 """The controlled hover's start off the orbit: pitch rate [deg/s]. The hawkmoth's tests start 60 deg/s off at ~30 Hz
 (q T = 2 deg); the same q T at the bumblebee's ~190 Hz is about 400 deg/s."""
 BEATS = 20
+MEASURED_PHI_A_DEG, MEASURED_F_HZ = 58.0, 155.0
+"""Sun & Xiong (2005, J. Exp. Biol. 208:447)'s hovering bumblebee: stroke amplitude 116 deg, 6.4 ms a beat (the
+frequency as ../shared/sources/insect-morphology.md quotes it; the amplitude as recalled from that paper, not read in
+the sources file: a comparison point, not an input)."""
 UVLM_MAX_ITER = 6
 """Newton iterations of the UVLM orbit (each ~7 UVLM flights of 3 beats): the hawkmoth's UVLM hover orbit stalls at
 its wake's floor (2.6e-2 after 20 iterations, 869 s; docs/free_flight.md), so a few show whether the bumblebee's
@@ -176,6 +180,20 @@ def qs_trim(insect, out) -> dict:
                       "f, beta, phi0, alpha0) at 200 steps", "resolution": fine.to_dict(),
             "optimum": {"kinematics": kin.to_edge(), "fitness": f, "averages": _avg_json(a), "nm_evaluations": nfev},
             "balanced": _trim_json(bal), "wall_time_s": time.perf_counter() - t0}
+
+
+def qs_measured_amplitude(insect, out) -> dict:
+    """How much the quasi-steady optimum's small stroke saves: the balance (f, beta, phi0, alpha0) at 200 steps with
+    the sweep amplitude of Sun & Xiong's (2005) hovering bumblebee, phi_a = 58 deg (stroke 116 deg), started at their
+    ~155 Hz, theta0 and alpha_a at the optimum's."""
+    from hawksim.insect.kinematics import Kinematics
+    from hawksim.trim.balance import balance_on_uvlm
+
+    _, fine = _res()
+    edge = dict(out["qs_trim"]["balanced"]["kinematics"], phi_a=MEASURED_PHI_A_DEG, f=MEASURED_F_HZ)
+    bal = balance_on_uvlm(Kinematics.from_edge(edge, check_bounds=False), 0.0, fine, insect=insect)
+    return {"method": "quasi-steady balance at phi_a = 58 deg from f = 155 Hz (Sun & Xiong 2005's hovering "
+                      "bumblebee), the other angles the trim's", "balanced": _trim_json(bal)}
 
 
 def uvlm_trim(insect, out) -> dict:
@@ -336,6 +354,8 @@ def main():
             out[s] = qs_search(insect)
         elif s == "qs_trim":
             out[s] = qs_trim(insect, out)
+        elif s == "qs_measured_amplitude":
+            out[s] = qs_measured_amplitude(insect, out)
         elif s == "uvlm_trim":
             out[s] = uvlm_trim(insect, out)
         elif s == "qs_orbit":
