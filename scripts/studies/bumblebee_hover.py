@@ -308,12 +308,14 @@ def plot(out: dict, path: Path) -> Path:
         cx = bx.twinx()
         cx.plot(k, [b["pitch_deg"] for b in f["beats"]], "s-", color="C2", label="pitch [deg]")
         cx.set_ylabel("beat-mean pitch [deg]")
-        plotting.panel_letters([ax, bx], ("quasi-steady orbit: Floquet vs averaged", "LQR hover, q = 60 deg/s at 0"))
+        plotting.panel_letters([ax, bx], ("quasi-steady orbit: Floquet vs averaged",
+                                             f"LQR hover, q = {PERTURB_Q_DEG_S:g} deg/s at 0"))
         return plotting.save(fig, path, title="Bumblebee hover (quasi-steady)",
                              caption="(a) Floquet exponents ln(mu) per wingbeat of the free-body orbit (open) and "
                                      "the eigenvalues of the cycle-averaged A matrices at its kinematics (filled), "
                                      "t+ = t/T. (b) 20 beats of the per-beat LQR from the orbit with a pitch-rate "
-                                     "perturbation of 60 deg/s. results/bumblebee_hover.json.")
+                                     f"perturbation of {PERTURB_Q_DEG_S:g} deg/s: beat-mean vertical speed (circles) "
+                                     "and pitch (squares). results/bumblebee_hover.json.")
 
 
 def main():

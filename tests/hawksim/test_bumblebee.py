@@ -96,6 +96,21 @@ def test_stored_quasi_steady_trim_balances(bee, stored):
         assert lo <= v <= hi
 
 
+def test_balance_takes_the_insects_bounds(bee, stored):
+    """hawksim.trim.balance.balance_on_uvlm with the bumblebee (quasi-steady, 200 steps) from the stored balance's
+    start at the measured stroke amplitude: it balances in its own box (f ~126 Hz, outside Table 2's 15-40 Hz, where
+    the box of the default insect would clip f to 40 Hz) and reproduces the stored result."""
+    from hawksim.trim.balance import balance_on_uvlm
+
+    want = stored["qs_measured_amplitude"]["balanced"]
+    start = dict(stored["qs_trim"]["balanced"]["kinematics"], phi_a=58.0, f=155.0)
+    b = balance_on_uvlm(_kin(start), 0.0, QS_RES, insect=bee)
+    assert b.converged and 100 < b.kinematics.f < 150
+    assert b.kinematics.to_edge() == pytest.approx(want["kinematics"], rel=1e-9)
+    assert b.averages.L_plus == pytest.approx(1.0, abs=0.01) and b.averages.P_plus == pytest.approx(
+        want["averages"]["P_plus"], rel=1e-9)
+
+
 def test_stored_orbit_floquet_multipliers_are_reproduced(bee, stored):
     """The quasi-steady orbit from its stored kinematics and phase-0 state (Newton starts converged), and its
     monodromy's multipliers within 1e-6 of the stored ones."""
