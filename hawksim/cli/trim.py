@@ -85,7 +85,7 @@ def cmd_trim(args) -> dict:
         from hawksim.backends.resolution import DEFAULT
         from hawksim.surrogate.dataset import held_status
 
-        run_ = run(r.kinematics, args.speed, DEFAULT)
+        run_ = run(r.kinematics, args.speed, DEFAULT, insect=insect)  # its weight and P0, as the trim
         a = run_.averages
         status, peak = held_status(run_, DEFAULT.average_cycles)  # 'diverged': the UVLM's check is not a result
         out["uvlm"] = {"L_plus": a.L_plus, "D_plus": a.D_plus, "M_plus": a.M_plus, "P_plus": a.P_plus,
@@ -94,7 +94,7 @@ def cmd_trim(args) -> dict:
     if args.balance:
         from hawksim.trim.balance import balance_on_uvlm
 
-        b = balance_on_uvlm(r.kinematics, args.speed)
+        b = balance_on_uvlm(r.kinematics, args.speed, insect=insect)  # in its bounds, P+ in its P0
         av = b.averages
         out["uvlm_balanced"] = {"kinematics": b.kinematics.to_edge(), "chi": math.degrees(b.kinematics.chi),
                                 "L_plus": av.L_plus, "D_plus": av.D_plus, "M_plus": av.M_plus, "P_plus": av.P_plus,
