@@ -7,8 +7,8 @@ alpha0 (tilt the mean force, set D+) and the mean sweep phi0 (moves the centre o
 sets M+). The other three parameters stay at the starting point, which carries the minimum-power choice.
 Solver: Newton's method on the residuals (L+ - 1, D+, M+) with a forward-difference Jacobian (steps of
 2 % of each parameter's Table 2 range) refreshed by Broyden's update after each step, steps clipped to
-Table 2's box (the insect's ``bounds_deg``); parameters are scaled to [0, 1] by the bounds. (scipy's least_squares took steps too short
-to move f by the 2 Hz needed.)
+Table 2's box (the insect's ``bounds_deg``); parameters are scaled to [0, 1] by the bounds; a step wholly outside
+the box ends the pass. (scipy's least_squares took steps too short to move f by the 2 Hz needed.)
 """
 
 from __future__ import annotations
@@ -99,10 +99,11 @@ def _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect) -> Trim:
                 J[:, j] = (residual(zj) - r) / h
         dz = np.linalg.lstsq(J, -r, rcond=None)[0]
         z_new = np.clip(z + dz, 0.0, 1.0)
-        r_new = residual(z_new)
         step = z_new - z
-        if step @ step > 0:
-            J = J + np.outer(r_new - r - J @ step, step) / (step @ step)  # Broyden
+        if not step @ step > 0:  # the whole step lies outside the box (e.g. f on its bound and L+ short): no
+            break                # progress, and no new evaluation to end the loop (it spun forever before)
+        r_new = residual(z_new)
+        J = J + np.outer(r_new - r - J @ step, step) / (step @ step)  # Broyden
         z, r = z_new, r_new
     best = np.array(min(cache, key=lambda k: np.abs(np.array([cache[k].L_plus - 1, cache[k].D_plus,
                                                               cache[k].M_plus])).max()))
