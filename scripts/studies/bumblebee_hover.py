@@ -12,10 +12,12 @@ The insect is ``hawksim/insects/bumblebee/bumblebee.json`` (its README gives eac
   from that optimum, then balanced there by :func:`hawksim.trim.balance.balance_on_uvlm` (f, beta, phi0, alpha0):
   the hawkmoth's pipeline (search on the cheap model, refine on the accurate one) with the step as the fidelity.
 * ``uvlm_trim``: the same balance on the UVLM (:data:`hawksim.trim.balance.TRIM_RESOLUTION`) from the quasi-steady
-  trim, as the hawkmoth's UVLM balance starts from the surrogate's optimum (a Nelder-Mead on the UVLM, at 6 s an
-  evaluation and thousands of evaluations, is not affordable here; the three minimum-power parameters theta0,
-  phi_a, alpha_a stay the quasi-steady optimum's).
-* ``qs_orbit``, ``uvlm_orbit``: :func:`hawksim.flight.orbit.periodic_orbit` from each trim, with its
+  trim, as the hawkmoth's UVLM balance starts from the surrogate's optimum (a Nelder-Mead on the UVLM, at 2.5-6 s
+  an evaluation and thousands of evaluations, is not affordable here; theta0, phi_a, alpha_a stay the start's). From
+  the quasi-steady minimum it cannot balance (f on its bound), so it is also started from ``qs_measured_amplitude``
+  (:func:`uvlm_trim`).
+* ``qs_orbit``, ``uvlm_orbit``: :func:`hawksim.flight.orbit.periodic_orbit` from each trim (the UVLM's from the
+  quasi-steady trim when run without ``uvlm_trim``, as ``--stages qs_trim,uvlm_orbit`` does), with its
   :func:`hawksim.stability.floquet.monodromy` multipliers; beside them the averaged modes of
   :func:`hawksim.stability.floquet.quasi_steady_system` at the quasi-steady orbit's kinematics (exp(lambda) per beat).
 * ``qs_lqr``: 20 beats of the per-beat LQR about the quasi-steady orbit, started off it (q = 60 deg/s), the
@@ -40,7 +42,8 @@ import numpy as np
 
 SPEC = Path(__file__).resolve().parents[2] / "hawksim" / "insects" / "bumblebee" / "bumblebee.json"
 SEED = 0
-STAGES = ("qs_search", "qs_trim", "qs_measured_amplitude", "uvlm_trim", "qs_orbit", "qs_lqr", "uvlm_orbit")
+STAGES = ("qs_search", "qs_trim", "qs_measured_amplitude", "uvlm_trim", "qs_orbit", "qs_lqr", "uvlm_orbit",
+          "uvlm_floquet")
 PERTURB_Q_DEG_S = 400.0
 """The controlled hover's start off the orbit: pitch rate [deg/s]. The hawkmoth's tests start 60 deg/s off at ~30 Hz
 (q T = 2 deg); the same q T at the bumblebee's ~190 Hz is about 400 deg/s."""
@@ -49,10 +52,10 @@ MEASURED_PHI_A_DEG, MEASURED_F_HZ = 58.0, 155.0
 """Sun & Xiong (2005, J. Exp. Biol. 208:447)'s hovering bumblebee: stroke amplitude 116 deg, 6.4 ms a beat (the
 frequency as ../shared/sources/insect-morphology.md quotes it; the amplitude as recalled from that paper, not read in
 the sources file: a comparison point, not an input)."""
-UVLM_MAX_ITER = 6
-"""Newton iterations of the UVLM orbit (each ~7 UVLM flights of 3 beats): the hawkmoth's UVLM hover orbit stalls at
-its wake's floor (2.6e-2 after 20 iterations, 869 s; docs/free_flight.md), so a few show whether the bumblebee's
-does the same."""
+UVLM_MAX_ITER = 8
+"""Newton iterations of the UVLM orbit (each ~7 UVLM flights of 3 beats). The bumblebee's stalls at 4.08e-4 from
+iteration 6 on (a first run went to iteration 11 without change: steps halved to 5e-4), below its wake's floor
+(1.0e-3), as the hawkmoth's hover orbit stalls at its floor (docs/free_flight.md)."""
 
 
 def _insect():
@@ -197,14 +200,21 @@ def qs_measured_amplitude(insect, out) -> dict:
 
 
 def uvlm_trim(insect, out) -> dict:
+    """The UVLM balance (f, beta, phi0, alpha0) from the quasi-steady minimum (``from_qs_minimum``) and, as that
+    cannot balance (the UVLM's L+ there is about 0.6 with f on its bound), from the quasi-steady balance at the
+    measured stroke amplitude (``balanced``, :func:`qs_measured_amplitude`)."""
     from hawksim.insect.kinematics import Kinematics
     from hawksim.trim.balance import TRIM_RESOLUTION, balance_on_uvlm
 
-    kin = Kinematics.from_edge(out["qs_trim"]["balanced"]["kinematics"], check_bounds=False)
-    bal = balance_on_uvlm(kin, 0.0, TRIM_RESOLUTION, insect=insect)
-    return {"method": "UVLM balance (hawksim.trim.balance.balance_on_uvlm, free: f, beta, phi0, alpha0) started "
-                      "from the quasi-steady trim", "resolution": TRIM_RESOLUTION.to_dict(),
-            "start_averages": _avg_json(bal.start.averages), "balanced": _trim_json(bal)}
+    res = {"method": "UVLM balance (hawksim.trim.balance.balance_on_uvlm, free: f, beta, phi0, alpha0) started from "
+                     "the quasi-steady minimum and from the quasi-steady balance at phi_a = 58 deg",
+           "resolution": TRIM_RESOLUTION.to_dict()}
+    for name, key in (("from_qs_minimum", "qs_trim"), ("balanced", "qs_measured_amplitude")):
+        kin = Kinematics.from_edge(out[key]["balanced"]["kinematics"], check_bounds=False)
+        bal = balance_on_uvlm(kin, 0.0, TRIM_RESOLUTION, insect=insect)
+        res[name] = {"start": key, "start_averages": _avg_json(bal.start.averages), **_trim_json(bal)}
+        print(f"  UVLM balance from {key}: converged {bal.converged}, {bal.averages}", file=sys.stderr, flush=True)
+    return res
 
 
 def _floquet_json(fl) -> dict:
@@ -221,6 +231,7 @@ def _orbit_json(orbit) -> dict:
             "kinematics": orbit.kinematics.to_edge(), "initial_state": orbit.initial_state.as_array().tolist(),
             "mean_velocity": np.asarray(orbit.mean_velocity).tolist(), "mean_pitch_deg": np.rad2deg(orbit.mean_pitch),
             "P_plus": orbit.P_plus, "power_W": orbit.P_plus * orbit.insect.P0, "floor": orbit.floor,
+            "launch_state": orbit.launch_state.as_array().tolist(), "residuals": np.asarray(orbit.residuals).tolist(),
             "warm_beats": orbit.warm_beats, "wall_time_s": orbit.wall_time_s}
 
 
@@ -229,7 +240,7 @@ def orbit_stage(insect, out, aero: str) -> dict:
     from hawksim.insect.kinematics import Kinematics
     from hawksim.stability.floquet import monodromy
 
-    key = "qs_trim" if aero == "quasi-steady" else "uvlm_trim"
+    key = "qs_trim" if aero == "quasi-steady" or "uvlm_trim" not in out else "uvlm_trim"
     kin = Kinematics.from_edge(out[key]["balanced"]["kinematics"], check_bounds=False)
     max_iter = 20 if aero == "quasi-steady" else UVLM_MAX_ITER
     orbit = periodic_orbit(0.0, aero, kinematics=kin, insect=insect, max_iter=max_iter,
@@ -249,6 +260,32 @@ def orbit_stage(insect, out, aero: str) -> dict:
                            "exp_eig_lat": [[float(np.exp(z).real), float(np.exp(z).imag)] for z in sys_.eig_lat],
                            "nondimensional": {k: float(v) for k, v in sys_.nondimensional.items()
                                               if isinstance(v, (int, float))}}
+    return res
+
+
+def uvlm_floquet(insect, out) -> dict:
+    """The UVLM orbit's monodromy when Newton stalled at the wake's floor (residual <= floor) without meeting the
+    backend's SI tolerance: the orbit re-launched from its stored launch state and kinematics (no iteration), its
+    residual components in SI against the tolerance, and :func:`hawksim.stability.floquet.monodromy` (16 UVLM flights;
+    each mode's reach says whether it is resolved)."""
+    from hawksim.backends.registry import descriptor
+    from hawksim.flight.orbit import periodic_orbit, scales
+    from hawksim.insect.kinematics import Kinematics
+    from hawksim.stability.floquet import REACH_MIN, monodromy
+
+    o = out["uvlm_orbit"]["orbit"]
+    orbit = periodic_orbit(0.0, "uvlm", kinematics=Kinematics.from_edge(o["kinematics"], check_bounds=False),
+                           x0=np.array(o["launch_state"]), insect=insect, max_iter=0)
+    U, T = scales(orbit.kinematics)
+    r = np.abs(orbit.residuals)
+    tol = descriptor("uvlm").orbit_tolerance
+    res = {"residual": orbit.residual, "floor": orbit.floor, "converged": orbit.converged,
+           "si": {"velocity_m_s": float(max(r[0], r[1], r[4], r[5]) * U), "pitch_rate_rad_s": float(r[2] / T),
+                  "pitch_rad": float(r[3])},
+           "tolerance": {"velocity_m_s": tol.velocity, "pitch_rate_rad_s": tol.rate, "pitch_rad": tol.rate * T},
+           "U_m_s": U, "T_s": T}
+    fl = monodromy(orbit)
+    res["floquet"] = _floquet_json(fl) | {"reach_min": REACH_MIN}
     return res
 
 
@@ -364,6 +401,8 @@ def main():
             out[s] = orbit_stage(insect, out, "quasi-steady")
         elif s == "uvlm_orbit":
             out[s] = orbit_stage(insect, out, "uvlm")
+        elif s == "uvlm_floquet":
+            out[s] = uvlm_floquet(insect, out)
         elif s == "qs_lqr":
             out[s] = qs_lqr(insect, out)
         out[s]["stage_wall_time_s"] = time.perf_counter() - t0

@@ -96,6 +96,19 @@ def test_stored_quasi_steady_trim_balances(bee, stored):
         assert lo <= v <= hi
 
 
+def test_stored_uvlm_trim_balances(bee, stored):
+    """The stored UVLM balance (from the quasi-steady balance at phi_a = 58 deg), re-run on the UVLM at the balance's
+    resolution (~5 s): |L+ - 1|, |D+|, |M+| <= 0.01 and the stored averages reproduced."""
+    from hawksim.trim.balance import TRIM_RESOLUTION
+
+    t = stored["uvlm_trim"]["balanced"]
+    assert t["converged"] and stored["uvlm_trim"]["resolution"] == TRIM_RESOLUTION.to_dict()
+    a = run(_kin(t["kinematics"]), 0.0, TRIM_RESOLUTION, insect=bee).averages
+    assert max(abs(a.L_plus - 1), abs(a.D_plus), abs(a.M_plus)) <= 0.01
+    for k in ("L_plus", "D_plus", "M_plus", "P_plus"):
+        assert getattr(a, k) == pytest.approx(t["averages"][k], rel=1e-6, abs=1e-9)
+
+
 def test_balance_takes_the_insects_bounds(bee, stored):
     """hawksim.trim.balance.balance_on_uvlm with the bumblebee (quasi-steady, 200 steps) from the stored balance's
     start at the measured stroke amplitude: it balances in its own box (f ~126 Hz, outside Table 2's 15-40 Hz, where
