@@ -182,12 +182,11 @@ class FlightSample:
 @functools.lru_cache(maxsize=1)
 def _orbit_rows() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(speeds (k,), kinematics (k, 7) SI, launch states (k, 9), chi_ref (k,)) of the shipped UVLM orbits."""
-    from importlib import resources
-
-    from hawksim.backends.registry import descriptor
     from hawksim.flight.orbit import Orbit
+    from hawksim.insect.folder import default_insect
+    from hawksim.insect.tables import table_path
 
-    rows = json.loads((resources.files("hawksim") / "data" / descriptor("uvlm").orbit_table).read_text())["rows"]
+    rows = json.loads(table_path(default_insect(), "orbit", "uvlm").read_text())["rows"]
     orbits = sorted((Orbit.from_json(r) for r in rows), key=lambda o: o.speed)
     return (np.array([o.speed for o in orbits]), np.array([o.kinematics.as_array() for o in orbits]),
             np.array([o.launch_state.as_array() for o in orbits]), np.array([o.chi_ref for o in orbits]))
