@@ -3,7 +3,8 @@
 The flat top level names the few things a script needs (each resolved on first use, so ``import hawksim`` stays
 light); everything else lives in the subpackages, each with its own ``__all__``:
 
-- :mod:`hawksim.insect`: the insect (morphology, P0, bounds), wing kinematics (Eq. 1), the MuJoCo model.
+- :mod:`hawksim.insect`: the insect (morphology, P0, bounds; a folder of data, ``load_insect``), wing kinematics
+  (Eq. 1), the MuJoCo model.
 - :mod:`hawksim.backends`: the aerodynamic models behind one protocol.
 - :mod:`hawksim.trim`: held-body trims (the paper's operating points).
 - :mod:`hawksim.flight`: free flight, periodic orbits, recordings.
@@ -21,8 +22,9 @@ from hawksim.lazy import lazy_exports
 __version__ = "0.3.0.dev0"
 
 __all__, __getattr__, __dir__ = lazy_exports(__name__, {
-    "hawksim.insect.morphology": ("Morphology", "HAWKMOTH"),
+    "hawksim.insect.morphology": ("Morphology",),
     "hawksim.insect.insect": ("Insect",),
+    "hawksim.insect.folder": ("load_insect", "default_insect"),
     "hawksim.insect.kinematics": ("Kinematics", "table3_kinematics"),
     "hawksim.insect.model": ("load_model",),
     "hawksim.backends": ("make_backend", "flight_backend"),

@@ -22,8 +22,8 @@ PACKAGES = ("hawksim", "hawksim.insect", "hawksim.backends", "hawksim.trim", "ha
 """The packages with a public ``__all__``, each a page of docs/api."""
 
 TOP_LEVEL = {"fly", "periodic_orbit", "shipped_orbit", "fly_orbit", "monodromy", "linearize", "fly_closed_loop",
-             "table3_kinematics", "Kinematics", "Morphology", "HAWKMOTH", "Insect", "Trim", "trim_kinematics",
-             "load_model", "make_backend", "flight_backend", "FlightResult", "Orbit", "Floquet"}
+             "table3_kinematics", "Kinematics", "Morphology", "load_insect", "default_insect", "Insect", "Trim",
+             "trim_kinematics", "load_model", "make_backend", "flight_backend", "FlightResult", "Orbit", "Floquet"}
 """The flat top level."""
 
 ANGLES_STATED = ("fly", "periodic_orbit", "shipped_orbit", "monodromy", "linearize", "fly_closed_loop",

@@ -22,7 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from hawksim.backends.averages import OUTPUTS
-from hawksim.insect.kinematics import PARAM_NAMES, SPEED_RANGE, Kinematics, bounds_si
+from hawksim.insect.folder import default_insect
+from hawksim.insect.kinematics import PARAM_NAMES, SPEED_RANGE, Kinematics
 
 SPEED_BOUNDS = SPEED_RANGE
 """Bounds of the speed input [m/s]: the study's range."""
@@ -47,7 +48,7 @@ class InputDefinition:
 
     @staticmethod
     def for_speed(speed: float | None) -> InputDefinition:
-        lo, hi = bounds_si()
+        lo, hi = default_insect().bounds_si()
         names, lo, hi = list(PARAM_NAMES), list(lo), list(hi)
         if speed is None:
             names.append("speed")

@@ -71,7 +71,7 @@ def P_plus(power_joint: np.ndarray, aero_every: int = 1, *, first: int = 0, samp
     """:func:`required_power` over the reference power ``P0`` [W] (a flight's own:
     :attr:`hawksim.insect.insect.Insect.P0`; None: the default insect's, 84.2 mW), dimensionless."""
     if P0 is None:
-        from hawksim.insect.insect import DEFAULT_INSECT
+        from hawksim.insect.folder import default_insect
 
-        P0 = DEFAULT_INSECT.P0
+        P0 = default_insect().P0
     return required_power(power_joint, aero_every, first=first, sampling=sampling) / P0

@@ -13,12 +13,13 @@ A shipped insect lives in ``hawksim/insects/<name>/`` (inside the package, so it
 The spec format (version 1; TOML because it is written and read by people, with comments, and Python 3.11 reads it
 with the standard library's ``tomllib``; the same structure as JSON is accepted):
 
-``format`` (1), ``name``, ``species`` (text), ``model`` (the MJCF's file name), ``base`` (optional: a shipped insect
-whose fields the ones left out keep; without it every morphology field must be given), ``[morphology]`` with
-``name`` (the variant's label) and one table per :class:`hawksim.insect.morphology.Morphology` field holding
-``value``, ``unit``, ``source`` (one of :data:`SOURCE_CLASSES`) and ``citation``; ``[P0]`` (``value`` [W], ``unit``,
-``source``, ``citation``); ``[bounds]`` (``f``, ``beta``, ... as ``[lower, upper]`` in Hz and degrees, with
-``unit``, ``source``, ``citation``); ``[reference_kinematics]`` (optional: ``speed`` [m/s] and each parameter, one
+``format`` (1), ``name`` (an insect in a folder is named after the folder), ``species`` (text), ``model`` (the
+MJCF's file name), ``base`` (optional: a shipped insect whose values the fields left out keep; without it every
+morphology field must be given), ``[morphology]`` with ``name`` (the variant's label) and one table per
+:class:`hawksim.insect.morphology.Morphology` field holding ``value``, ``unit``, ``source`` (one of
+:data:`SOURCE_CLASSES`) and ``citation``; ``[P0]`` (``value`` [W], ``unit``, ``source``, ``citation``); ``[bounds]``
+(``f``, ``beta``, ... as ``[lower, upper]`` in Hz and degrees, with ``unit``, ``source``, ``citation``);
+``[reference_kinematics]`` (optional: ``speed`` [m/s] and each parameter, one
 value per speed, Hz and degrees). A flat JSON spec (:meth:`hawksim.insect.insect.Insect.from_dict`: Morphology's
 fields by name, ``P0_W``, ``bounds_deg``; the fields left out keep the default insect's) is read too.
 
@@ -33,7 +34,7 @@ from functools import lru_cache
 from pathlib import Path
 from types import MappingProxyType
 
-from hawksim.insect.insect import Insect
+from hawksim.insect.insect import Insect, _number
 from hawksim.insect.kinematics import PARAM_NAMES
 
 INSECTS_DIR = Path(__file__).resolve().parents[1] / "insects"
@@ -55,6 +56,7 @@ FORMAT = 1
 
 _TOP = ("format", "name", "species", "model", "base", "morphology", "P0", "bounds", "reference_kinematics")
 _ANNOTATION = ("unit", "source", "citation")
+_STRUCTURED_ONLY = ("format", "species", "model", "base", "P0", "bounds", "reference_kinematics")
 
 
 def shipped_insects() -> tuple[str, ...]:
@@ -134,11 +136,12 @@ def read_spec_file(path: Path, folder: Path | None = None) -> Insect:
 
 
 def insect_from_spec(spec, default_name: str = "insect", folder: Path | None = None) -> Insect:
-    """The insect of a parsed spec: the structured format (module docstring) when it has ``format`` or a
-    ``morphology`` table, else the flat one (:meth:`Insect.from_dict`). ValueError naming the field."""
+    """The insect of a parsed spec: the structured format (module docstring) when it has one of its own keys
+    (``format``, ``base``, ``P0``, ``bounds``, ...) or a ``morphology`` table, else the flat one
+    (:meth:`Insect.from_dict`). ValueError naming the field."""
     if not isinstance(spec, dict):
         raise ValueError(f"an insect spec must be an object of fields, got {type(spec).__name__}")
-    if "format" not in spec and not isinstance(spec.get("morphology"), dict):
+    if not (set(spec) & set(_STRUCTURED_ONLY)) and not isinstance(spec.get("morphology"), dict):
         flat = spec if "name" in spec else {**spec, "name": default_name}
         return Insect.from_dict(flat, base=default_insect())
     return _structured(spec, default_name, folder)
@@ -180,10 +183,11 @@ def _structured(spec: dict, default_name: str, folder: Path | None) -> Insect:
     if base is None and missing:
         raise ValueError(f"insect field 'morphology.{missing[0]}' is missing (give every morphology field, or "
                          "'base' = a shipped insect whose values the ones left out keep)")
-    if "name" not in flat:
-        flat["name"] = spec.get("name", default_name)
+    if "name" not in flat:  # the variant's label: the base's where no morphology number changes, else the insect's
+        flat["name"] = base.morphology.name if base is not None and not sources else spec.get("name", default_name)
     if "P0" in spec:
-        flat["P0_W"], sources["P0"] = _annotated("P0", spec["P0"])
+        p0, sources["P0"] = _annotated("P0", spec["P0"])
+        flat["P0_W"] = _number("P0", p0, positive=True)
     elif base is None:
         raise ValueError("insect field 'P0' is missing (the reference power [W], the unit of P+)")
     if "bounds" in spec:
@@ -202,9 +206,11 @@ def _structured(spec: dict, default_name: str, folder: Path | None) -> Insect:
         sources["reference_kinematics"] = _source("reference_kinematics", spec["reference_kinematics"])
     insect = Insect.from_dict(flat, base=base if base is not None else default_insect_or_none())
     return dataclasses.replace(
-        insect, label=spec.get("name", default_name), folder=folder, model_file=spec.get("model"),
+        insect, label=default_name if folder is not None else spec.get("name", default_name), folder=folder,
+        model_file=spec.get("model"),
         reference_deg=reference if reference is not None else (base.reference_deg if base else None),
-        sources=MappingProxyType({**(dict(base.sources) if base else {}), **sources}))
+        sources=MappingProxyType({k: v for k, v in {**(dict(base.sources) if base else {}), **sources}.items()
+                                  if v is not None}))
 
 
 def default_insect_or_none() -> Insect:

@@ -122,7 +122,7 @@ def open_loop(aero: str, speed: float) -> dict:
     from hawksim.flight.orbit import periodic_orbit, shipped_orbit
     from hawksim.flight.power import P_plus
     from hawksim.insect.model import load_model
-    from hawksim.insect.morphology import HAWKMOTH
+    from hawksim.insect.folder import default_insect
     from hawksim.trim.point import Trim
 
     orb = shipped_orbit(speed, aero)
@@ -145,7 +145,7 @@ def open_loop(aero: str, speed: float) -> dict:
     beats = r.summary()["beats"]
     lift, _ = r.lift_drag()
     spc = r.steps_per_cycle
-    L = [float(lift[k * spc:(k + 1) * spc].mean() / HAWKMOTH.weight) for k in range(n)]
+    L = [float(lift[k * spc:(k + 1) * spc].mean() / default_insect().weight) for k in range(n)]
     P = [P_plus(r.power_joint[k * spc:(k + 1) * spc], r.aero_every, first=k * spc) for k in range(n)]
     ref = beats[w]["pitch_deg"]
     hold = 0

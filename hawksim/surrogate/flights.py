@@ -49,7 +49,8 @@ import numpy as np
 
 from hawksim import __version__
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, FLY_UVLM, FLY_WAKE_CYCLES
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+from hawksim.insect.folder import default_insect
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 from hawksim.surrogate.dataset import (
     PEAK_FORCE_CEILING,
     DatasetError,
@@ -211,7 +212,7 @@ def sample_flight(seed: int, i: int, family: str = "orbit") -> FlightSpec:
     rng = np.random.default_rng([int(seed), fam.stream, int(i)])
     speed = float(rng.uniform(0.0, 2.0))
     kin0, x0, chi = orbit_at(speed)
-    lo, hi = bounds_si()
+    lo, hi = default_insect().bounds_si()
     k = np.clip(kin0.as_array() + fam.kin_spread * (hi - lo) * rng.uniform(-1, 1, len(PARAM_NAMES)), lo, hi)
     symmetric = i % fam.lateral_every != fam.lateral_every - 1
     u = rng.uniform(-1, 1, len(STATE_NAMES))
@@ -237,7 +238,9 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
     from hawksim.flight.simulator import Simulator, aero_every_for
     from hawksim.frames import pitch_of
     from hawksim.insect.model import load_model
-    from hawksim.insect.morphology import HAWKMOTH, RHO_AIR
+    from hawksim.insect.morphology import RHO_AIR
+
+    morph = default_insect().morphology
 
     spec = sample_flight(seed, i, family)
     fam = FAMILIES[family]
@@ -247,8 +250,8 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
     every = aero_every_for(backend, FLY_STEPS_PER_CYCLE)
     sim = Simulator(load_model(), kin, backend, steps_per_cycle=FLY_STEPS_PER_CYCLE, aero_every=every)
     set_body_state(sim, np.asarray(spec.x0), spec.chi_ref)
-    u_tip = 2.0 * math.pi * kin.f * kin.phi_a * HAWKMOTH.R
-    f_ceiling = PEAK_FORCE_CEILING * 0.5 * RHO_AIR * u_tip**2 * HAWKMOTH.wing_area  # per wing
+    u_tip = 2.0 * math.pi * kin.f * kin.phi_a * morph.R
+    f_ceiling = PEAK_FORCE_CEILING * 0.5 * RHO_AIR * u_tip**2 * morph.wing_area  # per wing
     v_ref = np.array([0.0, 0.0, spec.speed])
     rows, cut, status, att0 = [], None, "ok", None
     try:
