@@ -82,6 +82,18 @@ def test_heavier_insect(tmp_path):
     assert 1.2 < mu_heavy < 1.7 and abs(mu_default - 1.475) < 0.01
 
 
+def test_new_insect_from_file(tmp_path):
+    out = run_example("new_insect_from_file.py", tmp_path)
+    assert out[0] == "longwing: R 53.35 mm (model choice), mass 1578.70 mg, P0 84.2 mW"  # the rest: the hawkmoth's
+    assert (tmp_path / "longwing.toml").is_file()
+    rows = [numbers(line_with(out, f"V {v}")) for v in ("0.0", "1.0", "2.0")]
+    for _, L0, L1, P0, P1 in rows:  # quasi-steady loads grow with R^3 (lift) to R^4 (power) at equal kinematics
+        assert 1.25 < L1 / L0 < 1.40 and 1.30 < P1 / P0 < 1.45
+    np.testing.assert_allclose(rows[1][1:], [1.2306, 1.6084, 1.2255, 1.6359], atol=2e-4)  # measured, 2 beats
+    assert "hawkmoth's quasi-steady orbits: orbit_table_quasi_steady.json" in out[-1]
+    assert "the insect 'longwing' ships no orbit table for quasi-steady" in out[-1]
+
+
 def test_export_and_read(tmp_path):
     out = run_example("export_and_read.py", tmp_path)
     assert out[0].startswith("hawksim-flight-npz/1: 18 arrays, 1000 steps of quasi-steady at 1 m/s")
