@@ -217,7 +217,7 @@ def test_the_json_printed_parses_strictly(argv, capsys):
     assert isinstance(obj, dict) and out.count("\n") == 1
 
 
-# ---- defect 11: --network FILE that is not a regular file -------------------------------------------------------------
+# ---- defect 11: --network FILE that is not a regular file ----------------------------------------------------
 
 
 @pytest.mark.parametrize("name,kind", [("fifo", "is a FIFO (named pipe), not a regular file"),

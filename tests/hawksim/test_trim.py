@@ -136,7 +136,8 @@ def test_trim_cli_and_bad_input(tmp_path, capsys):
     assert abs(out["L_plus"] - 1) < CLI_BALANCE_TOL
     assert out["chi"] == pytest.approx(60.0 - out["kinematics"]["beta"])  # chi = 60 deg - beta
     for args, needle in ((["--speed", "1.0", "--network", str(p)], "0.5 m/s"),
-                         (["--speed", "0.5", "--network", str(tmp_path / "missing.safetensors")], "missing.safetensors"),
+                         (["--speed", "0.5", "--network", str(tmp_path / "missing.safetensors")],
+                          "missing.safetensors"),
                          (["--speed", "0.5", "--network", str(p), "--population", "0"], "--population"),
                          (["--speed", "2.5", "--network", str(p)], "--speed")):
         assert main(["trim", *args, "--no-progress", "--json"]) == 2
