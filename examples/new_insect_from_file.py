@@ -10,7 +10,7 @@ from pathlib import Path
 import hawksim
 from hawksim.backends.held import run
 from hawksim.backends.resolution import Resolution
-from hawksim.insect.tables import model_digest, table_status
+from hawksim.insect.tables import mjcf_digest, table_status
 
 Path("longwing.toml").write_text('''name = "longwing"
 base = "hawkmoth"          # every field not given here is the hawkmoth's
@@ -30,5 +30,5 @@ for i, speed in enumerate(ref["speed"][::2]):
     kin = hawksim.Kinematics.from_edge({k: ref[k][2 * i] for k in ref if k != "speed"})
     a, b = (run(kin, speed, res, insect=insect).averages for insect in (moth, longwing))
     print(f"V {speed:.1f} m/s: L+ {a.L_plus:.4f} -> {b.L_plus:.4f}, P+ {a.P_plus:.4f} -> {b.P_plus:.4f}")
-print(f"model digest {model_digest(moth)[:12]} -> {model_digest(longwing)[:12]}; hawkmoth's quasi-steady orbits: "
+print(f"model digest {mjcf_digest(moth)[:12]} -> {mjcf_digest(longwing)[:12]}; hawkmoth's quasi-steady orbits: "
       f"{table_status(moth, 'orbit', 'quasi-steady')[0].name}; {table_status(longwing, 'orbit', 'quasi-steady')[1]}")

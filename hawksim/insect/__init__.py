@@ -20,7 +20,7 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, {
     ".morphology": ("Morphology", "HAWKMOTH", "RHO_AIR", "P0_W", "MORPHOLOGIES"),
     ".insect": ("Insect", "DEFAULT_INSECT", "read_insect"),
     ".folder": ("load_insect", "default_insect", "shipped_insects", "SOURCE_CLASSES"),
-    ".tables": ("table_path", "table_status", "network_path", "model_digest", "ShippedFile"),
+    ".tables": ("table_path", "table_status", "network_path", "mjcf_digest", "ShippedFile"),
     ".kinematics": ("Kinematics", "table3_kinematics", "bounds_si", "reference_speed", "PARAM_NAMES",
                     "TABLE2_BOUNDS_DEG", "TABLE3_SPEEDS"),
     ".model": ("load_model", "mjcf", "write_model"),

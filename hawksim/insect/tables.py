@@ -2,7 +2,7 @@
 
 An insect folder's ``data/manifest.toml`` lists each shipped file: ``file`` (relative to ``data/``), ``kind`` (one of
 :data:`KINDS`), ``aero`` (the backends it serves) and ``model_sha256``, the SHA-256 of the MJCF text the file was
-computed on (:func:`model_digest`). A table computed on another model is not this insect's: :func:`table_path`
+computed on (:func:`mjcf_digest`). A table computed on another model is not this insect's: :func:`table_path`
 refuses it (ValueError naming both digests) rather than let a flight start from another insect's orbit or gains.
 The table files themselves are unchanged (their own records, e.g. the surrogate's ``network_sha256``, still apply).
 
@@ -41,7 +41,7 @@ class ShippedFile:
     model_sha256: str
 
 
-def model_digest(insect) -> str:
+def mjcf_digest(insect) -> str:
     """SHA-256 (hex) of the insect's MJCF text (:func:`hawksim.insect.model.insect_mjcf`): what its tables must
     record. For a shipped insect it is the digest of its committed MJCF file."""
     return _digest(insect.morphology, insect.name)
@@ -107,7 +107,7 @@ def table_status(insect, kind: str, aero: str | None = None, name: str | None = 
     what = f"{kind.replace('_', ' ')} {'file ' + repr(name) if name else 'table'}" + (f" for {aero}" if aero else "")
     if entry is None:
         return None, f"the insect {insect.name!r} ships no {what}"
-    digest = model_digest(insect)
+    digest = mjcf_digest(insect)
     if entry.model_sha256 != digest:
         return None, (f"the insect {insect.name!r}'s shipped {what} ({entry.path.name}) was computed on the model "
                       f"{entry.model_sha256[:12]}, not on its MJCF {digest[:12]}: regenerate it "

@@ -15,7 +15,7 @@ from hawksim.insect.folder import (INSECTS_DIR, SOURCE_CLASSES, default_insect, 
 from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import PARAM_NAMES, TABLE2_BOUNDS_DEG, TABLE3_DEG, TABLE3_SPEEDS
 from hawksim.insect.morphology import P0_W, Morphology
-from hawksim.insect.tables import KINDS, manifest, model_digest, table_path, table_status
+from hawksim.insect.tables import KINDS, manifest, mjcf_digest, table_path, table_status
 
 HAWKMOTH_DIR = INSECTS_DIR / "hawkmoth"
 KIN = "f=29.4,beta=2.8,phi0=-4.7,theta0=15.0,alpha0=1.2,phi_a=60.0,alpha_a=65.0"
@@ -51,7 +51,7 @@ def test_every_number_of_the_spec_has_a_source_class_and_a_citation():
 
 def test_the_committed_mjcf_and_every_shipped_table_carry_the_model_digest():
     bug = default_insect()
-    digest = model_digest(bug)
+    digest = mjcf_digest(bug)
     assert digest == hashlib.sha256((HAWKMOTH_DIR / "hawkmoth.xml").read_bytes()).hexdigest()
     entries = manifest(bug)
     shipped = {p for p in (HAWKMOTH_DIR / "data").rglob("*") if p.suffix in (".json", ".safetensors")}
