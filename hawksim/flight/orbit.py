@@ -167,24 +167,16 @@ def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
     return descriptor("uvlm").orbit_tolerance.met(r, *scales(kin))
 
 
-def shipped_orbit(speed: float, aero: str) -> Orbit | None:
-    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (its descriptor's ``orbit_table``), None if absent
-    (or if the table does not hold for the backend as built now: the surrogate's orbits hold for the network they
-    were solved with only); SI (kinematics and launch state angles in radians)."""
-    import json
-    from importlib import resources
+def shipped_orbit(speed: float, aero: str, *, insect: Insect | None = None,
+                  model: mujoco.MjModel | None = None) -> Orbit | None:
+    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (its descriptor's ``orbit_table``) for ``insect`` on
+    ``model`` (default: the default insect on its generated MJCF), None if absent (or if the table does not hold for
+    the backend as built now: the surrogate's orbits hold for the network they were solved with only); SI
+    (kinematics and launch state angles in radians). The registry of :mod:`hawksim.flight.points` (each table read
+    once per process)."""
+    from hawksim.flight.points import shipped_point
 
-    desc = descriptor(aero)
-    path = resources.files("hawksim") / "data" / desc.orbit_table if desc.orbit_table else None
-    if path is None or not path.is_file():
-        return None
-    table = json.loads(path.read_text())
-    if not desc.tables_hold(table):
-        return None
-    for row in table["rows"]:
-        if abs(row["speed"] - speed) < 1e-9:
-            return Orbit.from_json(row)
-    return None
+    return shipped_point(speed, aero, insect=insect, model=model)
 
 
 def orbit_table(orbits: list[Orbit], command: str) -> dict:
