@@ -1,8 +1,9 @@
-"""Trims, the held-body operating points: the one :class:`Trim` type, its search and the shipped tables.
+"""Trims, the held-body operating points: the one :class:`OperatingPoint` type, the search and the shipped tables.
 
 Modules:
 
-- ``point``: :class:`Trim`, the kinematics and cycle averages of one operating point.
+- ``point``: :class:`OperatingPoint` (``Trim`` and ``Orbit`` are its names), one operating point: held body (a trim)
+  or free body (a periodic orbit).
 - ``search``: the paper's fitness (Eq. 3) and the GA + Nelder-Mead search on the cycle-mean surrogate.
 - ``balance``: the trim balanced on the UVLM or the quasi-steady model (a least-squares solve from a guess).
 - ``tables``: the shipped trim tables (hawksim/data) by speed and backend.
@@ -11,7 +12,7 @@ Modules:
 from hawksim.lazy import lazy_exports
 
 __all__, __getattr__, __dir__ = lazy_exports(__name__, {
-    ".point": ("Trim",),
+    ".point": ("OperatingPoint", "Trim", "BODIES"),
     ".search": ("fitness", "ga_nelder_mead", "trim_on_surrogate", "GAConfig", "GAResult"),
     ".balance": ("balance_on_uvlm",),
     ".tables": ("shipped_trim", "trim_kinematics"),

@@ -3,7 +3,7 @@ find_operating_point -> linearize -> controller shape). A point balances the ins
 aerodynamic model, with the body HELD on its trim path (``body="held"``: the trim searches and balances of
 :mod:`hawksim.trim`, the shipped trim tables) or FREE on its periodic orbit (``body="free"``: the Newton shooting
 solve :func:`hawksim.flight.orbit.periodic_orbit`, the shipped orbit tables). `hawksim.flight.fly` flies from it,
-:func:`hawksim.control.linearize.linearize` linearises about it; :func:`hawksim.flight.points.find_operating_point`
+:func:`hawksim.control.linearization.linearize` linearises about it; :func:`hawksim.flight.points.find_operating_point`
 finds either.
 
 ``Trim`` and ``Orbit`` (:mod:`hawksim.flight.orbit`) are names of this one type, kept for the call sites that
