@@ -43,7 +43,7 @@ def linearize(point: OperatingPoint, *, map: str = "beat", record: bool = False,
               model=None, clip: bool | None = None, A: np.ndarray | None = None, lateral: bool = True,
               steps_per_cycle: int = 200) -> LinearModel:
     """The :class:`LinearModel` of ``map`` about ``point`` (normalized states and inputs: velocities / U, rates x T,
-    angles in rad, positions / (U T); f relative).
+    angles in radians, positions / (U T); f relative).
 
     Maps: "beat" (the controlled one-beat map, :func:`hawksim.control.derivatives.linearize`), "half-stroke"
     (:func:`hawksim.control.halfstroke.linearize_half_stroke`), "wings" (per-wing channels,

@@ -56,7 +56,7 @@ def _default_model_digest(insect_hex: str) -> str:
 
 def point_key(speed: float, aero: str, insect: Insect | None = None, model=None, *extra) -> tuple:
     """The key of an operating point (and of what is made about it): (insect digest, backend, speed [m/s], MJCF
-    digest, *extra). ``model`` None: the insect's generated MJCF (the same digest as passing it)."""
+    digest, then ``extra``). ``model`` None: the insect's generated MJCF (the same digest as passing it)."""
     ins = insect_digest(insect)
     if model is None:
         md = _default_model_digest(ins) if ins == insect_digest(None) else "generated:" + ins

@@ -91,7 +91,7 @@ class Floquet:
     reach_long: tuple[float, ...] = (1.0, 1.0, 1.0, 1.0)
     reach_lat: tuple[float, ...] = (1.0, 1.0, 1.0, 1.0)
     linear: LinearModel | None = field(default=None, repr=False, compare=False)
-    """The linear model this is the eigen-analysis of (``map="monodromy"``; :func:`floquet`)."""
+    """The linear model this is the eigen-analysis of (``map="monodromy"``; :func:`floquet_analysis`)."""
 
     @property
     def resolved_long(self) -> tuple[bool, ...]:
@@ -148,16 +148,16 @@ def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     lin = LinearModel(point=orbit, map="monodromy", states=FLOQUET_NAMES, inputs=(), A=M,
                       scale=state_scale(orbit.kinematics), dt=orbit.kinematics.period, delta=delta,
                       wall_time_s=time.perf_counter() - t0, launch=A if orbit.warm_beats else None)
-    fl = floquet(lin)
+    fl = floquet_analysis(lin)
     return fl if lateral or not orbit.warm_beats else replace(fl, reach_lat=(1.0,) * 4)
 
 
-def floquet(lin: LinearModel) -> Floquet:
+def floquet_analysis(lin: LinearModel) -> Floquet:
     """The Floquet analysis of a monodromy (``lin.map == "monodromy"``, :func:`monodromy`): the eigen-analysis of its
     A per longitudinal and lateral block, and for a UVLM orbit (``lin.launch``, the launches' d x(w) / d x0) each
     mode's reach (:data:`REACH_MIN`)."""
     if lin.map != "monodromy":
-        raise ValueError(f"floquet takes a monodromy (map='monodromy'), got map={lin.map!r}")
+        raise ValueError(f"floquet_analysis takes a monodromy (map='monodromy'), got map={lin.map!r}")
     fl = replace(_floquet(lin.A, lin.delta, lin.wall_time_s), linear=lin)
     if lin.launch is None:
         return fl

@@ -65,7 +65,7 @@ class HistoryFloquet:
     neither)."""
     wall_time_s: float
     linear: LinearModel | None = field(default=None, repr=False, compare=False)
-    """The linear model this is the eigen-analysis of (``map="history"``; :func:`history_floquet`)."""
+    """The linear model this is the eigen-analysis of (``map="history"``; :func:`history_floquet_analysis`)."""
 
     def body_modes(self, system: str, share: float = 0.05, count: int = 4) -> np.ndarray:
         """The ``count`` largest multipliers of ``system`` ('long' or 'lat') whose eigenvectors put at least
@@ -163,15 +163,15 @@ def history_monodromy(orbit: Orbit, *, delta: float = SURROGATE_FD_STEP, model: 
                       scale=np.concatenate([U_T, np.tile(rec_scale, n)]), dt=orbit.kinematics.period, delta=delta,
                       wall_time_s=time.perf_counter() - t_start, records=n, record_ref=r0, record_scale=rec_scale,
                       residual=residual, record_mismatch=mismatch)
-    return history_floquet(lin)
+    return history_floquet_analysis(lin)
 
 
-def history_floquet(lin: LinearModel) -> HistoryFloquet:
+def history_floquet_analysis(lin: LinearModel) -> HistoryFloquet:
     """The eigen-analysis of an augmented monodromy (``lin.map == "history"``, :func:`history_monodromy`): its
     longitudinal and lateral blocks (the body's 4 states, then each record's 3 values), their multipliers and how
     much of each eigenvector lies in the body states."""
     if lin.map != "history":
-        raise ValueError(f"history_floquet takes an augmented monodromy (map='history'), got map={lin.map!r}")
+        raise ValueError(f"history_floquet_analysis takes an augmented monodromy (map='history'), got map={lin.map!r}")
     J, n = lin.A, lin.records
     long_ix = list(LONG) + [8 + 6 * k + c for k in range(n) for c in RECORD_LONG]
     lat_ix = list(LAT) + [8 + 6 * k + c for k in range(n) for c in RECORD_LAT]

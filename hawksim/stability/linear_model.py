@@ -9,7 +9,7 @@ Maps (:data:`MAPS`):
   phases: A, B0, B1 stacked per phase (2, n, n) / (2, n, m), dt = T / 2;
 - ``"wings"``: the one-beat map in the per-wing channels (:mod:`hawksim.control.constrained`);
 - ``"monodromy"``: the free body's one-beat map without inputs (:func:`hawksim.stability.floquet.monodromy`): its
-  Floquet analysis is the eigen-analysis of A (:func:`hawksim.stability.floquet.floquet`);
+  Floquet analysis is the eigen-analysis of A (:func:`hawksim.stability.floquet.floquet_analysis`);
 - ``"history"``: the same on a history network's augmented state (body and its record of calls,
   :func:`hawksim.stability.history_floquet.history_monodromy`);
 - ``"averaged"``: the paper's cycle-averaged model, CONTINUOUS time in t+ = t / T (dt None): A the block diagonal of
@@ -48,7 +48,8 @@ def record_names(records: int) -> tuple[str, ...]:
 
 @dataclass(frozen=True)
 class LinearModel:
-    """A linear model about the operating point ``point`` (module docstring).
+    """A linear model about the operating point ``point`` (module docstring), in normalized states and inputs
+    (velocities / U, rates x T, angles in radians, positions / (U T); f relative).
 
     Attributes:
         point: the operating point (:class:`hawksim.trim.point.OperatingPoint`; :attr:`orbit` reads it too).
@@ -165,7 +166,8 @@ class LinearModel:
         """(8, 8) over (u, v, w, p, q, r, phi, theta): the one-beat Floquet monodromy block of a controlled map
         (body rows and columns)."""
         if self.map in ("monodromy", "history", "averaged"):
-            raise ValueError(f"a {self.map} model: its A is the map itself (see floquet(...))")
+            raise ValueError(f"a {self.map} model: its A is the map itself "
+                             "(see hawksim.stability.floquet.floquet_analysis)")
         return self.period_map[:8, :8]
 
     def eigenvalues(self) -> np.ndarray:

@@ -33,35 +33,31 @@ class OperatingPoint:
     """Kinematics that balance the insect at ascent speed ``speed`` [m/s] on the aerodynamic model ``aero``, the body
     held (a trim) or free (a periodic orbit). SI throughout (angles in radians, f in Hz).
 
-    Common to both:
-        speed: ascent speed V [m/s].
-        kinematics: the seven parameters of Eq. 1 (a free-body orbit's: f and phi0 solved, the rest the trim's).
-        aero: the aerodynamic model it balances on ("uvlm", "quasi-steady", "surrogate"; "paper" for Table 3);
-            ``model=`` is accepted for it in the constructor and :attr:`model` reads it (the names of ``Trim``).
-        source: where it comes from, in words (a search, a balance, a shipped table and its command).
-        body: "held" or "free" (:data:`BODIES`); default: "free" when ``initial_state`` is given, else "held".
-        insect: the insect balanced (its wings, MJCF and P0; default
-            :data:`hawksim.insect.insect.DEFAULT_INSECT`); the flights from a free-body point fly it.
-        converged: whether the search, balance or Newton solve met its tolerance.
-        wall_time_s: wall time of the search or solve [s].
+    Common to both: ``speed``: ascent speed V [m/s]; ``kinematics``: the seven parameters of Eq. 1 (a free-body
+    orbit's: f and phi0 solved, the rest the trim's); ``aero``: the aerodynamic model it balances on ("uvlm",
+    "quasi-steady", "surrogate"; "paper" for Table 3; ``model=`` is accepted for it in the constructor and
+    :attr:`model` reads it, the names of ``Trim``); ``source``: where it comes from, in words (a search, a balance, a
+    shipped table and its command); ``body``: "held" or "free" (:data:`BODIES`; default "free" when
+    ``initial_state`` is given, else "held"); ``insect``: the insect balanced (its wings, MJCF and P0; default
+    :data:`hawksim.insect.insect.DEFAULT_INSECT`), which the flights from a free-body point fly; ``converged``:
+    whether the search, balance or Newton solve met its tolerance; ``wall_time_s``: its wall time [s].
 
-    Held body (a trim):
-        averages: the model's cycle averages there (Eq. 2), None where not recorded (an interpolated table row).
-        tolerance: the balance's tolerance; fitness: Eq. 3's F at the point (surrogate searches);
-        evaluations: model evaluations spent; search_seed: seed of a random search; start: the trim a balance
-        started from; search: the genetic algorithm's result (:class:`hawksim.trim.search.GAResult`).
+    Held body (a trim): ``averages``: the model's cycle averages there (Eq. 2), None where not recorded (an
+    interpolated table row); ``tolerance``: the balance's tolerance; ``fitness``: Eq. 3's F at the point (surrogate
+    searches); ``evaluations``: model evaluations spent; ``search_seed``: seed of a random search; ``start``: the trim
+    a balance started from; ``search``: the genetic algorithm's result (:class:`hawksim.trim.search.GAResult`).
 
-    Free body (a periodic orbit, :mod:`hawksim.flight.orbit`):
-        initial_state: the state at the start of the periodic beat (:class:`hawksim.state.BodyState`);
-        launch_state: the state at t = 0 (equal to initial_state except for the UVLM, where ``warm_beats`` beats
-        from an empty wake precede the periodic beat); residual: max abs normalized residual (periodicity of (u, w,
-        q, theta) by U, 1/T, rad; mean velocity by U); residuals (6,): the vector; mean_velocity (3,): mean velocity
-        of the body centre of mass over the periodic beat, world frame (z up) [m/s]; mean_pitch [rad]: cycle-mean
-        body pitch; P_plus: cycle mean of max(0, joint power) / P0 over the periodic beat
-        (:func:`hawksim.flight.power.P_plus`); iterations: Newton iterations; floor: for the UVLM, the max abs
-        normalized periodicity residual of the NEXT beat (the wake's beat-to-beat variation), 0 otherwise;
-        history: max abs residual after each iteration; chi_ref: the reference body angle [rad] of the state's
-        chart (the held-body trim's chi); record, record_dt, record_change: a history network's record (below).
+    Free body (a periodic orbit, :mod:`hawksim.flight.orbit`): ``initial_state``: the state at the start of the
+    periodic beat (:class:`hawksim.state.BodyState`); ``launch_state``: the state at t = 0 (equal to initial_state
+    except for the UVLM, where ``warm_beats`` beats from an empty wake precede the periodic beat); ``residual``: max
+    abs normalized residual (periodicity of (u, w, q, theta) by U, 1/T, rad; mean velocity by U); ``residuals``
+    (6,): the vector; ``mean_velocity`` (3,): mean velocity of the body centre of mass over the periodic beat, world
+    frame (z up) [m/s]; ``mean_pitch`` [rad]: cycle-mean body pitch; ``P_plus``: cycle mean of max(0, joint power) /
+    P0 over the periodic beat (:func:`hawksim.flight.power.P_plus`); ``iterations``: Newton iterations; ``floor``:
+    for the UVLM, the max abs normalized periodicity residual of the NEXT beat (the wake's beat-to-beat variation),
+    0 otherwise; ``history``: max abs residual after each iteration; ``chi_ref``: the reference body angle [rad] of
+    the state's chart (the held-body trim's chi); ``record``, ``record_dt``, ``record_change``: a history network's
+    record (below).
     """
 
     speed: float

@@ -19,7 +19,7 @@ from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import table3_kinematics
 from hawksim.insect.model import load_model
 from hawksim.insect.morphology import HAWKMOTH
-from hawksim.stability.floquet import floquet, monodromy
+from hawksim.stability.floquet import floquet_analysis, monodromy
 from hawksim.stability.linear_model import LinearModel
 from hawksim.trim.point import OperatingPoint, Trim
 
@@ -101,7 +101,7 @@ def test_linearize_beat_is_the_per_beat_model_exactly(orbit):
     mono = hawksim.linearize(orbit, map="monodromy")
     fl = monodromy(orbit)
     assert mono.map == "monodromy" and mono.inputs == () and np.array_equal(mono.A, fl.monodromy)
-    assert np.array_equal(floquet(mono).multipliers_long, fl.multipliers_long)
+    assert np.array_equal(floquet_analysis(mono).multipliers_long, fl.multipliers_long)
     assert np.abs(mono.A - lin.monodromy).max() < 1e-3  # two differencings of one map
     with pytest.raises(ValueError, match="held-body trim"):
         hawksim.linearize(find_operating_point(1.0, body="held"), map="beat")
