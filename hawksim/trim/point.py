@@ -108,6 +108,11 @@ class OperatingPoint:
             raise ValueError("a free-body operating point (a periodic orbit) needs initial_state and launch_state")
         object.__setattr__(self, "body", body)
 
+    def __hash__(self) -> int:
+        """Over the fields that name the point (equal points hash equal; the insect's spec and the arrays are left
+        out: they are not hashable)."""
+        return hash((self.speed, self.kinematics, self.aero, self.body, self.source))
+
     @property
     def model(self) -> str | None:
         """The aerodynamic model's name (:attr:`aero`; the name ``Trim`` gave it)."""

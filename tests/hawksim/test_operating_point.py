@@ -38,6 +38,7 @@ def test_one_type_held_or_free():
     assert t.body == "held" and not t.free and t.aero == t.model == "quasi-steady" and t.insect == DEFAULT_INSECT
     o = shipped_orbit(1.0, "uvlm")
     assert o.body == "free" and o.free and o.initial_state is not None
+    assert hash(t) == hash(Trim(1.0, kin, model="quasi-steady", source="test"))  # hashable, as Trim was
     with pytest.raises(ValueError, match="aero or model"):
         OperatingPoint(1.0, kin, aero="uvlm", model="uvlm")
     with pytest.raises(ValueError, match="initial_state"):
