@@ -85,7 +85,7 @@ def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray,
 
 HalfStrokeModel = LinearModel
 """The half-stroke model's name of :class:`hawksim.stability.linear_model.LinearModel` (``map="half-stroke"``): A, B0,
-B1 stacked per half (2, 11, 11) / (2, 11, 7) normalized (module docstring); ``x_half`` (9,) SI: the orbit's body
+B1 each a pair (first half, second half) of (11, 11) / (11, 7) normalized (module docstring); ``x_half`` (9,) SI: the orbit's body
 state at phase 0.5; ``pos_half`` (2,) [m]: its horizontal displacement (X forward, Y right) over the first half (the
 phase-0.5 reference of the hold point); ``block(which, half)``; ``monodromy``: the product of the two halves' state
 maps' body block. A history network's orbit: the n records of its calls in the state after the 11 of xi, normalized
@@ -97,8 +97,8 @@ def half_stroke_model(orbit: Orbit, mats, *, x_half, pos_half, scale, coupling: 
     """The :class:`LinearModel` of the two half-stroke maps ``mats`` [(A, B0, B1) of half 0, of half 1]."""
     n = 0 if record_ref is None else len(record_ref[0])
     return LinearModel(point=orbit, map="half-stroke", states=XI_NAMES + record_names(n), inputs=INPUTS,
-                       A=np.stack([m[0] for m in mats]), B0=np.stack([m[1] for m in mats]),
-                       B1=np.stack([m[2] for m in mats]), scale=scale, dt=orbit.kinematics.period / HALVES,
+                       A=tuple(m[0] for m in mats), B0=tuple(m[1] for m in mats),
+                       B1=tuple(m[2] for m in mats), scale=scale, dt=orbit.kinematics.period / HALVES,
                        delta=delta, wall_time_s=wall_time_s, coupling=float(coupling), records=n,
                        record_ref=None if record_ref is None else tuple(record_ref),
                        record_scale=record_scale, x_half=x_half, pos_half=pos_half)

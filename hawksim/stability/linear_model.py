@@ -6,7 +6,7 @@ Maps (:data:`MAPS`):
 - ``"beat"``: the controlled one-beat map x_{k+1} = A x_k + B0 u_{k-1} + B1 u_k (:mod:`hawksim.control.derivatives`;
   B0: the previous command, blended into the new one over the beat), dt = T;
 - ``"half-stroke"``: the same sampled at phase 0 and 0.5 (:mod:`hawksim.control.halfstroke`), periodic with two
-  phases: A, B0, B1 stacked per phase (2, n, n) / (2, n, m), dt = T / 2;
+  phases: A, B0, B1 each a tuple of the phases' (n, n) / (n, m) matrices, dt = T / 2;
 - ``"wings"``: the one-beat map in the per-wing channels (:mod:`hawksim.control.constrained`);
 - ``"monodromy"``: the free body's one-beat map without inputs (:func:`hawksim.stability.floquet.monodromy`): its
   Floquet analysis is the eigen-analysis of A (:func:`hawksim.stability.floquet.floquet_analysis`);
@@ -55,9 +55,9 @@ class LinearModel:
         point: the operating point (:class:`hawksim.trim.point.OperatingPoint`; :attr:`orbit` reads it too).
         map: which map (:data:`MAPS`).
         states, inputs: names of the state (n) and input (m) components (inputs empty without inputs).
-        A: (n, n) discrete (per step) or continuous (``dt`` None); a periodic map's (p, n, n), one per phase.
-        B0: (n, m) the previous command's input matrix (the blend; None without inputs); periodic (p, n, m).
-        B1: (n, m) the new command's input matrix (None without inputs); periodic (p, n, m).
+        A: (n, n) discrete (per step) or continuous (``dt`` None); a periodic map's: a tuple of p, one per phase.
+        B0: (n, m) the previous command's input matrix (the blend; None without inputs); periodic: a tuple.
+        B1: (n, m) the new command's input matrix (None without inputs); periodic: a tuple.
         scale: (n,) SI per normalized unit of the states (None where not one map's).
         dt: the step [s] (T per beat, T / 2 per half-stroke); None: continuous time in t+ = t / T.
         delta: the central-difference step (normalized); 0 where not differenced.
@@ -79,9 +79,9 @@ class LinearModel:
     map: str
     states: tuple[str, ...]
     inputs: tuple[str, ...]
-    A: np.ndarray
-    B0: np.ndarray | None = None
-    B1: np.ndarray | None = None
+    A: np.ndarray | tuple[np.ndarray, ...]
+    B0: np.ndarray | tuple[np.ndarray, ...] | None = None
+    B1: np.ndarray | tuple[np.ndarray, ...] | None = None
     scale: np.ndarray | None = None
     dt: float | None = None
     delta: float = 0.0
@@ -112,7 +112,7 @@ class LinearModel:
     @property
     def phases(self) -> int:
         """Samples per period of a periodic map (2 per half-stroke), 1 otherwise."""
-        return 1 if np.ndim(self.A) == 2 else len(self.A)
+        return len(self.A) if isinstance(self.A, tuple) else 1
 
     @property
     def continuous(self) -> bool:
@@ -156,7 +156,7 @@ class LinearModel:
         """A over one period: A itself, or a periodic map's product of its phases (last phase on the left)."""
         if self.phases == 1:
             return self.A
-        M = np.eye(self.A.shape[-1])
+        M = np.eye(self.A[0].shape[-1])
         for Aj in self.A:
             M = Aj @ M
         return M
