@@ -84,12 +84,12 @@ def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray,
 
 
 HalfStrokeModel = LinearModel
-"""The half-stroke model's name of :class:`hawksim.stability.linear_model.LinearModel` (``map="half-stroke"``): A, B0,
-B1 each a pair (first half, second half) of (11, 11) / (11, 7) normalized (module docstring); ``x_half`` (9,) SI: the orbit's body
-state at phase 0.5; ``pos_half`` (2,) [m]: its horizontal displacement (X forward, Y right) over the first half (the
-phase-0.5 reference of the hold point); ``block(which, half)``; ``monodromy``: the product of the two halves' state
-maps' body block. A history network's orbit: the n records of its calls in the state after the 11 of xi, normalized
-by ``record_scale``; ``record_ref``: its record (n, 6) SI at phase 0 and at phase 0.5."""
+"""The half-stroke model's name of :class:`hawksim.stability.linear_model.LinearModel` (``map="half-stroke"``): A,
+B0, B1 each a pair (first half, second half) of (11, 11) / (11, 7) normalized (module docstring); ``x_half`` (9,)
+SI: the orbit's body state at phase 0.5; ``pos_half`` (2,) [m]: its horizontal displacement (X forward, Y right)
+over the first half (the phase-0.5 reference of the hold point); ``block(which, half)``; ``monodromy``: the product
+of the two halves' state maps' body block. A history network's orbit: the n records of its calls in the state after
+the 11 of xi, normalized by ``record_scale``; ``record_ref``: its record (n, 6) SI at phase 0 and at phase 0.5."""
 
 
 def half_stroke_model(orbit: Orbit, mats, *, x_half, pos_half, scale, coupling: float, delta: float,
