@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hawksim.flight.points import model_digest  # noqa: F401 (its home: hawksim.flight.points)
+from hawksim.trim.registry import model_digest  # noqa: F401 (its home: hawksim.trim.registry)
 
 ENV_OFF = "HAWKSIM_NO_CACHE"
 

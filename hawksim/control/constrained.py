@@ -49,7 +49,7 @@ from hawksim.control.derivatives import (XI_NAMES, Snapshot, central_jacobians, 
 from hawksim.control.lqr import U_MAX, X_MAX, augment
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import Orbit
-from hawksim.flight.points import point_key
+from hawksim.trim.registry import point_key
 from hawksim.insect.insect import DEFAULT_INSECT
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
 from hawksim.insect.model import load_model

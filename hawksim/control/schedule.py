@@ -34,7 +34,7 @@ from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_s
 from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gain
 from hawksim.control.plant import INPUTS, SYM_INPUTS, command_of, wing_kinematics
 from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
-from hawksim.flight.points import point_key, shipped_table
+from hawksim.trim.registry import point_key, shipped_table
 from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
 from hawksim.stability.linear_model import LinearModel

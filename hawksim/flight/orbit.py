@@ -53,6 +53,7 @@ from hawksim.flight.body_state import (S, STATE_NAMES, SYM_STATE, BodyState, rea
 from hawksim.flight.power import P_plus
 from hawksim.flight.simulator import Simulator, aero_every_for
 from hawksim.trim.point import OperatingPoint
+from hawksim.trim.registry import shipped_point
 from hawksim.trim.tables import trim_kinematics
 
 STEPS_PER_CYCLE = FLY_STEPS_PER_CYCLE
@@ -172,10 +173,8 @@ def shipped_orbit(speed: float, aero: str, *, insect: Insect | None = None,
     """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (its descriptor's ``orbit_table``) for ``insect`` on
     ``model`` (default: the default insect on its generated MJCF), None if absent (or if the table does not hold for
     the backend as built now: the surrogate's orbits hold for the network they were solved with only); SI
-    (kinematics and launch state angles in radians). The registry of :mod:`hawksim.flight.points` (each table read
+    (kinematics and launch state angles in radians). The registry of :mod:`hawksim.trim.registry` (each table read
     once per process)."""
-    from hawksim.flight.points import shipped_point
-
     return shipped_point(speed, aero, insect=insect, model=model)
 
 

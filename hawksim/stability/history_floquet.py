@@ -82,7 +82,8 @@ class _DelayMap:
     def __init__(self, orbit: Orbit, model: mujoco.MjModel | None, network=None):
         self.orbit = orbit
         if network is None:
-            backend, every = make_orbit_backend(orbit.aero, symmetric=False, kinematics=orbit.kinematics)
+            backend, every = make_orbit_backend(orbit.aero, symmetric=False, kinematics=orbit.kinematics,
+                                                insect=orbit.insect)
         else:
             backend = StepSurrogateBackend(orbit.kinematics, network)
             every = aero_every_for(backend, STEPS_PER_CYCLE)
@@ -90,7 +91,8 @@ class _DelayMap:
             raise ValueError("history_monodromy needs a per-step surrogate with history lags (this backend has none)")
         orbit.seed(backend)  # an orbit solved on the augmented state starts with its record
         self.backend = backend
-        self.sim = Simulator(model if model is not None else load_model(), orbit.kinematics, backend,
+        model = model if model is not None else load_model(morph=orbit.insect.morphology)
+        self.sim = Simulator(model, orbit.kinematics, backend,
                              steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
         self.calls = STEPS_PER_CYCLE // aero_every_for(backend, STEPS_PER_CYCLE)
         self.records = record_size(backend.lags, self.calls)

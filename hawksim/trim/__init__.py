@@ -7,6 +7,7 @@ Modules:
 - ``search``: the paper's fitness (Eq. 3) and the GA + Nelder-Mead search on the cycle-mean surrogate.
 - ``balance``: the trim balanced on the UVLM or the quasi-steady model (a least-squares solve from a guess).
 - ``tables``: the shipped trim tables (hawksim/data) by speed and backend.
+- ``registry``: the one registry of the shipped operating points, keyed by insect, backend, speed and MJCF.
 """
 
 from hawksim.lazy import lazy_exports
@@ -16,4 +17,5 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, {
     ".search": ("fitness", "ga_nelder_mead", "trim_on_surrogate", "GAConfig", "GAResult"),
     ".balance": ("balance_on_uvlm",),
     ".tables": ("shipped_trim", "trim_kinematics"),
+    ".registry": ("shipped_point", "shipped_table", "point_key"),
 })

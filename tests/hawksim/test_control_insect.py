@@ -8,7 +8,7 @@ import numpy as np
 
 from hawksim.control import cache
 from hawksim.control.schedule import _POINTS, insect_key, schedule_point
-from hawksim.flight.points import point_key
+from hawksim.trim.registry import point_key
 from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.model import load_model
 from hawksim.insect.morphology import HAWKMOTH

@@ -14,7 +14,8 @@ from hawksim.control.derivatives import linearize as linearize_beat
 from hawksim.control.lqr import lqr_gain, periodic_lqr_gain
 from hawksim.control.plant import INPUTS
 from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
-from hawksim.flight.points import find_operating_point, point_key, shipped_point, shipped_table
+from hawksim.flight.points import find_operating_point
+from hawksim.trim.registry import point_key, shipped_point, shipped_table
 from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import table3_kinematics
 from hawksim.insect.model import load_model
