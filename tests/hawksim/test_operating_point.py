@@ -137,5 +137,8 @@ def test_two_insects_in_one_process_get_their_own_points_and_gains():
     assert heavy.orbit.insect == HEAVY and hawk.orbit.insect == DEFAULT_INSECT
     assert heavy.orbit.kinematics.f > hawk.orbit.kinematics.f + 1.5
     assert np.abs(heavy.long.K - hawk.long.K).max() > 1e-3
+    hawk_h, heavy_h = schedule_point(1.0, rate="half-stroke"), schedule_point(1.0, rate="half-stroke", insect=HEAVY)
+    assert heavy_h.half.point.insect == HEAVY and hawk_h.half.point.insect == DEFAULT_INSECT
+    assert np.abs(heavy_h.long_half.K - hawk_h.long_half.K).max() > 1e-3
     # the same insect on another MJCF (the heavier one's) is another key too
     assert point_key(1.0, "quasi-steady", None, load_model(morph=HEAVY.morphology)) not in _POINTS
