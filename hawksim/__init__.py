@@ -6,12 +6,16 @@ light); everything else lives in the subpackages, each with its own ``__all__``:
 - :mod:`hawksim.insect`: the insect (morphology, P0, bounds; a folder of data, ``load_insect``), wing kinematics
   (Eq. 1), the MuJoCo model.
 - :mod:`hawksim.backends`: the aerodynamic models behind one protocol.
-- :mod:`hawksim.trim`: held-body trims (the paper's operating points).
+- :mod:`hawksim.trim`: held-body trims (the paper's operating points) and the one :class:`OperatingPoint` type.
 - :mod:`hawksim.flight`: free flight, periodic orbits, recordings.
 - :mod:`hawksim.stability`: averaged linear models and Floquet analysis.
 - :mod:`hawksim.control`: LQR control on the one-beat map, closed-loop flight.
 - :mod:`hawksim.surrogate`: data sets and training of the neural surrogates.
 - :mod:`hawksim.paper`: the paper's study reproduced.
+
+The python-control shape: ``point = hawksim.find_operating_point(1.0, aero="quasi-steady")`` (a free-body periodic
+orbit, or ``body="held"`` a trim) -> ``lin = hawksim.linearize(point, map="beat")`` (a :class:`LinearModel`) ->
+:func:`hawksim.control.lqr.lqr_gain` ``(lin, "long")``.
 
 Angles are radians and frequencies Hz in every Python call (the CLI and JSON take and print degrees).
 """
@@ -28,12 +32,14 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, {
     "hawksim.insect.kinematics": ("Kinematics", "table3_kinematics"),
     "hawksim.insect.model": ("load_model",),
     "hawksim.backends": ("make_backend", "flight_backend"),
-    "hawksim.trim.point": ("Trim",),
+    "hawksim.trim.point": ("OperatingPoint", "Trim"),
+    "hawksim.flight.points": ("find_operating_point",),
+    "hawksim.stability.linear_model": ("LinearModel",),
     "hawksim.trim.tables": ("trim_kinematics",),
     "hawksim.flight.fly": ("fly",),
     "hawksim.flight.result": ("FlightResult",),
     "hawksim.flight.orbit": ("Orbit", "periodic_orbit", "shipped_orbit", "fly_orbit"),
     "hawksim.stability.floquet": ("Floquet", "monodromy"),
-    "hawksim.control.derivatives": ("linearize",),
+    "hawksim.control.linearization": ("linearize",),
     "hawksim.control.closed_loop": ("fly_closed_loop",),
 })

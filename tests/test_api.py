@@ -23,11 +23,13 @@ PACKAGES = ("hawksim", "hawksim.insect", "hawksim.backends", "hawksim.trim", "ha
 
 TOP_LEVEL = {"fly", "periodic_orbit", "shipped_orbit", "fly_orbit", "monodromy", "linearize", "fly_closed_loop",
              "table3_kinematics", "Kinematics", "Morphology", "load_insect", "default_insect", "Insect", "Trim",
-             "trim_kinematics", "load_model", "make_backend", "flight_backend", "FlightResult", "Orbit", "Floquet"}
+             "trim_kinematics", "load_model", "make_backend", "flight_backend", "FlightResult", "Orbit", "Floquet",
+             "OperatingPoint", "find_operating_point", "LinearModel"}
 """The flat top level."""
 
 ANGLES_STATED = ("fly", "periodic_orbit", "shipped_orbit", "monodromy", "linearize", "fly_closed_loop",
-                 "table3_kinematics", "trim_kinematics", "Trim", "Floquet")
+                 "table3_kinematics", "trim_kinematics", "Trim", "Floquet", "OperatingPoint", "find_operating_point",
+                 "LinearModel")
 """Top-level calls that take or return angles: their docstrings say in which unit."""
 
 

@@ -3,6 +3,7 @@
 Modules:
 
 - ``plant``: a Simulator whose per-wing kinematics change at phase 0, with a uniform wind.
+- ``linearization``: :func:`linearize`, the one entry point from an operating point to its linear model.
 - ``derivatives``: the one-beat map's linear model (A, B) about a periodic orbit.
 - ``halfstroke``: the same per half-stroke.
 - ``lqr``: discrete Riccati gains, delay augmentation.
@@ -18,9 +19,10 @@ Modules:
 from hawksim.lazy import lazy_exports
 
 __all__, __getattr__, __dir__ = lazy_exports(__name__, {
-    ".derivatives": ("BeatMapModel", "linearize"),
+    ".linearization": ("linearize",),
+    ".derivatives": ("BeatMapModel",),
     ".halfstroke": ("HalfStrokeModel", "linearize_half_stroke"),
-    ".lqr": ("Gain", "lqr_gain", "periodic_lqr_gains"),
+    ".lqr": ("Gain", "lqr_gain", "periodic_lqr_gains", "periodic_lqr_gain"),
     ".constrained": ("ConstrainedSchedule", "constrained_gain"),
     ".schedule": ("Schedule", "SchedulePoint", "schedule_point", "operating_point_override"),
     ".closed_loop": ("fly_closed_loop", "ClosedLoop", "ControlledFlightResult", "Gust"),

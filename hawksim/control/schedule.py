@@ -29,14 +29,15 @@ import numpy as np
 from hawksim.backends.record import record_scale
 from hawksim.backends.builtin import BUILTINS
 from hawksim.backends.registry import descriptor
-from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, xi_scale
+from hawksim.control.derivatives import XI_NAMES, BeatMapModel, linearize, xi_scale
 from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_stroke
-from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gains
-from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, command_of, wing_kinematics
+from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gain
+from hawksim.control.plant import INPUTS, SYM_INPUTS, command_of, wing_kinematics
 from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
+from hawksim.trim.registry import point_key, shipped_table
 from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
-from hawksim.stability.history_floquet import RECORD_LAT, RECORD_LONG
+from hawksim.stability.linear_model import LinearModel
 
 SCHEDULE_SPEEDS = TABLE3_SPEEDS
 """Ascent speeds [m/s] of the quasi-steady gain schedule's orbits (0, 0.5, 1, 1.5, 2)."""
@@ -176,31 +177,30 @@ def control_model_table(models: list[BeatMapModel], command: str) -> dict:
 
 
 def shipped_control_model(speed: float, aero: str) -> BeatMapModel | None:
-    """The shipped one-beat model of ``aero`` at exactly ``speed`` (its descriptor's ``control_model_table``) about
-    the shipped orbit there, None if absent (or if the orbit it was made about is not the shipped one, or the table
-    does not hold for the backend as built now)."""
-    from importlib import resources
-
+    """The shipped one-beat model of ``aero`` at exactly ``speed`` (its descriptor's ``control_model_table``, read once
+    per process through the registry :func:`hawksim.flight.points.shipped_table`) about the shipped orbit there, None
+    if absent (or if the orbit it was made about is not the shipped one, or the table does not hold for the backend
+    as built now)."""
     desc = descriptor(aero)
     name = desc.control_model_table
-    path = resources.files("hawksim") / "data" / name if name else None
+    table = shipped_table(name) if name else None
     orbit = shipped_orbit(speed, aero)
-    if path is None or not path.is_file() or orbit is None:
-        return None
-    table = json.loads(path.read_text())
-    if not desc.tables_hold(table):
+    if table is None or orbit is None or not desc.tables_hold(table):
         return None
     for row in table["rows"]:
         if abs(row["speed"] - speed) < 1e-9 and row["orbit_f_hz"] == orbit.kinematics.f \
                 and row["orbit_residual"] == orbit.residual:
-            return BeatMapModel.from_json(row, orbit)
+            if tuple(row["states"]) != XI_NAMES or tuple(row["inputs"]) != INPUTS:
+                raise ValueError("control model table: states or inputs differ from this version's")
+            return LinearModel.from_json(row, orbit)
     return None
 
 
 _POINTS: dict = {}
 _HALF: dict = {}
-"""The process's orbits and linear models: keyed (speed, aero) for the default insect and (speed, aero, insect key)
-for another (:func:`insect_key`), so that two insects never share an orbit or gains."""
+"""The process's orbits and linear models, keyed by :func:`hawksim.flight.points.point_key` (insect digest, backend,
+speed, MJCF digest; then what was made about the point), so that two insects or two MuJoCo models never share an
+orbit or gains."""
 
 
 def insect_key(insect: Insect | None) -> tuple:
@@ -212,7 +212,7 @@ def insect_key(insect: Insect | None) -> tuple:
 
 
 def _orbit_and_model(speed: float, aero: str, model, log, insect: Insect | None = None) -> tuple[Orbit, BeatMapModel]:
-    key = (float(speed), aero, *insect_key(insect))
+    key = point_key(speed, aero, insect, model)
     desc = descriptor(aero)
     if key not in _POINTS:
         if insect_key(insect) and desc.shipped_orbits_only:
@@ -251,10 +251,9 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
     if rate == "half-stroke":
         descriptor(aero).half_stroke.require("rate='half-stroke'", aero)
-    ik = insect_key(insect)
     orb, lin = _orbit_and_model(speed, aero, model, log, insect)
     if rate == "beat" and orb.record is not None:  # a history network: the per-beat design on the augmented state
-        key = (float(speed), aero, "records", *ik)
+        key = point_key(speed, aero, insect, model, "records")
         if key not in _POINTS:
             if log is not None:
                 log(f"linearizing the {aero} orbit at {speed:g} m/s with its record of calls (seconds) ...")
@@ -264,21 +263,15 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
     if rate == "beat":
         return SchedulePoint(float(speed), orb, lin, long, lat)
-    key = (float(speed), aero, *ik)
+    key = point_key(speed, aero, insect, model, "half-stroke")
     if key not in _HALF:
         _HALF[key] = linearize_half_stroke(orb, model=model)
     h = _HALF[key]
     d = HALVES * int(delay)
     cw = HALF_STROKE_COMMAND_WEIGHT if command_weight is None else float(command_weight)
     um = {k: v / np.sqrt(cw) for k, v in {**U_MAX, **(u_max or {})}.items()}
-    rl, rt = (RECORD_LONG, RECORD_LAT) if h.records else ((), ())
-    if sym is None:
-        gl = periodic_lqr_gains([h.block("long", j) for j in range(HALVES)], LONG_X, SYM_INPUTS, d, x_max, um, rl)
-    else:  # the channels of the per-beat design (theta0 out where it sits on its bound)
-        cols = [SYM_INPUTS.index(i) for i in sym]
-        blocks = [(A, B0[:, cols], B1[:, cols]) for A, B0, B1 in (h.block("long", j) for j in range(HALVES))]
-        gl = periodic_lqr_gains(blocks, LONG_X, sym, d, x_max, um, rl)
-    gt = periodic_lqr_gains([h.block("lat", j) for j in range(HALVES)], LAT_X, ANTI_INPUTS, d, x_max, um, rt)
+    gl = periodic_lqr_gain(h, "long", d, x_max, um, inputs=sym)  # theta0 out where it sits on its bound
+    gt = periodic_lqr_gain(h, "lat", d, x_max, um)
     return SchedulePoint(float(speed), orb, lin, gl[0], gt[0], rate="half-stroke", half=h, long_half=gl[1],
                          lat_half=gt[1])
 
@@ -413,8 +406,9 @@ class Schedule:
 def operating_point_override(speed: float, aero: str, orbit: Orbit, model: BeatMapModel):
     """Within the block, the schedules at ``speed`` [m/s] with the backend ``aero`` design their per-beat gains on
     ``orbit`` and its linear model ``model`` (:func:`hawksim.control.derivatives.linearize`) instead of the shipped
-    or solved ones (an experiment on other kinematics); the process's cache is put back after."""
-    key = (float(speed), aero)
+    or solved ones (an experiment on other kinematics; the orbit's insect, the generated MJCF); the process's cache
+    is put back after."""
+    key = point_key(speed, aero, orbit.insect)
     saved = _POINTS.get(key)
     _POINTS[key] = (orbit, model)
     try:

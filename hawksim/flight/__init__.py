@@ -11,6 +11,7 @@ Modules:
 - ``start``: the start on the trim's periodic path and named perturbations.
 - ``fly``: the open-loop flight of ``hawksim fly``; ``result``: its :class:`FlightResult`.
 - ``orbit``: the free body's periodic orbit (Newton shooting on the one-beat map) and the shipped orbit tables.
+- ``points``: find an operating point (free-body orbit or held-body trim).
 - ``power``: the required power P+ of a flight.
 - ``export``: a flight's per-step and per-beat arrays saved to a self-describing file.
 - ``recording``, ``recording_layout``: Rerun recordings and their views.
@@ -24,6 +25,7 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, {
     ".start": ("start_on_orbit", "PERTURBATIONS"),
     ".result": ("FlightResult",),
     ".orbit": ("Orbit", "Beats", "OrbitFlight", "periodic_orbit", "shipped_orbit", "fly_orbit", "beat_map"),
+    ".points": ("find_operating_point",),
     ".power": ("P_plus", "required_power"),
     ".export": ("save_flight", "read_flight"),
     ".recording": ("write_rrd",),

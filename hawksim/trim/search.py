@@ -212,4 +212,4 @@ def trim_on_surrogate(surrogate, speed: float, *, seed: int = 0, cfg: GAConfig =
                 averages=CycleAverages.from_plus(y),
                 fitness=float(fitness(y[None], x[None], lo=lo, hi=hi)[0]), evaluations=nfev,
                 wall_time_s=time.perf_counter() - t0,
-                seed=int(seed), search=ga)
+                search_seed=int(seed), search=ga)
