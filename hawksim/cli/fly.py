@@ -19,7 +19,7 @@ MAX_WAKE_CYCLES = 100
 
 START_CHOICES = ("orbit", "trim")
 """Where `hawksim fly` starts: the periodic orbit of the free body (the shipped one of the backend at that speed,
-hawksim/data/orbit_table_*.json; the quasi-steady one is solved at other speeds) or the held-body trim with one
+insects/hawkmoth/data/orbit_table_*.json; the quasi-steady one is solved at other speeds) or the held-body trim with one
 calibration wingbeat (where no orbit is available, or on request)."""
 
 

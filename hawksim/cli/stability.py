@@ -79,7 +79,7 @@ def cmd_stability(args) -> dict:
         lin = source = None
         if desc.control_model_table is not None and args.kinematics is None and insect is None:
             lin = shipped_control_model(args.speed, args.aero)
-            source = f"shipped: hawksim/data/{desc.control_model_table}"
+            source = f"shipped: hawksim/insects/hawkmoth/data/{desc.control_model_table}"
         if lin is None and desc.linearize_cost == "seconds":
             lin, source = linearize(orbit, map="beat"), "differenced here (hawksim.control.derivatives.linearize)"
         control = None if lin is None else {**lin.to_json(), "source": source}

@@ -4,12 +4,12 @@ interpolated linearly in between; updated once per wingbeat or once per half-str
 Quasi-steady: the orbits are solved (:func:`hawksim.flight.orbit.periodic_orbit`, ~1 s) and linearized
 (:func:`hawksim.control.derivatives.linearize`, ~2 s; per half-stroke :func:`hawksim.control.halfstroke.
 linearize_half_stroke`, ~3 s) at :data:`SCHEDULE_SPEEDS`, cached per process. UVLM (per beat only): the SHIPPED
-orbits (hawksim/data/orbit_table_uvlm.json, converged at :data:`UVLM_SCHEDULE_SPEEDS`) and their one-beat control
-derivatives shipped in hawksim/data/control_models_uvlm.json (``hawksim reproduce --only control_uvlm``,
-:func:`control_model_table`; linearizing one speed takes minutes), so the schedule covers 1-2 m/s only, and a
-speed outside the grid's range is refused (ValueError naming it). Per-step surrogate (per beat only): the same
-from its shipped orbits (hawksim/data/orbit_table_surrogate.json, for the shipped network only) at
-:func:`surrogate_schedule_speeds` (0, 0.5, 1, 1.5, 2 m/s) and hawksim/data/control_models_surrogate.json
+orbits (insects/hawkmoth/data/orbit_table_uvlm.json, converged at :data:`UVLM_SCHEDULE_SPEEDS`) and their one-beat
+control derivatives shipped in insects/hawkmoth/data/control_models_uvlm.json (``hawksim reproduce --only
+control_uvlm``, :func:`control_model_table`; linearizing one speed takes minutes), so the schedule covers 1-2 m/s only,
+and a speed outside the grid's range is refused (ValueError naming it). Per-step surrogate (per beat only): the same
+from its shipped orbits (hawksim/insects/hawkmoth/data/orbit_table_surrogate.json, for the shipped network only) at
+:func:`surrogate_schedule_speeds` (0, 0.5, 1, 1.5, 2 m/s) and insects/hawkmoth/data/control_models_surrogate.json
 (``hawksim reproduce --only control_surrogate``; without it the derivatives are recomputed, ~5 s per speed).
 
 Per beat the gains are :func:`hawksim.control.lqr.lqr_gain` of the one-beat map; per half-stroke

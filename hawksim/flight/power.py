@@ -24,7 +24,7 @@ unchanged (the loads applied are the same held ones), only the power's estimate 
 (the quasi-steady backend in `hawksim fly`) both samplings are the same numbers.
 
 ``sampling="steps"`` is the estimate before this change (every step's joint power, lag included): the P+ of the
-shipped UVLM and surrogate orbit tables (``hawksim/data/orbit_table_{uvlm,surrogate}.json``) and of the results
+shipped UVLM and surrogate orbit tables (``insects/hawkmoth/data/orbit_table_{uvlm,surrogate}.json``) and of the results
 written before this change (issue 48, item 5) were computed this way; set :data:`POWER_SAMPLING` to "steps" (or pass
 it) to reproduce them.
 """

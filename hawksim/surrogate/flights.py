@@ -16,8 +16,8 @@ Flight ``i`` of seed ``s`` (:func:`sample_flight`, a pure function of (s, i) by
 ``numpy.random.default_rng([s, FLIGHT_STREAM, i])``):
 
 - ascent speed V uniform in [0, 2] m/s; launch state and kinematics interpolated linearly in V between the shipped
-  UVLM orbits (``hawksim/data/orbit_table_uvlm.json``: 0, 1, 1.5, 2 m/s; the hover row is not converged but is a
-  launch state of the right kind);
+  UVLM orbits (``insects/hawkmoth/data/orbit_table_uvlm.json``: 0, 1, 1.5, 2 m/s; the hover row is not converged
+  but is a launch state of the right kind);
 - kinematics: each of the seven parameters moved uniformly by +-:data:`KIN_SPREAD` of Table 2's width (f +-0.625 Hz,
   the angles +-1.25 deg), clipped to Table 2;
 - launched on the (interpolated) orbit's launch state; after :data:`WARM_BEATS` beats, which develop the wake, the

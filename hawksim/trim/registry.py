@@ -1,9 +1,9 @@
-"""The one registry of the shipped operating points: every shipped table of ``hawksim/data`` (trims, orbits, control
-models) is read once per process (:func:`shipped_table`), and points are looked up by :func:`point_key`: (insect
-digest, backend, speed, MJCF digest). The shipped tables are the default insect's on its generated MJCF, so another
-insect or another model finds none; the same key names the process caches of the points and linear models made
-here (:mod:`hawksim.control.schedule`, :mod:`hawksim.control.constrained`), so that two insects (or two MJCF
-models) in one process never share an orbit or a gain. Finding a point (shipped or solved):
+"""The one registry of the shipped operating points: every shipped table of the default insect's folder (trims,
+orbits, control models) is read once per process (:func:`shipped_table`), and points are looked up by
+:func:`point_key`: (insect digest, backend, speed, MJCF digest). The shipped tables are the default insect's on its
+generated MJCF, so another insect or another model finds none; the same key names the process caches of the points and
+linear models made here (:mod:`hawksim.control.schedule`, :mod:`hawksim.control.constrained`), so that two insects (or
+two MJCF models) in one process never share an orbit or a gain. Finding a point (shipped or solved):
 :func:`hawksim.flight.points.find_operating_point`.
 """
 
@@ -60,12 +60,17 @@ def point_key(speed: float, aero: str, insect: Insect | None = None, model=None,
 
 @lru_cache(maxsize=None)
 def shipped_table(name: str) -> dict | None:
-    """The shipped table ``hawksim/data/<name>`` parsed once per process (None if absent). Read-only by contract:
-    callers build their values from it and never change it."""
-    from importlib import resources
+    """The default insect's shipped table ``<its folder>/data/<name>`` (as its manifest lists it:
+    :func:`hawksim.insect.tables.table_status`), parsed once per process; None if it ships none or the manifest
+    says it was computed on another MJCF. Read-only by contract: callers build their values from it and never change
+    it."""
+    from hawksim.insect.tables import table_status
 
-    path = resources.files("hawksim") / "data" / name
-    return json.loads(path.read_text()) if path.is_file() else None
+    for kind in ("trim", "orbit", "control_model"):
+        path, _ = table_status(DEFAULT_INSECT, kind, name=name)
+        if path is not None:
+            return json.loads(path.read_text())
+    return None
 
 
 @lru_cache(maxsize=None)

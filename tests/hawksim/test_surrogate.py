@@ -153,7 +153,7 @@ def test_shipped_surrogates_load_and_record_their_provenance():
 
 
 SHIPPED_DATA = Path(__file__).resolve().parents[2] / "data" / "uvlm_training_0.3.sqlite"
-"""The data set the shipped networks were trained on (hawksim/data/surrogates/README.md)."""
+"""The data set the shipped networks were trained on (hawksim/insects/hawkmoth/data/surrogates/README.md)."""
 R2_FLOOR = {"L_plus": 0.99, "P_plus": 0.99}
 """Held-out R^2 the shipped networks must keep: issue 4's target for L+ and P+ (after the paper's Fig. 5, where
 the networks reach R^2 ~ 0.99-1.0). Measured on the 0.3 data set: L+ 0.9906-0.9956 per-speed, 0.9922-0.9959
