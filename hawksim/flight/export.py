@@ -14,7 +14,8 @@ The file holds plain arrays only (``np.load(path, allow_pickle=False)`` reads it
   ``command`` (the argument list), ``seed`` (None: a flight is deterministic), ``units`` (array name -> unit),
   ``descriptions`` (array name -> shape, frame and meaning), ``frames``, the run's ``summary`` (the compact JSON of
   ``hawksim fly --json``), and what :meth:`FlightResult.load` needs to rebuild the result exactly (``kinematics_si``,
-  ``aero_every``, ``flight_wall_time_s``). Read it with ``json.loads(str(z["metadata"]))``.
+  ``aero_every``, ``flight_wall_time_s``; under a controller ``speed_references_m_s`` and ``beat_log``, the
+  loop's per-beat rows, :attr:`FlightResult.beat_log`). Read it with ``json.loads(str(z["metadata"]))``.
 
 :func:`read_flight` reads a file back (arrays and metadata, the format checked); :meth:`FlightResult.save` and
 :meth:`FlightResult.load` write and read a result through this module. The layout is documented for users in
@@ -170,6 +171,9 @@ def flight_file_bytes(result: FlightResult, beats: list[dict], *, command: list[
             "trim_source": result.trim_source, "aero_every": int(result.aero_every),
             "flight_wall_time_s": float(result.wall_time_s), "end_t_s": result.end_t,
             "end_pos_m": None if result.end_pos is None else [float(x) for x in result.end_pos],
+            "speed_references_m_s": (None if result.speed_references is None
+                                     else [float(v) for v in result.speed_references]),
+            "beat_log": result.beat_log,
             "insect": result.insect.to_dict(),
             "insect_units": "SI (kg, m); P0_W [W]; bounds_deg: f [Hz], the angles [deg] "
                             "(hawksim.insect.insect.Insect.to_dict)",
