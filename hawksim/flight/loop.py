@@ -73,7 +73,7 @@ class Observation:
     beat: the wingbeat about to be flown (1-based); half: the update within it (0 at phase 0; 1 at phase 0.5 for a
     ``'half-stroke'`` controller); time [s]: the plant's time now. state (9,): the body state sensed
     ``sensing_delay`` wingbeats ago at this update's phase, in :data:`hawksim.flight.body_state.STATE_NAMES` order
-    (u, v, w [m/s], p, q, r [rad/s], theta, phi, psi [rad]; stability axes of the body pitch ``chi_ref``: the
+    (u, v, w [m/s], p, q, r [rad/s], phi, theta, psi [rad]; stability axes of the body pitch ``chi_ref``: the
     controller's :attr:`Controller.chi_ref` if it has one, else the operating point's); position (2,): the
     horizontal position (X forward, Y right) [m] from the start point, sensed with the state; record: a history
     network's record of its calls (n, 6) SI sensed with it (None unless the controller's ``senses_record``).
@@ -95,29 +95,35 @@ class Observation:
 
 @runtime_checkable
 class Controller(Protocol):
-    """A flight controller for :func:`fly` (a plain class with these members; no base class needed).
+    """A flight controller for :func:`fly`: a plain class with these members (no base class needed).
 
-    Members:
-        rate: ``'beat'`` (one update per wingbeat, at phase 0) or ``'half-stroke'`` (at phases 0 and 0.5).
-        reset(point): called once before the first update, with the operating point flown from (an
-            :class:`hawksim.flight.orbit.Orbit` or :class:`hawksim.trim.point.Trim`, its ``kinematics`` the wings'
-            start; None if not given): forget any state of a previous flight.
-        update(obs): given an :class:`Observation`, return the (left, right) wings' Eq. 1 parameters for the update
-            about to be flown: two arrays (7,) SI in :data:`hawksim.insect.kinematics.PARAM_NAMES` order
-            (f [Hz], beta, phi0, theta0, alpha0, phi_a, alpha_a [rad]; both wings at one f), or two
-            :class:`hawksim.insect.kinematics.Kinematics`. The loop clips each at the insect's kinematic bounds
-            (``Observation.past`` holds what was flown) and blends the wings into them over the update. A wrong
-            shape, a non-finite value or two frequencies is a ValueError naming the controller.
+    - ``rate``: ``'beat'`` (one update per wingbeat, at phase 0) or ``'half-stroke'`` (at phases 0 and 0.5).
+    - ``reset(point)``: called once before the first update with the operating point flown from (an
+      :class:`hawksim.flight.orbit.Orbit` or :class:`hawksim.trim.point.Trim`, its ``kinematics`` the wings' start;
+      None if not given): forget any state of a previous flight.
+    - ``update(obs)``: given an :class:`Observation`, return the (left, right) wings' Eq. 1 parameters for the
+      update about to be flown: two arrays (7,) SI in :data:`hawksim.insect.kinematics.PARAM_NAMES` order (f [Hz],
+      beta, phi0, theta0, alpha0, phi_a, alpha_a [rad]; both wings at one f), or two
+      :class:`hawksim.insect.kinematics.Kinematics`. The loop clips each at the insect's kinematic bounds
+      (``Observation.past`` holds what was flown) and blends the wings into them over the update. A wrong shape, a
+      non-finite value or two frequencies is a ValueError naming the controller.
 
-    Optional members (read with ``getattr``): ``chi_ref`` [rad], the body pitch of the stability axes the state is
-    sensed in (default the operating point's; a scheduled controller moves it with its reference, read after
-    each update); ``history`` (int, default 1), how many past updates ``Observation.past`` must hold;
-    ``senses_record`` (bool), whether the observation carries a history network's record;
-    ``sensed_before_start(half)``, the (state, position, record) taken as sensed before the start at update
-    ``half`` (default the start); ``beat_row(row, steps)``, the per-beat row of :attr:`FlightResult.beat_log`
-    given the loop's measured one and the beat's :class:`hawksim.flight.simulator.StepBatch` list, one per update
-    (default that row); ``speed_reference()`` [m/s], the speed the beat is flown to (default
-    the operating point's speed), recorded per beat for the departure test.
+    Optional members, read with ``getattr``:
+
+    - ``chi_ref`` [rad]: the body pitch of the stability axes the state is sensed in (default the operating
+      point's; a scheduled controller moves it with its reference; read after each update).
+    - ``history`` (int, default 1): how many past updates ``Observation.past`` must hold.
+    - ``senses_record`` (bool): whether the observation carries a history network's record.
+    - ``sensed_before_start(half)``: the (state, position, record) taken as sensed before the start at update
+      ``half`` (default the start).
+    - ``beat_row(row, steps)``: the per-beat row of :attr:`FlightResult.beat_log` given the loop's measured one and
+      the beat's :class:`hawksim.flight.simulator.StepBatch` list, one per update (default that row).
+    - ``speed_reference()`` [m/s]: the speed the beat is flown to (default the operating point's speed), recorded
+      per beat for the departure test.
+
+    The shipped implementations: :class:`hawksim.control.controller.NoControl`, :class:`hawksim.control.controller.
+    LQR` (per beat or per half-stroke) and :class:`hawksim.control.controller.ConstrainedLQR`;
+    examples/your_own_controller.py is a user's.
     """
 
     rate: str
