@@ -199,11 +199,14 @@ class FlightResult:
     def save(self, path: str | Path, *, beats: list[dict] | None = None) -> Path:
         """Write the flight to ``path`` as the ``.npz`` file of ``hawksim fly --out`` (:mod:`hawksim.flight.export`:
         the per-step arrays, the per-beat table, the metadata with units), all or nothing. ``beats``: the per-beat
-        table (default :meth:`beat_table`, with the controller's rows where there are). The backend's ``extras``
-        are not saved. OSError naming the path when it cannot be written. Returns ``path``."""
+        table (default :meth:`beats` open loop, :meth:`beat_table` with the controller's rows under a controller).
+        The backend's ``extras`` are not saved. OSError naming the path when it cannot be written. Returns
+        ``path``."""
         from hawksim.flight.export import save_flight
 
-        return save_flight(path, self, self.beat_table() if beats is None else beats, summary=self.summary())
+        if beats is None:
+            beats = self.beats() if self.beat_log is None else self.beat_table()
+        return save_flight(path, self, beats, summary=self.summary())
 
     @classmethod
     def load(cls, path: str | Path) -> FlightResult:
