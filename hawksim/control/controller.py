@@ -105,6 +105,31 @@ class LQR:
         self.sent = any(p.model.clipped for p in schedule.points)
         self.reset(None)
 
+    @classmethod
+    def at(cls, speed: float, *, profile: list[tuple[float, int]] | None = None, aero: str = "quasi-steady",
+           rate: str = "beat", delay: int = 0, insect=None, model=None, log=None, **kw):
+        """The controller flown from ``speed`` [m/s] (and along ``profile``) with the schedule it needs, designed
+        here (:class:`hawksim.control.schedule.Schedule` over the speeds commanded; ``rate`` ``'beat'`` or
+        ``'half-stroke'``, sensing ``delay`` [wingbeats], the ``aero`` backend's orbits, ``insect``'s); ``kw`` as
+        :class:`LQR`. Fly it from the schedule's orbit at ``speed`` (``controller.schedule.points``)."""
+        speeds = [float(speed)] + [float(v) for v, _ in profile or []]
+        schedule = cls._schedule(min(speeds), max(speeds), delay=delay, aero=aero, rate=rate, insect=insect,
+                                 model=model, log=log)
+        return cls(schedule, speed, profile=profile, **kw)
+
+    _schedule = Schedule
+
+    @property
+    def point(self):
+        """The schedule's periodic orbit at the start speed (:class:`hawksim.flight.orbit.Orbit`), the operating
+        point to fly this controller from; ValueError if the start speed is between the schedule's grid speeds."""
+        for p in self.schedule.points:
+            if p.speed == self.speed:
+                return p.orbit
+        raise ValueError(f"speed={self.speed:g} m/s is between the schedule's orbits "
+                         f"({', '.join(f'{p.speed:g}' for p in self.schedule.points)} m/s): fly_closed_loop starts "
+                         "from the interpolated reference")
+
     # ---- the protocol -----------------------------------------------------------------------------
     def reset(self, point) -> None:
         self.v_ref = self.speed
@@ -186,3 +211,9 @@ class ConstrainedLQR(LQR):
             raise ValueError(f"ConstrainedLQR takes a ConstrainedSchedule, got {type(schedule).__name__} (LQR "
                              "flies a Schedule)")
         super().__init__(schedule, speed, **kw)
+
+    @staticmethod
+    def _schedule(v_lo, v_hi, **kw):
+        from hawksim.control.constrained import ConstrainedSchedule
+
+        return ConstrainedSchedule(v_lo, v_hi, **kw)

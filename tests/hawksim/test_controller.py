@@ -111,3 +111,23 @@ def test_a_controlled_flight_saves_and_loads(orbit, tmp_path):
     back = FlightResult.load(r.save(tmp_path / "f.npz"))
     assert back.beat_log == r.beat_log and np.array_equal(back.speed_references, r.speed_references)
     assert np.array_equal(back.body_pos, r.body_pos) and back.departed_at_beat() == r.departed_at_beat()
+
+
+def test_the_lqr_through_fly_is_fly_closed_loops():
+    """``hawksim.fly(ctl.point, controller=LQR.at(...))`` flies what ``fly_closed_loop`` flies (the same loop, the
+    same controller; the start state is read back from the plant instead of given: round-off only)."""
+    from hawksim.control.closed_loop import fly_closed_loop
+    from hawksim.control.controller import LQR
+
+    for rate in ("beat", "half-stroke"):
+        ctl = LQR.at(1.0, rate=rate)
+        r = hawksim.fly(ctl.point, cycles=3, controller=ctl, perturb={"q": 20.0})
+        x = np.zeros(9)
+        x[4] = np.deg2rad(20.0)
+        cl = fly_closed_loop(1.0, 3, perturbation=x, record=True, schedule=ctl.schedule)
+        np.testing.assert_allclose(r.body_pos, cl.result.body_pos, rtol=0, atol=1e-12)
+        for mine, theirs in zip(r.beat_log, cl.beats, strict=True):
+            assert mine["commands"] == pytest.approx(theirs["commands"], abs=1e-9)
+            assert mine.keys() == theirs.keys() and mine["speed_reference"] == theirs["speed_reference"]
+        assert r.beat_log[0]["commands"]["phi0_deg"] != pytest.approx(np.rad2deg(ctl.point.kinematics.phi0),
+                                                                       abs=1e-3)  # the LQR acted
