@@ -117,7 +117,12 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     ``insect``: the insect flown (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): the schedule made here is of
     its own orbits and gains (quasi-steady: solved here; ``control='clqr'`` and backends of shipped orbits take the
     default insect only, ValueError), its wings in the backend, its MJCF unless ``model`` is given, its kinematic
-    bounds for the saturation, its weight and P0 in ``result``; a given ``schedule`` must be of the same insect."""
+    bounds for the saturation, its weight and P0 in ``result``; a given ``schedule`` must be of the same insect.
+
+    The flight is the one flight loop (:func:`hawksim.flight.loop.run`) under :class:`hawksim.control.controller.LQR`
+    (``'none'``: with ``feedback=False``; ``'clqr'``: :class:`hawksim.control.controller.ConstrainedLQR`), started
+    from the schedule's reference at ``speed``; ``hawksim.fly(orbit, cycles=..., controller=LQR.at(speed))`` flies
+    the same from an orbit."""
     if control not in ("lqr", "clqr", "none"):
         raise ValueError(f"--control {control!r}: choose lqr, clqr, none")
     t_start = time.perf_counter()
