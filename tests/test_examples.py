@@ -84,7 +84,7 @@ def test_heavier_insect(tmp_path):
 
 def test_export_and_read(tmp_path):
     out = run_example("export_and_read.py", tmp_path)
-    assert out[0].startswith("hawksim-flight-npz/1: 18 arrays, 1000 steps of quasi-steady at 1 m/s")
+    assert out[0].startswith("hawksim-flight-npz/1: 19 arrays, 1000 steps of quasi-steady at 1 m/s")
     assert "force (1000, 2, 3) [N]" in line_with(out, "force")
     lift, weight = numbers(line_with(out, "mean lift"))
     assert abs(lift - weight) < 0.02 * weight  # on the orbit the mean lift carries the weight

@@ -35,7 +35,7 @@ from hawksim.flight.body_state import read_body_state
 from hawksim.flight.plant import saturate
 from hawksim.flight.power import P_plus
 from hawksim.flight.result import FlightResult
-from hawksim.frames import STABILITY_TO_WORLD, attitude_of, pitch_of, quat_from_matrices
+from hawksim.frames import STABILITY_TO_WORLD, attitude_of, cross, pitch_of, quat_from_matrices
 from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 
@@ -284,12 +284,15 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
          ("t", "body_pos", "body_R", "body_v", "body_omega", "wing_R", "wing_origin", "force", "power_aero",
           "power_joint")}
     a["moment"] = np.concatenate([b.moment_about_body() for b in batches])
+    a["wing_moment"] = np.concatenate([b.moment + cross(b.wing_origin - b.body_pos[:, None, :], b.force)
+                                       for b in batches])  # each wing's; their sum is moment_about_body's
     extras = [e for b in batches for e in b.extras]
     return FlightResult(
         speed_target=float(speed), cycles=int(cycles), aero=aero, kinematics=kinematics, steps_per_cycle=n,
         t=a["t"], body_pos=a["body_pos"], body_quat=quat_from_matrices(a["body_R"]), body_v=a["body_v"],
         body_omega=a["body_omega"], wing_R=a["wing_R"], wing_origin=a["wing_origin"], force=a["force"],
-        moment=a["moment"], power_aero=a["power_aero"], power_joint=a["power_joint"], wall_time_s=wall,
+        moment=a["moment"], wing_moment=a["wing_moment"], power_aero=a["power_aero"], power_joint=a["power_joint"],
+        wall_time_s=wall,
         extras=extras, trim_source=source, end_t=end_t, end_pos=end_pos, aero_every=sim.aero_every, insect=insect,
         beat_log=rows if controller is not None else None,
         speed_references=np.array(refs) if controller is not None else None)

@@ -25,7 +25,8 @@ class FlightResult:
 
     Shapes: n steps. t (n,) [s]; body_pos (n, 3) [m]; body_quat (n, 4) (w, x, y, z); body_v (n, 3) [m/s];
     body_omega (n, 3) [rad/s] world; wing_R (n, 2, 3, 3); wing_origin (n, 2, 3) [m]; force (n, 2, 3) [N] per
-    wing; moment (n, 3) total aerodynamic moment about the body centre of mass [N m]; power_aero (n,) [W];
+    wing; moment (n, 3) total aerodynamic moment about the body centre of mass [N m] (wing_moment (n, 2, 3): each
+    wing's; :meth:`wing_angles`: the joint angles); power_aero (n,) [W];
     power_joint (n,) [W] (aerodynamic + inertial power of the wings, relative to the body). end_t [s] and end_pos
     (3,) [m]: time and body centre of mass after the last step (None where the flight was interrupted), so that
     the last wingbeat's mean speed spans the whole beat like the others. aero_every: steps per backend update (the
@@ -66,6 +67,10 @@ class FlightResult:
     """A flight under a controller (:func:`hawksim.flight.loop.run`): one row per complete wingbeat as the loop
     measured it and the controller described it (:class:`hawksim.control.controller.LQR`: speed command and
     reference, tracking errors, commands in edge units, saturation, end state; docs/output.md); None open loop."""
+    wing_moment: np.ndarray | None = field(default=None, repr=False)
+    """(n, 2, 3) each wing's (left, right) aerodynamic moment about the body centre of mass [N m], world frame (its
+    own moment plus its force's about the centre of mass; the sum over the wings is :attr:`moment`); None in a file
+    saved before it was kept."""
     speed_references: np.ndarray | None = None
     """A flight under a controller: the speed each beat was flown to (beats,) [m/s] (a scheduled controller's
     rate-limited reference; else the target), which :meth:`departed_at_beat` tests against; None open loop."""
@@ -74,6 +79,13 @@ class FlightResult:
     def body_R(self) -> np.ndarray:
         """(n, 3, 3) body frame -> world."""
         return quat_to_matrix(self.body_quat)
+
+    def wing_angles(self) -> np.ndarray:
+        """(n, 2, 3) the joint angles: sweep phi, elevation theta, rotation alpha [rad] of the left and right wing
+        (paper Eq. 1's angles, read back from the wing frames; :func:`hawksim.flight.export.wing_angles`)."""
+        from hawksim.flight.export import wing_angles
+
+        return wing_angles(self)
 
     def pitch(self) -> np.ndarray:
         """Body pitch (n,) [rad]: elevation of the body x axis above the horizontal (nose up positive)."""
@@ -220,7 +232,8 @@ class FlightResult:
 
         arrays, meta = read_flight(path)
         derived = ("attitude", "wing_angles")
-        missing = [k for k in STEP_ARRAYS if k not in derived and k not in arrays]
+        optional = ("wing_moment",)  # files written before it was kept load without it
+        missing = [k for k in STEP_ARRAYS if k not in derived + optional and k not in arrays]
         if missing:
             raise ValueError(f"{str(path)!r} is a hawksim flight file without the array(s) {missing}")
         if "kinematics_si" in meta:
@@ -237,7 +250,7 @@ class FlightResult:
         insect = Insect.from_dict(meta["insect"]) if meta.get("insect") is not None else DEFAULT_INSECT
         return cls(speed_target=meta["speed_target_m_s"], cycles=meta["cycles"], aero=meta["aero"], kinematics=kin,
                    steps_per_cycle=meta["steps_per_cycle"],
-                   **{k: arrays[k] for k in STEP_ARRAYS if k not in derived},
+                   **{k: arrays.get(k) for k in STEP_ARRAYS if k not in derived},
                    wall_time_s=wall, trim_source=meta["trim_source"], end_t=meta.get("end_t_s"),
                    end_pos=None if end_pos is None else np.array(end_pos, dtype=float), aero_every=int(aero_every),
                    insect=insect, beat_log=meta.get("beat_log"),

@@ -131,3 +131,17 @@ def test_the_lqr_through_fly_is_fly_closed_loops():
             assert mine.keys() == theirs.keys() and mine["speed_reference"] == theirs["speed_reference"]
         assert r.beat_log[0]["commands"]["phi0_deg"] != pytest.approx(np.rad2deg(ctl.point.kinematics.phi0),
                                                                        abs=1e-3)  # the LQR acted
+
+
+def test_per_wing_moments_and_joint_angles(orbit, tmp_path):
+    """The one FlightResult's per-step arrays: each wing's moment (their sum is the total, to round-off) and the
+    joint angles (the sweep of Eq. 1 about its mean phi0); saved and loaded."""
+    r = hawksim.fly(orbit, cycles=1, perturb={"phi": 2.0})
+    assert r.wing_moment.shape == (200, 2, 3)
+    np.testing.assert_allclose(r.wing_moment.sum(1), r.moment, rtol=0, atol=1e-15)
+    assert abs(r.wing_moment[:, 0, 0] - r.wing_moment[:, 1, 0]).max() > 1e-9  # the wings differ (rolled start)
+    sweep = r.wing_angles()[:, 0, 0]
+    assert abs(sweep.mean() - orbit.kinematics.phi0) < 0.02 and np.ptp(sweep) == pytest.approx(
+        2 * orbit.kinematics.phi_a, rel=1e-3)
+    back = FlightResult.load(r.save(tmp_path / "f.npz"))
+    assert np.array_equal(back.wing_moment, r.wing_moment)
