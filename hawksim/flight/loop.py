@@ -170,7 +170,8 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
     """The loop body (module docstring): ``cycles`` wingbeats of ``sim`` (its body and backend already placed at the
     start) open loop (``controller`` None: ``sim`` a Simulator) or under ``controller`` (``sim`` a
     :class:`hawksim.flight.plant.ControlledSimulator` whose wings start on ``kinematics``). ``chi_ref`` [rad]: the
-    stability axes' body pitch of the sensed state (default the controller's). ``progress(k, cycles)`` is called
+    stability axes' body pitch of the sensed state where the controller has no ``chi_ref`` (default the kinematics'
+    body angle chi). ``progress(k, cycles)`` is called
     before the first beat (k = 0) and after each complete beat. ``partial_on_interrupt``: a KeyboardInterrupt during
     the beats returns the steps flown so far (whole updates under a controller) instead of propagating; with none
     flown it propagates. ``kinematics``, ``speed``, ``aero``, ``source``, ``insect``: the result's record of what was
@@ -200,9 +201,9 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
         keep = max(lag, int(getattr(controller, "history", 1))) + 2 * nseg
         feeds = bool(getattr(controller, "senses_record", False))
 
-        def frame() -> float:
+        def frame() -> float:  # the controller's, else the given one, else the kinematics' body angle
             c = getattr(controller, "chi_ref", None)
-            return float(chi_ref if c is None else c)
+            return float(c if c is not None else chi_ref if chi_ref is not None else kinematics.chi)
 
         def sense():
             return (read_body_state(sim, frame()), stability_position(sim.d.qpos[:3]) - hold,
