@@ -7,9 +7,11 @@ light); everything else lives in the subpackages, each with its own ``__all__``:
   (Eq. 1), the MuJoCo model.
 - :mod:`hawksim.backends`: the aerodynamic models behind one protocol.
 - :mod:`hawksim.trim`: held-body trims (the paper's operating points) and the one :class:`OperatingPoint` type.
-- :mod:`hawksim.flight`: free flight, periodic orbits, recordings.
+- :mod:`hawksim.flight`: free flight (the one flight loop :func:`fly`, open loop or under a :class:`Controller`),
+  periodic orbits, recordings.
 - :mod:`hawksim.stability`: averaged linear models and Floquet analysis.
-- :mod:`hawksim.control`: LQR control on the one-beat map, closed-loop flight.
+- :mod:`hawksim.control`: LQR control on the one-beat map (the controllers :class:`hawksim.control.LQR`,
+  :class:`hawksim.control.ConstrainedLQR`, :class:`hawksim.control.NoControl`), closed-loop flight.
 - :mod:`hawksim.surrogate`: data sets and training of the neural surrogates.
 - :mod:`hawksim.paper`: the paper's study reproduced.
 
@@ -36,7 +38,7 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, {
     "hawksim.flight.points": ("find_operating_point",),
     "hawksim.stability.linear_model": ("LinearModel",),
     "hawksim.trim.tables": ("trim_kinematics",),
-    "hawksim.flight.fly": ("fly",),
+    "hawksim.flight.loop": ("fly", "Controller"),
     "hawksim.flight.result": ("FlightResult",),
     "hawksim.flight.orbit": ("Orbit", "periodic_orbit", "shipped_orbit", "fly_orbit"),
     "hawksim.stability.floquet": ("Floquet", "monodromy"),

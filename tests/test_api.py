@@ -24,7 +24,7 @@ PACKAGES = ("hawksim", "hawksim.insect", "hawksim.backends", "hawksim.trim", "ha
 TOP_LEVEL = {"fly", "periodic_orbit", "shipped_orbit", "fly_orbit", "monodromy", "linearize", "fly_closed_loop",
              "table3_kinematics", "Kinematics", "Morphology", "load_insect", "default_insect", "Insect", "Trim",
              "trim_kinematics", "load_model", "make_backend", "flight_backend", "FlightResult", "Orbit", "Floquet",
-             "OperatingPoint", "find_operating_point", "LinearModel"}
+             "OperatingPoint", "find_operating_point", "LinearModel", "Controller"}
 """The flat top level."""
 
 ANGLES_STATED = ("fly", "periodic_orbit", "shipped_orbit", "monodromy", "linearize", "fly_closed_loop",
@@ -37,7 +37,7 @@ def test_the_flat_top_level():
     import hawksim
 
     assert set(hawksim.__all__) == TOP_LEVEL
-    from hawksim.flight.fly import fly
+    from hawksim.flight.loop import fly
     from hawksim.insect.kinematics import table3_kinematics
 
     assert hawksim.fly is fly and hawksim.table3_kinematics is table3_kinematics
