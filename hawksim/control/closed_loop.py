@@ -41,7 +41,8 @@ from hawksim.flight.body_state import read_body_state, set_body_state
 from hawksim.flight.loop import SATURATION_TOL, Gust, run
 from hawksim.flight.orbit import STEPS_PER_CYCLE
 from hawksim.flight.result import FlightResult
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.model import load_model
 from hawksim.insect.morphology import Morphology
 
@@ -50,7 +51,7 @@ __all__ = ["SPEED_RATE", "SATURATION_TOL", "Gust", "ClosedLoop", "body_length", 
 
 def body_length(morph: Morphology | None = None) -> float:
     """Head tip to abdomen tip along body x [m] of ``morph``'s segments (default the default insect's, 0.0425 m)."""
-    morph = DEFAULT_INSECT.morphology if morph is None else morph
+    morph = default_insect().morphology if morph is None else morph
     lo = min(s.centre[0] - s.semi_axes[0] for s in morph.segments)
     hi = max(s.centre[0] + s.semi_axes[0] for s in morph.segments)
     return float(hi - lo)
@@ -114,7 +115,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     ``partial_on_interrupt`` (with ``record``): a KeyboardInterrupt during the beats returns the steps and beats
     completed so far (``result`` with fewer than beats x 200 rows, ``beats`` the complete ones) instead of
     propagating; with no step completed it propagates.
-    ``insect``: the insect flown (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): the schedule made here is of
+    ``insect``: the insect flown (default :func:`hawksim.insect.folder.default_insect`): the schedule made here is of
     its own orbits and gains (quasi-steady: solved here; ``control='clqr'`` and backends of shipped orbits take the
     default insect only, ValueError), its wings in the backend, its MJCF unless ``model`` is given, its kinematic
     bounds for the saturation, its weight and P0 in ``result``; a given ``schedule`` must be of the same insect.
@@ -126,7 +127,7 @@ def fly_closed_loop(speed: float, beats: int, *, profile: list[tuple[float, int]
     if control not in ("lqr", "clqr", "none"):
         raise ValueError(f"--control {control!r}: choose lqr, clqr, none")
     t_start = time.perf_counter()
-    insect = DEFAULT_INSECT if insect is None else insect
+    insect = default_insect() if insect is None else insect
     desc = descriptor(aero)
     gusts = list(gusts or [])
     cmd = profile_speeds(profile, speed, beats)

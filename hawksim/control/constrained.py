@@ -50,8 +50,9 @@ from hawksim.control.lqr import U_MAX, X_MAX, augment
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import Orbit
 from hawksim.trim.registry import point_key
-from hawksim.insect.insect import DEFAULT_INSECT
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 from hawksim.insect.model import load_model
 from hawksim.stability.linear_model import LinearModel, record_names
 
@@ -125,13 +126,14 @@ def wing_channels(base: Kinematics, left: np.ndarray, right: np.ndarray) -> np.n
 _CHANNEL_PARAM = [_P[k] for k in ("f", "phi0", "phi0", "alpha0", "alpha0", "theta0", "phi_a", "phi_a")]
 
 
-def channel_bounds(base: Kinematics, *, envelope: float | None = None,
-                   held: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+def channel_bounds(base: Kinematics, *, envelope: float | None = None, held: tuple[str, ...] = (),
+                   insect: Insect | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(lower, upper) (8,) of the channels about ``base`` that keep both wings inside Table 2, and with
     ``envelope`` (a fraction of Table 2's width) within +-envelope x width of ``base`` per parameter (the
     surrogate's training envelope: :data:`hawksim.surrogate.flights.KIN_SPREAD`); the channels of the
-    parameters in ``held`` (PARAM_NAMES) are held at the reference (both bounds 0)."""
-    lo, hi = bounds_si()
+    parameters in ``held`` (PARAM_NAMES) are held at the reference (both bounds 0). Table 2 is ``insect``'s
+    kinematic bounds (default :func:`hawksim.insect.folder.default_insect`'s)."""
+    lo, hi = (default_insect() if insect is None else insect).bounds_si()
     p = base.as_array()
     idx = _CHANNEL_PARAM
     lb, ub = lo[idx] - p[idx], hi[idx] - p[idx]
@@ -306,7 +308,7 @@ class ConstrainedSchedule(Schedule):
         if kw.get("rate", "beat") != "beat":
             raise ValueError("the constrained LQR updates once per wingbeat (--control-rate beat)")
         insect = kw.get("insect")
-        if insect is not None and insect != DEFAULT_INSECT:  # its wing models and plans use Table 2's box
+        if insect is not None and insect != default_insect():  # its wing models and plans use Table 2's box
             raise ValueError(f"insect {insect.name!r}: the constrained LQR is designed for the default hawkmoth only "
                              "(control another insect with control='lqr')")
         super().__init__(v_lo, v_hi, **kw)
@@ -330,7 +332,7 @@ class ConstrainedSchedule(Schedule):
         kin, x_ref, _, _ = self.reference(v, phase)
         pos_ref = sum(w * pt.reference_state(phase)[1] for w, pt in self.weights(v))
         xi = np.concatenate([x_sensed - x_ref, pos_sensed - pos_ref])
-        lb, ub = channel_bounds(kin, envelope=self.envelope, held=self._held(kin))
+        lb, ub = channel_bounds(kin, envelope=self.envelope, held=self._held(kin), insect=self.insect)
         past_v = [wing_channels(kin, left, right) for left, right in past]
         out, active = np.zeros(len(WING_INPUTS)), False
         rec_dev = None if record is None or not self.feeds_record else record - self.reference_record(v, phase)
@@ -357,7 +359,7 @@ class ConstrainedSchedule(Schedule):
         (:data:`hawksim.control.schedule.BOUND_TOL`)."""
         from hawksim.control.schedule import BOUND_TOL
 
-        lo, hi = bounds_si()
+        lo, hi = self.insect.bounds_si()
         p = kin.as_array()
         return tuple(k for k in self.held if min(p[_P[k]] - lo[_P[k]], hi[_P[k]] - p[_P[k]]) <= BOUND_TOL)
 

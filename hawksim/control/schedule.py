@@ -35,7 +35,8 @@ from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gain
 from hawksim.control.plant import INPUTS, SYM_INPUTS, command_of, wing_kinematics
 from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
 from hawksim.trim.registry import point_key, shipped_table
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
 from hawksim.stability.linear_model import LinearModel
 
@@ -206,7 +207,7 @@ orbit or gains."""
 def insect_key(insect: Insect | None) -> tuple:
     """The part of a cache key that names the insect: () for the default insect (the keys as they were), else its
     spec as sorted JSON (:meth:`Insect.to_dict`: morphology, P0 and bounds), which two insects share only if equal."""
-    if insect is None or insect == DEFAULT_INSECT:
+    if insect is None or insect == default_insect():
         return ()
     return (json.dumps(insect.to_dict(), sort_keys=True),)
 
@@ -245,7 +246,7 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     ``rate`` (:data:`RATES`); orbits and linear models are cached per process and per insect. ``x_max``/``u_max``
     override Bryson's bounds (:mod:`hawksim.control.lqr`); ``command_weight`` multiplies R of the half-stroke design
     (default :data:`HALF_STROKE_COMMAND_WEIGHT`). ``insect``: the insect controlled (default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`): its own orbit (solved here: backends of shipped orbits only take
+    :func:`hawksim.insect.folder.default_insect`): its own orbit (solved here: backends of shipped orbits only take
     the default insect, ValueError otherwise), linearized on its MJCF (``model`` must be its MJCF if given)."""
     if rate not in RATES:
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
@@ -311,7 +312,7 @@ class Schedule:
     """Gain schedule over the ascent speed: :class:`SchedulePoint` at the grid speeds needed for [v_lo, v_hi]
     (``speeds``: default :func:`schedule_speeds` of ``aero``); a range outside the grid's is refused (ValueError).
     ``rate``: :data:`RATES`; ``delay`` [wingbeats]; ``insect`` (default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`, kept as :attr:`insect`); the rest as :func:`schedule_point`."""
+    :func:`hawksim.insect.folder.default_insect`, kept as :attr:`insect`); the rest as :func:`schedule_point`."""
 
     def __init__(self, v_lo: float, v_hi: float, *, delay: int = 0, aero: str = "quasi-steady", model=None,
                  log=None, speeds=None, x_max=None, u_max=None, rate: str = "beat",
@@ -329,7 +330,7 @@ class Schedule:
         hi = sp[min(len(sp) - 1, np.searchsorted(sp, v_hi, side="left"))]
         self.delay = int(delay)
         self.rate = rate
-        self.insect = DEFAULT_INSECT if insect is None else insect
+        self.insect = default_insect() if insect is None else insect
         self.per_beat = HALVES if rate == "half-stroke" else 1
         self.points = [schedule_point(v, delay=delay, aero=aero, model=model, log=log, x_max=x_max, u_max=u_max,
                                       rate=rate, command_weight=command_weight, insect=insect)

@@ -36,7 +36,8 @@ from hawksim.flight.plant import saturate
 from hawksim.flight.power import P_plus
 from hawksim.flight.result import FlightResult
 from hawksim.frames import STABILITY_TO_WORLD, attitude_of, cross, pitch_of, quat_from_matrices
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 
 RATES = ("beat", "half-stroke")
@@ -178,7 +179,7 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
     flown; ``t_start``: the wall clock the result's ``wall_time_s`` counts from (default the loop's start);
     ``state0`` (9,): the start's body state as the controller senses it before the first update (default read from
     the plant)."""
-    insect = DEFAULT_INSECT if insect is None else insect
+    insect = default_insect() if insect is None else insect
     t_loop = time.perf_counter()
     t_start = t_loop if t_start is None else t_start
     n = sim.steps_per_cycle
@@ -328,7 +329,7 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
         sensing_delay: the controller senses the state this many wingbeats late.
         model: the MuJoCo model (default: generated from the insect's morphology); its total mass must be the
             insect's (ValueError naming ``model``).
-        insect: the insect flown (default :data:`hawksim.insect.insect.DEFAULT_INSECT`, the hawkmoth): its MJCF,
+        insect: the insect flown (default :func:`hawksim.insect.folder.default_insect`, the hawkmoth): its MJCF,
             bounds, and the units of the result's L+, D+, M+ and P+.
         steps_per_cycle: integration steps per wingbeat (a controller's plant: the orbit solver's 200).
         keep_extras_every: keep the backend's extras every this many steps (0: never).
@@ -364,7 +365,7 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
         desc.hover.require("hover (speed 0)", aero if backend is None else getattr(backend, "name",
                                                                                       type(backend).__name__))
     perturb = parse_perturbations(perturb or {})
-    insect = (point.insect if is_orbit else DEFAULT_INSECT) if insect is None else insect
+    insect = (point.insect if is_orbit else default_insect()) if insect is None else insect
     if model is None:
         model = load_model(morph=insect.morphology)
     else:
@@ -382,7 +383,7 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
 
             backend = flight_backend(aero, kinematics=kin, symmetric=not is_lateral(perturb),
                                      keep_panels=keep_extras_every > 0,
-                                     morphology=None if insect == DEFAULT_INSECT else insect.morphology)
+                                     morphology=None if insect == default_insect() else insect.morphology)
             if is_orbit:
                 point.seed(backend)
         sim = Simulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity,

@@ -42,7 +42,8 @@ from hawksim.backends.builtin import (FD_STEP, QUASI_STEADY, SURROGATE_FD_STEP, 
                                       UVLM_WARM_BEATS)
 from hawksim.backends.memory import RECORD
 from hawksim.backends.registry import descriptor, descriptor_of
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import Kinematics, reference_speed
 from hawksim.insect.model import load_model
 from hawksim.backends import flight_backend
@@ -116,14 +117,14 @@ def backend_record(backend, every: int) -> np.ndarray | None:
 class OrbitFlight:
     """Free flights of the orbit solver from phase 0: one reusable MjModel, a Simulator per kinematics (aero: the
     name of a registered backend that supports periodic orbits, :mod:`hawksim.backends.registry`) of ``insect``
-    (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): its wings in the backend, its MJCF unless ``model`` is
+    (default :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF unless ``model`` is
     given, its P0 in :attr:`Beats.P_plus`."""
 
     def __init__(self, aero: str, symmetric: bool = True, model: mujoco.MjModel | None = None,
                  insect: Insect | None = None):
         self.aero = aero
         self.symmetric = symmetric
-        self.insect = DEFAULT_INSECT if insect is None else insect
+        self.insect = default_insect() if insect is None else insect
         self.model = model if model is not None else load_model(morph=self.insect.morphology)
 
     def fly(self, kin: Kinematics, x0: np.ndarray, beats: int, chi_ref: float, backend=None,
@@ -248,7 +249,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     :data:`UVLM_WARM_BEATS` for the UVLM). ``tol``: the max abs normalized residual (default: the backend's
     ``orbit_tolerance``, :class:`hawksim.backends.registry.OrbitTolerance`). ``fd_step``: the Jacobian's step
     (default: the backend's ``fd.orbit``). ``log``: called with a line per iteration. ``insect``: the insect flown
-    (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): its wings in the backend, its MJCF unless ``model`` is
+    (default :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF unless ``model`` is
     given (then the two must describe the same insect), its P0 in :attr:`Orbit.P_plus`; the start is the default
     insect's held-body trim unless ``kinematics`` is given.
 
@@ -263,7 +264,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     t_start = time.perf_counter()
     desc = descriptor(aero)
     desc.orbits.require("a periodic orbit", aero)
-    insect = DEFAULT_INSECT if insect is None else insect
+    insect = default_insect() if insect is None else insect
     guess = shipped_orbit(speed, desc.orbit_guess) if desc.orbit_guess else None  # the surrogate mimics the UVLM
     if kinematics is None and guess is not None:
         kinematics = guess.kinematics

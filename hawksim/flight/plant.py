@@ -32,14 +32,15 @@ import numpy as np
 
 from hawksim.backends.base import FlightState
 from hawksim.flight.simulator import Simulator
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import Kinematics
 
 
 def saturate(params: np.ndarray, insect: Insect | None = None) -> np.ndarray:
     """A wing's parameters (7,) SI clipped to ``insect``'s kinematic bounds (:meth:`Insect.bounds_si`; default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`'s, Table 2)."""
-    lo, hi = (DEFAULT_INSECT if insect is None else insect).bounds_si()
+    :func:`hawksim.insect.folder.default_insect`'s, Table 2)."""
+    lo, hi = (default_insect() if insect is None else insect).bounds_si()
     return np.clip(params, lo, hi)
 
 
@@ -191,7 +192,7 @@ def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int 
     ``controlled_factory`` (the per-step surrogate: :class:`hawksim.backends.controlled_step_surrogate.
     ControlledStepSurrogate`) built by it and bound to the plant, so that it reads the commanded kinematics
     (:meth:`ControlledSimulator.network_kinematics`). ``insect``: whose wings the backend flies (default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`); ``model`` must be its MJCF."""
+    :func:`hawksim.insect.folder.default_insect`); ``model`` must be its MJCF."""
     from hawksim.backends.registry import descriptor
     from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend
     from hawksim.flight.simulator import aero_every_for
@@ -199,7 +200,7 @@ def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int 
     n = STEPS_PER_CYCLE if steps_per_cycle is None else steps_per_cycle
     bound = descriptor(aero).controlled_factory
     if bound is not None:  # a backend that reads the commanded kinematics (the per-step surrogate's network)
-        if insect is not None and insect.morphology != DEFAULT_INSECT.morphology:
+        if insect is not None and insect.morphology != default_insect().morphology:
             raise ValueError(f"insect {insect.name!r}: the {aero} backend's network was trained on the default "
                              "hawkmoth's morphology")
         backend = bound(kin)

@@ -8,7 +8,8 @@ given kinematics, or the shipped trim table's row, :func:`hawksim.trim.tables.sh
 
 from __future__ import annotations
 
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import Kinematics
 from hawksim.trim.point import BODIES, OperatingPoint
 from hawksim.trim.registry import (insect_digest, model_digest, point_key, shipped_point,  # noqa: F401 (re-exported)
@@ -18,7 +19,7 @@ from hawksim.trim.registry import (insect_digest, model_digest, point_key, shipp
 def find_operating_point(speed: float, *, aero: str = "quasi-steady", body: str = "free",
                          insect: Insect | None = None, kinematics: Kinematics | None = None, model=None,
                          shipped: bool = True, log=None, **solve) -> OperatingPoint:
-    """The operating point of ``insect`` (default :data:`hawksim.insect.insect.DEFAULT_INSECT`) at ascent
+    """The operating point of ``insect`` (default :func:`hawksim.insect.folder.default_insect`) at ascent
     ``speed`` [m/s] on the aerodynamic model ``aero``.
 
     ``body="free"``: the periodic orbit of the free body: the shipped one where the registry holds it
@@ -29,13 +30,13 @@ def find_operating_point(speed: float, *, aero: str = "quasi-steady", body: str 
     find its free-body point, or balance a trim with :mod:`hawksim.trim`). SI (kinematics in radians and Hz)."""
     if body not in BODIES:
         raise ValueError(f"body must be one of {BODIES}, got {body!r}")
-    ins = DEFAULT_INSECT if insect is None else insect
+    ins = default_insect() if insect is None else insect
     if body == "held":
         if solve:
             raise ValueError(f"body='held' takes no orbit-solve keywords (got {', '.join(sorted(solve))})")
         if kinematics is not None:
             return OperatingPoint(float(speed), kinematics, aero=aero, source="given", body="held", insect=ins)
-        if ins != DEFAULT_INSECT:
+        if ins != default_insect():
             raise ValueError(f"insect {ins.name!r}: no shipped held-body trim (the tables are the default insect's); "
                              "give kinematics, or find its free-body point (body='free')")
         from hawksim.trim.tables import shipped_trim

@@ -10,7 +10,8 @@ import numpy as np
 from hawksim.flight.power import P_plus
 from hawksim.frames import attitude_of, pitch_of, quat_to_matrix, roll_of
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 
 DEPARTURE_SPEED = 0.1
 """A flight has departed when a wingbeat's mean vertical speed leaves the target, or its horizontal speed leaves
@@ -60,7 +61,7 @@ class FlightResult:
     end_pos: np.ndarray | None = None
     """Backend extras (e.g. UVLM pressure and wake) for the steps where they were kept, as (step, dict)."""
     aero_every: int = 1
-    insect: Insect = DEFAULT_INSECT
+    insect: Insect = field(default_factory=default_insect)
     """The insect flown (:class:`hawksim.insect.insect.Insect`): its weight, mean chord and P0 are the units of
     :meth:`summary`'s L+, D+, M+ and P+."""
     beat_log: list[dict] | None = field(default=None, repr=False)
@@ -247,7 +248,7 @@ class FlightResult:
             aero_every = descriptor(meta["aero"]).update_interval(meta["steps_per_cycle"])
         wall = meta.get("flight_wall_time_s", (meta.get("summary") or {}).get("flight_wall_time_s", 0.0))
         end_pos = meta.get("end_pos_m")
-        insect = Insect.from_dict(meta["insect"]) if meta.get("insect") is not None else DEFAULT_INSECT
+        insect = Insect.from_dict(meta["insect"]) if meta.get("insect") is not None else default_insect()
         return cls(speed_target=meta["speed_target_m_s"], cycles=meta["cycles"], aero=meta["aero"], kinematics=kin,
                    steps_per_cycle=meta["steps_per_cycle"],
                    **{k: arrays.get(k) for k in STEP_ARRAYS if k not in derived},

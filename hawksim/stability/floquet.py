@@ -30,7 +30,8 @@ import mujoco
 import numpy as np
 
 from hawksim.backends.held import held_flight
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import Kinematics
 from hawksim.backends.builtin import QUASI_STEADY
 from hawksim.backends.registry import descriptor
@@ -231,7 +232,7 @@ class _RelativeMotion:
     def __init__(self, v_d: np.ndarray, omega_d: np.ndarray, morph=None):
         from hawksim.backends.quasi_steady import QuasiSteadyBackend
 
-        self.inner = QuasiSteadyBackend(DEFAULT_INSECT.morphology if morph is None else morph)
+        self.inner = QuasiSteadyBackend(default_insect().morphology if morph is None else morph)
         self.v_d, self.omega_d = np.asarray(v_d, float), np.asarray(omega_d, float)
 
     def reset(self, state):
@@ -286,14 +287,14 @@ def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int =
                         insect: Insect | None = None) -> AveragedSystem:
     """Stability derivatives of the quasi-steady backend at ``kin`` on the held trim path (ascent ``speed``,
     body at chi), and the nondimensional A matrices (hawksim.stability.system). ``insect`` (default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`): its wings in the backend, its MJCF for the held flights and the
+    :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF for the held flights and the
     mass and inertia, its morphology for Eq. 8's scales."""
     from hawksim.insect.kinematics import reference_speed
     from hawksim.insect.model import load_model
     from hawksim.stability.derivatives import mass_properties
     from hawksim.stability.system import about_centre_of_mass, nondimensional_system
 
-    insect = DEFAULT_INSECT if insect is None else insect
+    insect = default_insect() if insect is None else insect
     model = load_model(morph=insect.morphology)
     U, T = reference_speed(kin, insect.morphology), kin.period
     dv, dw = DERIV_DELTA_VELOCITY * U, DERIV_DELTA_RATE / T

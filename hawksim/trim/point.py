@@ -19,7 +19,8 @@ from typing import Any
 import numpy as np
 
 from hawksim.backends.averages import OUTPUTS, CycleAverages
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 from hawksim.state import BodyState
 
@@ -39,7 +40,7 @@ class OperatingPoint:
     :attr:`model` reads it, the names of ``Trim``); ``source``: where it comes from, in words (a search, a balance, a
     shipped table and its command); ``body``: "held" or "free" (:data:`BODIES`; default "free" when
     ``initial_state`` is given, else "held"); ``insect``: the insect balanced (its wings, MJCF and P0; default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`), which the flights from a free-body point fly; ``converged``:
+    :func:`hawksim.insect.folder.default_insect`), which the flights from a free-body point fly; ``converged``:
     whether the search, balance or Newton solve met its tolerance; ``wall_time_s``: its wall time [s].
 
     Held body (a trim): ``averages``: the model's cycle averages there (Eq. 2), None where not recorded (an
@@ -65,7 +66,7 @@ class OperatingPoint:
     aero: str | None = None
     source: str = ""
     body: str | None = None
-    insect: Insect = field(default=DEFAULT_INSECT, repr=False)
+    insect: Insect = field(default_factory=default_insect, repr=False)
     converged: bool = True
     wall_time_s: float = 0.0
     # held body (a trim)
@@ -145,7 +146,7 @@ class OperatingPoint:
         adds ``"body": "held"`` and its search's scalars (not the GA's history nor the start)."""
         kin = {"kinematics": self.kinematics.to_edge(),
                "kinematics_si": dict(zip(PARAM_NAMES, map(float, self.kinematics.as_array())))}
-        ins = {} if self.insect == DEFAULT_INSECT else {"insect": self.insect.to_dict()}
+        ins = {} if self.insect == default_insect() else {"insect": self.insect.to_dict()}
         if not self.free:
             return {"body": "held", "speed": self.speed, "aero": self.aero, **kin, "source": self.source,
                     "converged": bool(self.converged), "tolerance": self.tolerance, "fitness": self.fitness,
@@ -166,7 +167,7 @@ class OperatingPoint:
     def from_json(d: dict) -> OperatingPoint:
         """Inverse of :meth:`to_json`; reads the rows of the shipped orbit tables as they are (free body)."""
         kin = Kinematics.from_array(np.array([d["kinematics_si"][k] for k in PARAM_NAMES]))
-        insect = Insect.from_dict(d["insect"]) if d.get("insect") is not None else DEFAULT_INSECT
+        insect = Insect.from_dict(d["insect"]) if d.get("insect") is not None else default_insect()
         if d.get("body", "free") == "held":
             av = d.get("averages")
             return OperatingPoint(float(d["speed"]), kin, aero=d.get("aero"), source=d.get("source", ""),

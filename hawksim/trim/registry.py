@@ -15,7 +15,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.trim.point import OperatingPoint
 
 _MODEL_FIELDS = ("body_mass", "body_inertia", "body_pos", "body_quat", "body_ipos", "body_iquat", "jnt_axis",
@@ -36,7 +37,7 @@ def model_digest(model) -> str:
 def insect_digest(insect: Insect | None) -> str:
     """SHA-256 of an insect's spec (:meth:`hawksim.insect.insect.Insect.to_dict`: morphology, P0 and bounds, sorted
     JSON); None means the default insect."""
-    spec = (DEFAULT_INSECT if insect is None else insect).to_dict()
+    spec = (default_insect() if insect is None else insect).to_dict()
     return hashlib.sha256(json.dumps(spec, sort_keys=True).encode()).hexdigest()
 
 
@@ -44,7 +45,7 @@ def insect_digest(insect: Insect | None) -> str:
 def _default_model_digest(insect_hex: str) -> str:
     from hawksim.insect.model import load_model
 
-    return model_digest(load_model(morph=DEFAULT_INSECT.morphology))
+    return model_digest(load_model(morph=default_insect().morphology))
 
 
 def point_key(speed: float, aero: str, insect: Insect | None = None, model=None, *extra) -> tuple:
@@ -67,7 +68,7 @@ def shipped_table(name: str) -> dict | None:
     from hawksim.insect.tables import table_status
 
     for kind in ("trim", "orbit", "control_model"):
-        path, _ = table_status(DEFAULT_INSECT, kind, name=name)
+        path, _ = table_status(default_insect(), kind, name=name)
         if path is not None:
             return json.loads(path.read_text())
     return None
