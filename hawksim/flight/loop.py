@@ -344,14 +344,13 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
     Returns:
         :class:`hawksim.flight.result.FlightResult` (with :attr:`~FlightResult.beat_log` under a controller).
     """
-    from hawksim.flight.orbit import Orbit
     from hawksim.flight.simulator import Simulator, aero_every_for
     from hawksim.flight.start import inertial_pitch_offset, parse_perturbations, start_on_orbit
     from hawksim.frames import quat_from_matrix, rot_x, rot_y
     from hawksim.insect.model import load_model, model_total_mass
 
     t_start = time.perf_counter()
-    is_orbit = isinstance(point, Orbit)
+    is_orbit = point.body == "free"  # one OperatingPoint type: a free-body point (orbit) or a held-body one (trim)
     speed, kin = point.speed, point.kinematics
     aero = point.aero if is_orbit else getattr(point, "model", None)
     if not (np.isfinite(speed) and speed >= 0):
