@@ -55,7 +55,7 @@ def test_fly_and_plot(tmp_path):
 
 def test_floquet_of_your_kinematics(tmp_path):
     out = run_example("floquet_of_your_kinematics.py", tmp_path)
-    assert "orbit converged: True" in out[0]
+    assert "free-body operating point, converged: True" in out[0]
     f_given, f_solved, phi_given, phi_solved = numbers(out[1])
     assert (f_given, phi_given) == (28.5, -4.5) and abs(f_solved - 30.89) < 0.05 and abs(phi_solved + 4.51) < 0.05
     long = numbers(line_with(out, "longitudinal"))  # docs/guide/floquet.md: 1.459 1.459 0.904 0.387
