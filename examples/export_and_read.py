@@ -27,7 +27,7 @@ print(f"{meta['format']}: {len(data)} arrays, {meta['steps']} steps of {meta['ae
 for name in ("t", "body_pos", "force", "attitude"):
     print(f"  {name} {data[name].shape} [{meta['units'][name]}]")
 lift = data["force"][..., 2].sum(1)  # both wings, world z [N]
-print(f"mean lift {lift.mean() * 1e3:.2f} mN against a weight of {hawksim.HAWKMOTH.weight * 1e3:.2f} mN")
+print(f"mean lift {lift.mean() * 1e3:.2f} mN against a weight of {hawksim.default_insect().weight * 1e3:.2f} mN")
 
 table = {k.removeprefix("beat_"): v for k, v in data.items() if k.startswith("beat_") and v.ndim == 1}
 np.savetxt("beats.csv", np.column_stack(list(table.values())), delimiter=",", header=",".join(table), comments="")

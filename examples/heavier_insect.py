@@ -5,17 +5,17 @@ kinematic bounds) that ``periodic_orbit``, ``fly`` and ``flight_backend`` take (
 From the default orbit the heavier body sinks; its own orbit beats faster, and ``FlightResult.summary()`` reports
 L+ in units of its own weight (L+ = 1) and P+ in units of its own P0."""
 
-import dataclasses
+from dataclasses import replace
 from pathlib import Path
 
 import hawksim
 from hawksim.insect import mjcf
 
 SPEED = 1.0  # ascent speed [m/s]
-heavy = hawksim.Insect(dataclasses.replace(hawksim.HAWKMOTH, total_mass=1.2 * hawksim.HAWKMOTH.total_mass,
-                                           name="heavier"))  # P0: the hawkmoth's 84.2 mW (P0= to change it)
+moth = hawksim.load_insect("hawkmoth")  # from its folder; its P0 (84.2 mW) and bounds are carried over
+heavy = moth.with_morphology(replace(moth.morphology, total_mass=1.2 * moth.morphology.total_mass, name="heavier"))
 Path("heavier.xml").write_text(mjcf(heavy.morphology))  # what fly and periodic_orbit generate from the insect
-print(f"total mass {hawksim.HAWKMOTH.total_mass * 1e3:.4f} -> {heavy.morphology.total_mass * 1e3:.4f} g; "
+print(f"total mass {moth.morphology.total_mass * 1e3:.4f} -> {heavy.morphology.total_mass * 1e3:.4f} g; "
       f"weight {heavy.weight * 1e3:.2f} mN")
 
 
@@ -35,6 +35,6 @@ lift = res.lift_drag()[0][-res.steps_per_cycle:].mean()  # last beat's mean lift
 print(f"own orbit (converged {own.converged}): f {own.kinematics.f:.2f} Hz, "
       f"mean vertical speed {res.beats()[-1]['mean_vertical_speed']:.4f} m/s, "
       f"L+ {res.summary()['last_cycle']['L_plus']:.4f} of its weight "
-      f"(against the default hawkmoth's weight: {lift / hawksim.HAWKMOTH.weight:.4f})")
+      f"(against the default hawkmoth's weight: {lift / moth.weight:.4f})")
 print(f"largest Floquet multiplier {hawksim.monodromy(own).max_multiplier:.3f} per beat "  # flies own.insect
       f"(default insect: {hawksim.monodromy(default).max_multiplier:.3f})")

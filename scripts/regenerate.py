@@ -18,7 +18,7 @@ Stages (in the order of their dependencies; ``--stages`` names them, ``--list`` 
 * ``training``: `hawksim dataset` at the training resolution (4 x 8 rings, 30 steps), seed 0, 3000 samples a speed,
   into data/uvlm_training_<version>.sqlite;
 * the rest are single commands (:data:`COMMANDS`), each with the shipped file(s) it writes or the files it copies
-  into hawksim/data (as hawksim/data/surrogates/README.md and the tables' own ``command`` fields record them):
+  into hawksim/data (as insects/hawkmoth/data/surrogates/README.md and the tables' own ``command`` fields record them):
   the cycle-mean networks, the trims, the orbits, the per-step surrogate's flights and network, its orbits, the
   control models, and the paper's tables. Scripts run with PYTHONPATH set to the repository, so that its code is
   the code that runs.
@@ -42,40 +42,43 @@ DATASETS = {
 }
 """Data-set stages: the ``--resolution`` name and the cumulative sample counts of each round over the speeds."""
 
+DATA = "hawksim/insects/hawkmoth/data/"
+"""The hawkmoth's folder of shipped tables and networks (:mod:`hawksim.insect.tables`), relative to the repository."""
+
 _TRAIN = ["hawksim", "train", "--seed", "0"]
 COMMANDS = {
     "networks": [
         [*_TRAIN, "--data", "data/uvlm_training_{version}.sqlite", "--out",
-         f"hawksim/data/surrogates/uvlm_v{int(round(v * 1000)):04d}.safetensors", "--hidden", "500",
+         DATA + f"surrogates/uvlm_v{int(round(v * 1000)):04d}.safetensors", "--hidden", "500",
          "--max-iter", "300", "--time-limit", "900", "--speed", f"{v:g}"] for v in SPEEDS] + [
         [*_TRAIN, "--data", "data/uvlm_training_{version}.sqlite", "--out",
-         "hawksim/data/surrogates/uvlm_all_speeds.safetensors", "--hidden", "500", "--max-iter", "25",
+         DATA + "surrogates/uvlm_all_speeds.safetensors", "--hidden", "500", "--max-iter", "25",
          "--time-limit", "3600", "--all-speeds"]],
     "network_reference": [
         [*_TRAIN, "--data", "data/uvlm_reference_{version}.sqlite", "--out",
-         "hawksim/data/surrogates/uvlm_reference_all_speeds.safetensors", "--hidden", "20", "--max-iter", "300",
+         DATA + "surrogates/uvlm_reference_all_speeds.safetensors", "--hidden", "20", "--max-iter", "300",
          "--time-limit", "900", "--all-speeds", "--base", "shipped"]],
     "trim": [["hawksim", "reproduce", "--only", "trim", "--out", "results/regeneration/reproduce", "--force"],
-             ["cp", "results/regeneration/reproduce/trim/trim_table.json", "hawksim/data/trim_table.json"],
+             ["cp", "results/regeneration/reproduce/trim/trim_table.json", DATA + "trim_table.json"],
              ["python", "scripts/studies/uvlm_trim_table.py", "--aero", "quasi-steady", "--out",
-              "hawksim/data/trim_table_quasi_steady.json"],
-             ["python", "scripts/studies/surrogate_trim_table.py", "--out", "hawksim/data/trim_table_surrogate.json"]],
+              DATA + "trim_table_quasi_steady.json"],
+             ["python", "scripts/studies/surrogate_trim_table.py", "--out", DATA + "trim_table_surrogate.json"]],
     "orbits": [["hawksim", "reproduce", "--only", "orbits", "--out", "results/regeneration/reproduce", "--force"],
                ["cp", "results/regeneration/reproduce/orbits/orbit_table_quasi_steady.json",
-                "results/regeneration/reproduce/orbits/orbit_table_uvlm.json", "hawksim/data/"]],
+                "results/regeneration/reproduce/orbits/orbit_table_uvlm.json", DATA]],
     "flights": [["hawksim", "dataset", "--kind", "flights", "--samples", "700", "--seed", "0", "--out",
                  "data/uvlm_flights_{version}.sqlite", "--workers", "1", "--no-progress", "--json"]],
     "step_network": [[*_TRAIN, "--kind", "step", "--data", "data/uvlm_flights_{version}.sqlite", "--out",
-                      "hawksim/data/surrogates/uvlm_step.safetensors", "--layers", "192,192,192", "--lags", "0.5,1",
+                      DATA + "surrogates/uvlm_step.safetensors", "--layers", "192,192,192", "--lags", "0.5,1",
                       "--max-iter", "300", "--time-limit", "1500", "--weight-decay", "0", "--ensemble", "3",
                       "--no-progress", "--json"]],
     "surrogate_orbits": [["python", "scripts/studies/step_surrogate_orbits.py", "--speeds", "0", "0.5", "1", "1.5",
                           "2", "--validate", "--out", "results/surrogate/step_orbits.json", "--table",
-                          "hawksim/data/orbit_table_surrogate.json"]],
+                          DATA + "orbit_table_surrogate.json"]],
     "control": [["hawksim", "reproduce", "--only", "control_uvlm", "control_surrogate", "--out",
                  "results/regeneration/reproduce", "--force"],
                 ["cp", "results/regeneration/reproduce/control/control_models_uvlm.json",
-                 "results/regeneration/reproduce/control/control_models_surrogate.json", "hawksim/data/"]],
+                 "results/regeneration/reproduce/control/control_models_surrogate.json", DATA]],
     "paper": [["hawksim", "reproduce", "--only", "uvlm_table4", "stability", "stability_table3", "validation",
                "validation_uvlm", "backends", "--out", "results", "--force"]],
 }

@@ -22,12 +22,14 @@ PACKAGES = ("hawksim", "hawksim.insect", "hawksim.backends", "hawksim.trim", "ha
 """The packages with a public ``__all__``, each a page of docs/api."""
 
 TOP_LEVEL = {"fly", "periodic_orbit", "shipped_orbit", "fly_orbit", "monodromy", "linearize", "fly_closed_loop",
-             "table3_kinematics", "Kinematics", "Morphology", "HAWKMOTH", "Insect", "Trim", "trim_kinematics",
-             "load_model", "make_backend", "flight_backend", "FlightResult", "Orbit", "Floquet"}
+             "table3_kinematics", "Kinematics", "Morphology", "load_insect", "default_insect", "Insect", "Trim",
+             "trim_kinematics", "load_model", "make_backend", "flight_backend", "FlightResult", "Orbit", "Floquet",
+             "OperatingPoint", "find_operating_point", "LinearModel", "Controller"}
 """The flat top level."""
 
 ANGLES_STATED = ("fly", "periodic_orbit", "shipped_orbit", "monodromy", "linearize", "fly_closed_loop",
-                 "table3_kinematics", "trim_kinematics", "Trim", "Floquet")
+                 "table3_kinematics", "trim_kinematics", "Trim", "Floquet", "OperatingPoint", "find_operating_point",
+                 "LinearModel")
 """Top-level calls that take or return angles: their docstrings say in which unit."""
 
 
@@ -35,7 +37,7 @@ def test_the_flat_top_level():
     import hawksim
 
     assert set(hawksim.__all__) == TOP_LEVEL
-    from hawksim.flight.fly import fly
+    from hawksim.flight.loop import fly
     from hawksim.insect.kinematics import table3_kinematics
 
     assert hawksim.fly is fly and hawksim.table3_kinematics is table3_kinematics

@@ -2,9 +2,9 @@
 files), matplotlib on the Agg backend, and what it prints is checked against the numbers it should show.
 
 Wall times measured on the shared 2-core host (December 2026, numba kernels cached): fly_and_plot 2 s,
-floquet_of_your_kinematics 2 s, heavier_insect 2 s, export_and_read 1-1.5 s, dask_dataset 6-10 s (the LocalCluster and
-3 UVLM samples); 13 s for the file. None is over 20 s, so none is marked slow; ``TIMEOUT_S`` allows for a loaded
-host."""
+floquet_of_your_kinematics 2 s, heavier_insect 2 s, export_and_read 1-1.5 s, your_own_controller 3 s (9 s on a
+loaded host), dask_dataset 6-10 s (the LocalCluster and 3 UVLM samples); 16 s for the file. None is over 20 s,
+so none is marked slow; ``TIMEOUT_S`` allows for a loaded host."""
 
 import ast
 import json
@@ -55,7 +55,7 @@ def test_fly_and_plot(tmp_path):
 
 def test_floquet_of_your_kinematics(tmp_path):
     out = run_example("floquet_of_your_kinematics.py", tmp_path)
-    assert "orbit converged: True" in out[0]
+    assert "free-body operating point, converged: True" in out[0]
     f_given, f_solved, phi_given, phi_solved = numbers(out[1])
     assert (f_given, phi_given) == (28.5, -4.5) and abs(f_solved - 30.89) < 0.05 and abs(phi_solved + 4.51) < 0.05
     long = numbers(line_with(out, "longitudinal"))  # docs/guide/floquet.md: 1.459 1.459 0.904 0.387
@@ -82,9 +82,21 @@ def test_heavier_insect(tmp_path):
     assert 1.2 < mu_heavy < 1.7 and abs(mu_default - 1.475) < 0.01
 
 
+def test_new_insect_from_file(tmp_path):
+    out = run_example("new_insect_from_file.py", tmp_path)
+    assert out[0] == "longwing: R 53.35 mm (model choice), mass 1578.70 mg, P0 84.2 mW"  # the rest: the hawkmoth's
+    assert (tmp_path / "longwing.toml").is_file()
+    rows = [numbers(line_with(out, f"V {v}")) for v in ("0.0", "1.0", "2.0")]
+    for _, L0, L1, P0, P1 in rows:  # quasi-steady loads grow with R^3 (lift) to R^4 (power) at equal kinematics
+        assert 1.25 < L1 / L0 < 1.40 and 1.30 < P1 / P0 < 1.45
+    np.testing.assert_allclose(rows[1][1:], [1.2306, 1.6084, 1.2255, 1.6359], atol=2e-4)  # measured, 2 beats
+    assert "hawkmoth's quasi-steady orbits: orbit_table_quasi_steady.json" in out[-1]
+    assert "the insect 'longwing' ships no orbit table for quasi-steady" in out[-1]
+
+
 def test_export_and_read(tmp_path):
     out = run_example("export_and_read.py", tmp_path)
-    assert out[0].startswith("hawksim-flight-npz/1: 18 arrays, 1000 steps of quasi-steady at 1 m/s")
+    assert out[0].startswith("hawksim-flight-npz/1: 19 arrays, 1000 steps of quasi-steady at 1 m/s")
     assert "force (1000, 2, 3) [N]" in line_with(out, "force")
     lift, weight = numbers(line_with(out, "mean lift"))
     assert abs(lift - weight) < 0.02 * weight  # on the orbit the mean lift carries the weight
@@ -105,6 +117,15 @@ def test_dask_dataset(tmp_path):
         _, f, phi_a, L, P = numbers(s.replace("sample ", "sample 0."))
         assert 15 < f < 45 and 0 < phi_a <= 70 and -1 < L < 3 and 0 < P < 5
     assert out[-1] == "rerun: 0 new samples (the file is resumable)"
+
+
+def test_your_own_controller(tmp_path):
+    out = run_example("your_own_controller.py", tmp_path)
+    p0, p1 = numbers(line_with(out, "open loop"))
+    assert abs(p0 - 60.89) < 0.05 and p1 > 80.0 and "departed at beat None" not in line_with(out, "open loop")
+    c0, c1 = numbers(line_with(out, "PD on phi0"))
+    # the controller pulls the 3 deg nose-up start back to the orbit's 57.7 deg within 10 beats and never departs
+    assert abs(c0 - 60.57) < 0.05 and abs(c1 - 57.72) < 1.0 and line_with(out, "PD on phi0").endswith("None")
 
 
 def test_the_gallery_is_listed_short_and_documented():

@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 HAWKSIM_LAYERS = (
     ("hawksim", "hawksim.atomic", "hawksim.cluster", "hawksim.environment", "hawksim.frames", "hawksim.inputfile",
-     "hawksim.interrupts", "hawksim.jsonout", "hawksim.lazy", "hawksim.plotting"),
+     "hawksim.interrupts", "hawksim.jsonout", "hawksim.lazy", "hawksim.plotting", "hawksim.state"),
     ("hawksim.insect",),
     ("hawksim.backends",),
     ("hawksim.trim",),

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 
 OUTPUTS = ("L_plus", "D_plus", "M_plus", "P_plus")
 """The normalised cycle averages (Eq. 2) in the column order that data sets store and surrogates predict."""
@@ -42,13 +43,13 @@ class CycleAverages:
         """From (L+, D+, M+, P+) (order of :data:`OUTPUTS`); power_W defaults to P+ P0 (the default insect's: the
         networks' training insect)."""
         L, D, M, P = (float(v) for v in values)
-        return CycleAverages(L, D, M, P, P * DEFAULT_INSECT.P0 if power_W is None else float(power_W))
+        return CycleAverages(L, D, M, P, P * default_insect().P0 if power_W is None else float(power_W))
 
 
 def cycle_averages(lift, drag, moment, power, insect: Insect | None = None) -> CycleAverages:
     """Averages of one or more whole cycles of the time series (each (n,), SI: N, N, N m, W), in units of
-    ``insect``'s weight, mean chord and P0 (None: :data:`hawksim.insect.insect.DEFAULT_INSECT`)."""
-    insect = DEFAULT_INSECT if insect is None else insect
+    ``insect``'s weight, mean chord and P0 (None: :func:`hawksim.insect.folder.default_insect`)."""
+    insect = default_insect() if insect is None else insect
     W = insect.weight
     p_req = float(np.maximum(power, 0.0).mean())
     return CycleAverages(L_plus=float(np.mean(lift) / W), D_plus=float(np.mean(drag) / W),

@@ -72,9 +72,9 @@ def _morph_kw(morphology) -> dict:
 def _default_morphology_only(morphology, name: str) -> None:
     """ValueError naming ``morphology`` unless it is None or the default hawkmoth's (a network's training insect)."""
     if morphology is not None:
-        from hawksim.insect.insect import DEFAULT_INSECT
+        from hawksim.insect.folder import default_insect
 
-        if morphology != DEFAULT_INSECT.morphology:
+        if morphology != default_insect().morphology:
             raise ValueError(f"morphology: the {name} backend's network was trained on the default hawkmoth only; "
                              f"fly the insect {morphology.name!r} with the quasi-steady model or the UVLM")
 

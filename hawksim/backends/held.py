@@ -34,7 +34,8 @@ from hawksim.frames import quat_from_matrix, rot_y
 from hawksim.insect.accessors import ModelIndex
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 
 
 @dataclass(frozen=True)
@@ -74,7 +75,7 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
 
     The averages are over the last ``average_cycles`` wingbeats (the earlier ones carry the start-up transient).
     start_cycle > 0 continues a backend that has already run that many wingbeats (its state, e.g. a wake, is
-    kept: no reset), starting at t = start_cycle T. ``insect`` (default :data:`hawksim.insect.insect.DEFAULT_INSECT`):
+    kept: no reset), starting at t = start_cycle T. ``insect`` (default :func:`hawksim.insect.folder.default_insect`):
     its MJCF unless ``model`` is given, and its weight, mean chord and P0 are the units of the averages; ``backend``
     must be built for its wings (:func:`hawksim.backends.make_backend`'s ``morphology``).
     """
@@ -82,7 +83,7 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
         raise ValueError(f"speed must be a finite ascent speed >= 0 m/s, got {speed}")
     if not 1 <= average_cycles <= cycles:
         raise ValueError(f"average_cycles must be in [1, cycles={cycles}], got {average_cycles}")
-    insect = DEFAULT_INSECT if insect is None else insect
+    insect = default_insect() if insect is None else insect
     m = model if model is not None else load_model(morph=insect.morphology)
     m.opt.gravity[:] = 0.0
     d = mujoco.MjData(m)
@@ -138,7 +139,7 @@ def held_flight(kin: Kinematics, speed: float, backend: AeroBackend, *, cycles: 
 def run(kin: Kinematics, speed: float, res: Resolution = DEFAULT, progress=None, insect: Insect | None = None
         ) -> HeldResult:
     """The held-body run of one evaluation (time series and averages) of ``insect`` (default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`)."""
+    :func:`hawksim.insect.folder.default_insect`)."""
     return held_flight(kin, speed, backend_for(res, morphology=None if insect is None else insect.morphology),
                        cycles=res.cycles, average_cycles=res.average_cycles, steps_per_cycle=res.steps_per_cycle,
                        progress=progress, insect=insect)

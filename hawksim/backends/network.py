@@ -17,13 +17,13 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from functools import lru_cache
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
 from hawksim.backends.averages import OUTPUTS
-from hawksim.insect.kinematics import PARAM_NAMES, SPEED_RANGE, Kinematics, bounds_si
+from hawksim.insect.folder import default_insect
+from hawksim.insect.kinematics import PARAM_NAMES, SPEED_RANGE, Kinematics
 
 SPEED_BOUNDS = SPEED_RANGE
 """Bounds of the speed input [m/s]: the study's range."""
@@ -48,7 +48,7 @@ class InputDefinition:
 
     @staticmethod
     def for_speed(speed: float | None) -> InputDefinition:
-        lo, hi = bounds_si()
+        lo, hi = default_insect().bounds_si()
         names, lo, hi = list(PARAM_NAMES), list(lo), list(hi)
         if speed is None:
             names.append("speed")
@@ -229,7 +229,16 @@ def shipped_path(speed: float | None, network: str = "shipped") -> Path:
         raise SurrogateFileError(f"no network family {network!r}; expected one of {', '.join(NETWORKS)}")
     stem = NETWORKS[network]
     name = f"{stem}_all_speeds.safetensors" if speed is None else f"{stem}_v{int(round(speed * 1000)):04d}.safetensors"
-    return Path(str(resources.files("hawksim") / "data" / "surrogates" / name))
+    return shipped_network(name)
+
+
+def shipped_network(name: str) -> Path:
+    """Path of the shipped network file ``name`` in the default insect's folder (``data/surrogates/``; checked
+    against its manifest's model digest: :func:`hawksim.insect.tables.network_path`)."""
+    from hawksim.insect.folder import default_insect
+    from hawksim.insect.tables import network_path
+
+    return network_path(default_insect(), f"surrogates/{name}")
 
 
 @lru_cache(maxsize=16)

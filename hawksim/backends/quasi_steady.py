@@ -6,7 +6,8 @@ import numpy as np
 
 from aero.quasi_steady import BladeElements, QuasiSteadyConfig, wing_loads
 from hawksim.backends.base import FlightState, WingLoads
-from hawksim.insect.morphology import HAWKMOTH, RHO_AIR, Morphology
+from hawksim.insect.folder import default_insect
+from hawksim.insect.morphology import RHO_AIR, Morphology
 
 N_STRIPS = 20
 """Blade elements per wing (L+ changes < 0.5 % from 20 to 80 strips for Table 3's hover kinematics)."""
@@ -18,8 +19,9 @@ class QuasiSteadyBackend:
 
     name = "quasi-steady"
 
-    def __init__(self, morph: Morphology = HAWKMOTH, n_strips: int = N_STRIPS,
+    def __init__(self, morph: Morphology | None = None, n_strips: int = N_STRIPS,
                  config: QuasiSteadyConfig = QuasiSteadyConfig(rho=RHO_AIR)):
+        morph = default_insect().morphology if morph is None else morph  # None: the default insect's
         pl = morph.planform
         self.elements = tuple(
             BladeElements.from_planform(morph.R, pl.chord, pl.leading_edge, n_strips, side) for side in (1.0, -1.0)

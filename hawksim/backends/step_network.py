@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -200,5 +199,8 @@ def network_sha256(path: str | Path | None = None) -> str | None:
 
 
 def shipped_path() -> Path:
-    """Package-data path of the shipped per-step network."""
-    return Path(str(resources.files("hawksim") / "data" / "surrogates" / SHIPPED_NAME))
+    """Package-data path of the shipped per-step network (the default insect's, :func:`hawksim.backends.network.
+    shipped_network`)."""
+    from hawksim.backends.network import shipped_network
+
+    return shipped_network(SHIPPED_NAME)

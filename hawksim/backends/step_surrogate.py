@@ -1,12 +1,12 @@
 """`hawksim fly --aero surrogate`: the per-step neural surrogate of the UVLM as a flight backend.
 
 Every call evaluates the left-wing network of :mod:`hawksim.backends.step_network` (shipped:
-``hawksim/data/surrogates/uvlm_step.safetensors``) for both wings in one (2, n_in) float32 batch, the right wing at
-the mirrored inputs, in numpy with the normalisation folded into the weights. Inputs: the flight's kinematics, the
-phase 2 pi f t, the body's velocity relative to the air and its angular velocity in body axes (and, for a network
-with history lags, the same at t - lag T from this backend's own record of past calls, linearly interpolated; before
-the flight's start the first call's state). Outputs: each wing's force and moment about its hinge in its wing axes,
-turned to the world frame with the flight state's wing attitude. Power: P = -sum_wings (omega_wing - omega_body) .
+``insects/hawkmoth/data/surrogates/uvlm_step.safetensors``) for both wings in one (2, n_in) float32 batch, the
+right wing at the mirrored inputs, in numpy with the normalisation folded into the weights. Inputs: the flight's
+kinematics, the phase 2 pi f t, the body's velocity relative to the air and its angular velocity in body axes (and, for
+a network with history lags, the same at t - lag T from this backend's own record of past calls, linearly interpolated;
+before the flight's start the first call's state). Outputs: each wing's force and moment about its hinge in its wing
+axes, turned to the world frame with the flight state's wing attitude. Power: P = -sum_wings (omega_wing - omega_body) .
 M_hinge [W], the UVLM's definition for a rigid wing hinged on the body (:mod:`hawksim.backends.base`).
 
 Where it holds: the states of the training flights (:mod:`hawksim.surrogate.flights`: the shipped UVLM orbits at

@@ -23,7 +23,8 @@ from hawksim.backends.base import FlightState, WingLoads
 from hawksim.backends.network import SPEED_BOUNDS, Surrogate, load, shipped_path
 from hawksim.frames import cross
 from hawksim.insect.kinematics import Kinematics
-from hawksim.insect.morphology import HAWKMOTH, P0_W, Morphology
+from hawksim.insect.folder import default_insect
+from hawksim.insect.morphology import Morphology
 
 
 class SurrogateBackend:
@@ -31,12 +32,14 @@ class SurrogateBackend:
 
     name = "surrogate-mean"
 
-    def __init__(self, kin: Kinematics, network: Surrogate | None = None, morph: Morphology = HAWKMOTH):
+    def __init__(self, kin: Kinematics, network: Surrogate | None = None, morph: Morphology | None = None):
         net = network if network is not None else load(shipped_path(None))
         if net.inputs.speed is not None:
             raise ValueError("--aero surrogate-mean needs the speed-input network (the ascent speed changes in "
                              f"flight), not one trained at {net.inputs.speed:g} m/s only")
-        self.net, self.x, self.morph = net, kin.as_array()[None, :], morph
+        self.net, self.x = net, kin.as_array()[None, :]
+        self.morph = default_insect().morphology if morph is None else morph  # None: the default insect's
+        self.P0 = default_insect().P0  # the network's P+ is in its training insect's P0
         self._cache: tuple[float, np.ndarray] | None = None
 
     def reset(self, state: FlightState) -> None:
@@ -56,4 +59,4 @@ class SurrogateBackend:
         moment_com = -M * W * self.morph.cbar * state.body_R[:, 1]  # nose-up = -(moment . body y)
         f_wing = np.tile(F / 2, (2, 1))
         m_wing = moment_com / 2 - cross(state.wing_origin - state.body_pos, f_wing)
-        return WingLoads(force=f_wing, moment=m_wing, power=float(P * P0_W))
+        return WingLoads(force=f_wing, moment=m_wing, power=float(P * self.P0))

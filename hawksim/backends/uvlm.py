@@ -20,17 +20,19 @@ from aero.mesh import mirror_mesh, planform_area, wing_mesh
 from aero.uvlm import UVLM, FreeStream, UVLMConfig
 from hawksim.backends.base import FlightState, WingLoads
 from hawksim.backends.resolution import DEFAULT
-from hawksim.insect.morphology import HAWKMOTH, RHO_AIR, Morphology
+from hawksim.insect.folder import default_insect
+from hawksim.insect.morphology import RHO_AIR, Morphology
 
 
-def hawkmoth_meshes(morph: Morphology = HAWKMOTH, n_chord: int = DEFAULT.n_chord, n_span: int = DEFAULT.n_span):
+def hawkmoth_meshes(morph: Morphology | None = None, n_chord: int = DEFAULT.n_chord, n_span: int = DEFAULT.n_span):
     """(left, right) vortex-lattice meshes in their wing frames [m].
 
     Uniform spanwise stations; the beta distribution's zero chord at the root and tip is replaced by the
     chord a quarter panel inboard of the tip / outboard of the root (zero-chord end rings make sliver
     triangles whose near-field blows up the free wake), and all chords are then scaled so that the mesh
-    area equals the wing area S exactly.
+    area equals the wing area S exactly. ``morph``: the insect's (None: the default insect's).
     """
+    morph = default_insect().morphology if morph is None else morph
     pl = morph.planform
     span = np.linspace(0.0, morph.R, n_span + 1)
     dr = span[1]
@@ -67,7 +69,8 @@ class UVLMBackend:
 
     name = "uvlm"
 
-    def __init__(self, morph: Morphology = HAWKMOTH, n_chord: int = DEFAULT.n_chord, n_span: int = DEFAULT.n_span, *,
+    def __init__(self, morph: Morphology | None = None, n_chord: int = DEFAULT.n_chord,
+                 n_span: int = DEFAULT.n_span, *,
                  symmetric: bool = True, freestream: FreeStream | None = None,
                  config: UVLMConfig | None = None, keep_panels: bool = False, max_wake_rows: int | None = None,
                  wake_summation: str = "direct", wake_precision: str = "float64"):

@@ -24,7 +24,7 @@ from aero.vector_width import apply_vector_width
 from hawksim import interrupts
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim, warmup
-from hawksim.cli.args import Parser, UsageError
+from hawksim.cli.args import Parser, UsageError, default_insect_as_none
 from hawksim.cli.progress import close_all
 from hawksim.environment import check_environment
 
@@ -77,6 +77,7 @@ def main(argv: list[str] | None = None) -> int:
         apply_vector_width(strict=True)  # checks HAWKSIM_VECTOR_WIDTH (importing aero applied it)
         args = parser.parse_args(argv)
         args.t0 = t0
+        default_insect_as_none(args)  # --insect hawkmoth: exactly as without --insect
         spc = getattr(args, "steps_per_cycle", None)
         if spc is not None and spc < MIN_STEPS_PER_CYCLE:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")

@@ -6,8 +6,8 @@ import math
 from dataclasses import replace
 
 from hawksim.backends.resolution import AERO_MODELS, DEFAULT
-from hawksim.cli.args import (INSECT_HELP, KINEMATICS_HELP, add_resolution_args, insect_arg, parse_kinematics,
-                              resolution_from, speed_arg)
+from hawksim.cli.args import (KINEMATICS_HELP, add_insect_arg, add_resolution_args, parse_kinematics, resolution_from,
+                              speed_arg)
 from hawksim.cli.loads_report import render_aero
 from hawksim.cli.progress import progress_for
 
@@ -56,7 +56,7 @@ def register(sub) -> None:
     p.add_argument("--kinematics", type=parse_kinematics, required=True,
                    help=KINEMATICS_HELP)
     p.add_argument("--aero", choices=AERO_MODELS, default=DEFAULT.aero)
-    p.add_argument("--insect", type=insect_arg, metavar="FILE", help=INSECT_HELP)
+    add_insect_arg(p)
     add_resolution_args(p, DEFAULT)
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--json", action="store_true")

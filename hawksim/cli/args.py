@@ -9,11 +9,13 @@ import os
 import stat
 from pathlib import Path
 
-from hawksim.insect.kinematics import PARAM_NAMES, SPEED_RANGE, TABLE2_BOUNDS_DEG, Kinematics
+from hawksim.insect.folder import default_insect
+from hawksim.insect.kinematics import PARAM_NAMES, SPEED_RANGE, Kinematics
 
 KINEMATICS_HELP = (",".join(f"{k}=.." for k in PARAM_NAMES) + " (Hz, deg; Table 2 bounds: "
-                   + ", ".join(f"{k} {lo:g}..{hi:g}" for k, (lo, hi) in TABLE2_BOUNDS_DEG.items()) + ")")
-"""Help text of every --kinematics option, generated from the parameter names and Table 2."""
+                   + ", ".join(f"{k} {lo:g}..{hi:g}" for k, (lo, hi) in default_insect().bounds_deg.items()) + ")")
+"""Help text of every --kinematics option, generated from the parameter names and the default insect's bounds (Table
+2)."""
 
 
 class UsageError(Exception):
@@ -34,20 +36,43 @@ def _number(option: str, text: str, convert, what: str):
 
 
 def insect_arg(text: str):
-    """The insect of ``--insect FILE`` (a JSON spec: :func:`hawksim.insect.insect.read_insect`), or
-    argparse.ArgumentTypeError naming the file and the field."""
-    from hawksim.insect.insect import read_insect
+    """The insect of ``--insect NAME|FILE`` (a shipped insect's name, an insect folder, or a TOML or JSON spec:
+    :func:`hawksim.insect.folder.load_insect`), or argparse.ArgumentTypeError naming the file and the field. The
+    default insect itself is returned as given: :func:`default_insect_as_none` maps it to None after parsing."""
+    from hawksim.insect.folder import load_insect
 
     try:
-        return read_insect(text)
+        return load_insect(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
-INSECT_HELP = ("JSON spec of the insect: Morphology's fields by name (SI: total_mass [kg], wing_mass, R, cbar [m], "
-               "r2_hat, axis_fraction, hinge_from_thorax, ...; any left out keep the default hawkmoth's), P0_W "
-               "(reference power [W]) and bounds_deg; default: the hawkmoth (hawksim.insect.insect.Insect)")
+def default_insect_as_none(args) -> None:
+    """``args.insect`` set to None where it is the default insect (``--insect hawkmoth``, or a copy of its spec):
+    the commands then behave exactly as without ``--insect`` (shipped tables, networks and orbits)."""
+    if getattr(args, "insect", None) is not None and args.insect == default_insect():
+        args.insect = None
+
+
+def refuse_insect(args, command: str, why: str) -> None:
+    """UsageError (exit 2) if ``args.insect`` (after :func:`default_insect_as_none`) is not the default insect:
+    ``command`` cannot do another insect yet, for the reason ``why``."""
+    insect = getattr(args, "insect", None)
+    if insect is not None:
+        raise UsageError(f"hawksim {command}: --insect {insect.name} is not the default insect "
+                         f"({default_insect().name}) and {why}")
+
+
+INSECT_HELP = ("the insect: a shipped insect's name (hawkmoth), an insect folder, or a TOML or JSON spec file "
+               "(docs/insects.md: morphology in SI with each number's source, P0 [W], bounds in Hz and deg; a flat "
+               "JSON of Morphology's fields, P0_W and bounds_deg keeps the default insect's values for the fields left "
+               "out); default: the hawkmoth")
 """Help text of every --insect option."""
+
+
+def add_insect_arg(p, extra: str = "") -> None:
+    """The ``--insect NAME|FILE`` option of a subcommand (``extra``: what it means there, appended to the help)."""
+    p.add_argument("--insect", type=insect_arg, metavar="NAME|FILE", help=INSECT_HELP + extra)
 
 
 def speed_arg(text: str) -> float:

@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from hawksim.backends.resolution import NAMED, TRAINING
-from hawksim.cli.args import (MAX_DATASET_SAMPLES, add_resolution_args, positive_int_arg, resolution_from, seed_arg,
-                              speed_arg, writable_file)
+from hawksim.cli.args import (MAX_DATASET_SAMPLES, add_insect_arg, add_resolution_args, positive_int_arg, refuse_insect,
+                              resolution_from, seed_arg, speed_arg, writable_file)
 from hawksim.cli.progress import progress_for
 from hawksim.cli.surrogate_report import render_dataset
 
@@ -57,6 +57,8 @@ def cmd_dataset(args) -> dict:
     from hawksim.cli.args import UsageError
     from hawksim.surrogate.dataset import generate
 
+    refuse_insect(args, "dataset", "its UVLM data sets are the default insect's (the networks trained on them and "
+                  "the tables solved with those are keyed to it; docs/insects.md)")
     _refuse_ignored(args)
     if args.kind == "flights":
         return cmd_flights(args)
@@ -103,5 +105,6 @@ def register(sub) -> None:
                         "override single values (default: training)")
     add_resolution_args(p, TRAINING, "training")
     p.add_argument("--no-progress", action="store_true")
+    add_insect_arg(p, "; only the default insect yet (its data sets feed its networks)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_dataset, preload=_preload, human=render_dataset)

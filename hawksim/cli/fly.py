@@ -19,7 +19,7 @@ MAX_WAKE_CYCLES = 100
 
 START_CHOICES = ("orbit", "trim")
 """Where `hawksim fly` starts: the periodic orbit of the free body (the shipped one of the backend at that speed,
-hawksim/data/orbit_table_*.json; the quasi-steady one is solved at other speeds) or the held-body trim with one
+insects/hawkmoth/data/orbit_table_*.json; the quasi-steady one is solved at other speeds) or the held-body trim with one
 calibration wingbeat (where no orbit is available, or on request)."""
 
 
@@ -34,9 +34,9 @@ def plan_start(speed: float, aero: str, kinematics=None, steps_per_cycle: int = 
     summary). ValueError / FloatingPointError for a start that cannot be had (``--start orbit`` without an orbit).
     ``insect``: another insect than the default (--insect) has no shipped orbit."""
     from hawksim.flight.orbit import shipped_orbit
-    from hawksim.insect.insect import DEFAULT_INSECT
+    from hawksim.insect.folder import default_insect
 
-    own = insect is None or insect == DEFAULT_INSECT
+    own = insect is None or insect == default_insect()
     shipped = shipped_orbit(speed, aero) if kinematics is None and own else None
     unconverged = shipped is not None and not shipped.converged
     if unconverged:

@@ -30,24 +30,9 @@ TIMING_LABELS = {"controller_start_up_s": "controller start-up", "flight_s": "fl
 
 
 def beat_table(result, control_beats: list[dict] | None) -> list[dict]:
-    """The full per-beat table: :meth:`FlightResult.beats` (the contract's means) numbered from 1 with each beat's P+
-    (:func:`hawksim.flight.power.P_plus` over the beat's steps), merged with the controlled flight's per-beat record
-    (:class:`hawksim.control.closed_loop.ClosedLoop`'s ``beats``; its own vertical speed, roll and yaw are the same
-    means measured on the body origin and are not repeated)."""
-    from hawksim.flight.power import P_plus
-
-    n = result.steps_per_cycle
-    rows = []
-    for k, b in enumerate(result.beats(), 1):
-        row = {"beat": k, **b}
-        a = (k - 1) * n
-        row["P_plus"] = P_plus(result.power_joint[a:a + n], result.aero_every, first=a, P0=result.insect.P0)
-        if control_beats is not None and k <= len(control_beats):
-            c = control_beats[k - 1]
-            row["P_plus"] = c.get("P_plus", row["P_plus"])
-            row.update({key: v for key, v in c.items() if key not in row and key not in ("roll_deg", "yaw_deg")})
-        rows.append(row)
-    return rows
+    """The full per-beat table (:meth:`hawksim.flight.result.FlightResult.beat_table`) merged with the controlled
+    flight's per-beat record ``control_beats`` (:attr:`FlightResult.beat_log`)."""
+    return result.beat_table(control_beats)
 
 
 def compact_beats(rows: list[dict]) -> list[dict]:

@@ -7,7 +7,7 @@ import sys
 import time
 from pathlib import Path
 
-from hawksim.cli.args import UsageError
+from hawksim.cli.args import UsageError, add_insect_arg, refuse_insect
 from hawksim.cli.reproduce_report import render_reproduce
 from hawksim.paper.reproduce import STEPS
 
@@ -18,6 +18,8 @@ docs/performance.md, "Figures moved from docstrings"; validation_uvlm is a guess
 
 
 def cmd_reproduce(args) -> dict:
+    refuse_insect(args, "reproduce", "the paper's pipeline is the hawkmoth's (Nguyen et al. 2020: its data sets, "
+                  "networks, trims and tables)")
     from hawksim.paper.reproduce import run_all
 
     out = Path(args.out)
@@ -65,5 +67,6 @@ def register(sub) -> None:
     p.add_argument("--only", nargs="+", choices=STEPS, default=list(STEPS),
                    help="regenerate only these parts (default: all)")
     p.add_argument("--force", action="store_true", help="overwrite the files of an existing --out")
+    add_insect_arg(p, "; only the default insect (the paper's)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_reproduce)

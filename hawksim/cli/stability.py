@@ -13,16 +13,19 @@ from hawksim.cli.args import INSECT_HELP, UsageError, insect_arg, parse_kinemati
 
 def _averaged(args, kin, client=None) -> dict:
     if args.aero == "quasi-steady":
-        from hawksim.stability.floquet import quasi_steady_system
+        from hawksim.control.linearization import averaged_model
         from hawksim.stability.report import averaged_json
+        from hawksim.trim.point import OperatingPoint
 
         insect = getattr(args, "insect", None)
+        point = OperatingPoint(float(args.speed), kin, aero="quasi-steady", body="held", source=args.trim_source or "",
+                               **({} if insect is None else {"insect": insect}))
         if insect is None:
             return {"speed": args.speed, "aero": args.aero, "trim": {"kinematics": kin.to_edge()},
-                    **averaged_json(quasi_steady_system(kin, args.speed))}
+                    **averaged_json(averaged_model(point))}
         return {"speed": args.speed, "aero": args.aero, "insect": insect.name,
                 "trim": {"kinematics": kin.to_edge(), "source": args.trim_source},
-                **averaged_json(quasi_steady_system(kin, args.speed, insect=insect))}
+                **averaged_json(averaged_model(point))}
     from hawksim.cli.progress import progress_for
     from hawksim.stability.report import stability_report
 
@@ -46,8 +49,9 @@ def cmd_stability(args) -> dict:
     args.trim_source = "given (--kinematics)" if kin is not None else None
     out_orbit = None
     if args.floquet:
+        from hawksim.control.linearization import linearize
         from hawksim.flight.orbit import periodic_orbit
-        from hawksim.stability.floquet import monodromy
+        from hawksim.stability.floquet import floquet_analysis
         from hawksim.stability.report import floquet_json
 
         from hawksim.flight.orbit import shipped_orbit
@@ -61,7 +65,7 @@ def cmd_stability(args) -> dict:
         if not orbit.converged:
             print(f"hawksim stability: the periodic orbit did not converge (residual {orbit.residual:.2e}); "
                   "the multipliers are of the nearest state found", file=sys.stderr)
-        fl = monodromy(orbit)
+        fl = floquet_analysis(linearize(orbit, map="monodromy"))
         if args.kinematics is not None:
             print(f"stability: {solved_note(orbit, args.kinematics)['note']}", file=sys.stderr)
         kin = orbit.kinematics
@@ -69,26 +73,24 @@ def cmd_stability(args) -> dict:
         # issue 20: the control derivatives (B matrices) beside the monodromy: the surrogate's and the UVLM's
         # shipped models (hawksim reproduce --only control_surrogate / control_uvlm) about the shipped orbit, else
         # differenced here (quasi-steady and surrogate: seconds; the UVLM's take minutes: none)
-        from hawksim.control.derivatives import linearize
         from hawksim.control.schedule import shipped_control_model
 
         desc = descriptor(args.aero)
         lin = source = None
         if desc.control_model_table is not None and args.kinematics is None and insect is None:
             lin = shipped_control_model(args.speed, args.aero)
-            source = f"shipped: hawksim/data/{desc.control_model_table}"
+            source = f"shipped: hawksim/insects/hawkmoth/data/{desc.control_model_table}"
         if lin is None and desc.linearize_cost == "seconds":
-            lin, source = linearize(orbit), "differenced here (hawksim.control.derivatives.linearize)"
+            lin, source = linearize(orbit, map="beat"), "differenced here (hawksim.control.derivatives.linearize)"
         control = None if lin is None else {**lin.to_json(), "source": source}
         chart = ("level heading axes (u, v horizontal; the averaged A's eigenvectors are in body-fixed stability "
                  "axes: u_b = u - w_e theta, v_b = v + w_e phi)")
         out_orbit = {"orbit": orbit_json(orbit, given=args.kinematics), "control_derivatives": control,
                      "floquet": {**floquet_json(fl), "chart": chart}}
         if orbit.record is not None:  # a history network: the flight's modes are the augmented map's
-            from hawksim.stability.history_floquet import history_monodromy
             from hawksim.stability.report import history_floquet_json
 
-            out_orbit["floquet"] = {**history_floquet_json(history_monodromy(orbit)), "chart": chart}
+            out_orbit["floquet"] = {**history_floquet_json(linearize(orbit, map="history")), "chart": chart}
             out_orbit["floquet_record_held"] = {
                 **floquet_json(fl), "note": "the one-beat map with the network's record held at the orbit's (the "
                                             "body block of the augmented map): not the flight's dynamics"}

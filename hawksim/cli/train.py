@@ -8,7 +8,8 @@ import shlex
 from pathlib import Path
 
 from hawksim import interrupts
-from hawksim.cli.args import UsageError, positive_int_arg, seconds_arg, seed_arg, speed_arg, writable_file
+from hawksim.cli.args import (UsageError, add_insect_arg, positive_int_arg, refuse_insect, seconds_arg, seed_arg,
+                              speed_arg, writable_file)
 from hawksim.cli.progress import progress_for
 from hawksim.cli.surrogate_report import render_train
 
@@ -137,6 +138,8 @@ def _save_with_figure(net, out, result, png) -> None:
 
 
 def cmd_train(args) -> dict:
+    refuse_insect(args, "train", "a network is trained on a data set of the default insect (the data set holds no "
+                  "other insect's labels yet; docs/insects.md)")
     bar = progress_for(args, "train (LM)", "it")
     state = {"done": 0, "mse": {}}  # LM iterations done, the last train / validation errors
 
@@ -285,6 +288,7 @@ def register(sub) -> None:
     p.add_argument("--validation-png", type=writable_file,
                    help="write the held-out scatter plot (PNG at 300 dpi, and a PDF beside it)")
     p.add_argument("--no-progress", action="store_true")
+    add_insect_arg(p, "; only the default insect yet (the data set's)")
     p.add_argument("--json", action="store_true")
     # it writes nothing before the network: a Ctrl-C until then leaves at once, wherever it lands (the import of
     # torch takes 2-4 s on two loaded cores, and a Ctrl-C in an import would wait for its end: hawksim.interrupts)

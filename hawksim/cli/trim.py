@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 
-from hawksim.cli.args import INSECT_HELP, MAX_POPULATION, insect_arg, positive_int_arg, seed_arg, speed_arg
-from hawksim.cli.predict import NETWORK_FAMILIES
+from hawksim.cli.args import MAX_POPULATION, add_insect_arg, positive_int_arg, seed_arg, speed_arg
+from hawksim.cli.predict import add_network_args, network_choice
 from hawksim.cli.progress import progress_for
 from hawksim.backends.registry import names
 from hawksim.cli.trim_report import render_trim
@@ -46,7 +46,7 @@ def _refuse_ignored(args) -> None:
                                  "--aero's model, no surrogate network and no GA")
     elif args.aero is not None:
         raise UsageError("--aero applies to --free-flight only: the trim searches on the surrogate network "
-                         "(--model or --network)")
+                         "(--network)")
     elif getattr(args, "insect", None) is not None:
         for name in ("verify", "balance"):
             if getattr(args, name, False):
@@ -58,7 +58,7 @@ def cmd_trim(args) -> dict:
     _refuse_ignored(args)
     if args.free_flight:
         return cmd_free_flight(args)
-    args.network = args.network or "shipped"
+    path, network = network_choice(args)
     args.population = args.population or DEFAULT_POPULATION
     args.seed = 0 if args.seed is None else args.seed
     from dataclasses import replace
@@ -66,7 +66,7 @@ def cmd_trim(args) -> dict:
     from hawksim.backends.network import load_for_speed
     from hawksim.trim.search import GAConfig, trim_on_surrogate
 
-    sur = load_for_speed(args.model, args.speed, args.network)
+    sur = load_for_speed(path, args.speed, network)
     cfg = replace(GAConfig(), population=args.population)
     bar = progress_for(args, "trim (GA)", "gen")
     progress = None if bar is None else (lambda g, n, best: bar(g, n, best=f"{best:.6f}"))
@@ -105,11 +105,7 @@ def cmd_trim(args) -> dict:
 def register(sub) -> None:
     p = sub.add_parser("trim", help="minimum-power trim on the surrogate (GA + Nelder-Mead, paper Eq. 3)")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
-    which = p.add_mutually_exclusive_group()
-    which.add_argument("--model", help="surrogate file (.safetensors; default: the shipped network for V)")
-    which.add_argument("--network", choices=NETWORK_FAMILIES,
-                       help="family of shipped networks (hawksim.backends.network.NETWORKS): shipped (the default) "
-                            "or reference (corrected to `hawksim aero`'s default lattice, docs/surrogate.md)")
+    add_network_args(p, None)
     p.add_argument("--seed", type=seed_arg, help="seed of the GA (0)")
     p.add_argument("--population", type=positive_int_arg("population", MAX_POPULATION),
                    help=f"GA population (1e5, as in the paper; at most {MAX_POPULATION:g})")
@@ -121,8 +117,7 @@ def register(sub) -> None:
                         "frees f and phi0 and the body state at phase 0)")
     p.add_argument("--aero", choices=names(having="orbits"),
                    help="with --free-flight: the aerodynamic model (default uvlm)")
-    p.add_argument("--insect", type=insect_arg, metavar="FILE",
-                   help=INSECT_HELP + "; the GA searches its bounds_deg (inside Table 2, the network's training box; "
+    add_insect_arg(p, "; the GA searches its bounds_deg (inside Table 2, the network's training box; "
                         "its morphology must be the hawkmoth's) and P+ is in its reference power; with --free-flight "
                         "its own periodic orbit (any morphology)")
     p.add_argument("--no-progress", action="store_true")

@@ -15,13 +15,15 @@ BOUND_FRACTION = 1e-4
 range-scaled coordinates, and an optimum past a bound is moved onto it: hawksim.trim.search)."""
 
 
-def on_bounds(kin: dict) -> list[str]:
-    """The parameters of ``kin`` (f in Hz, angles in deg) that sit on a Table 2 bound, as ``"theta0 25 deg
-    (upper)"``."""
-    from hawksim.insect.kinematics import TABLE2_BOUNDS_DEG
+def on_bounds(kin: dict, bounds_deg: dict | None = None) -> list[str]:
+    """The parameters of ``kin`` (f in Hz, angles in deg) that sit on a bound of ``bounds_deg`` ({parameter:
+    [lower, upper]}, Hz and deg; None: the default insect's, Table 2), as ``"theta0 25 deg (upper)"``."""
+    if bounds_deg is None:
+        from hawksim.insect.folder import default_insect
 
+        bounds_deg = default_insect().bounds_deg
     hits = []
-    for k, (lo, hi) in TABLE2_BOUNDS_DEG.items():
+    for k, (lo, hi) in bounds_deg.items():
         tol = BOUND_FRACTION * (hi - lo)
         unit = "Hz" if k == "f" else "deg"
         if abs(kin[k] - lo) <= tol:
@@ -47,7 +49,7 @@ def render_trim(out: dict) -> str:
     from hawksim.trim.search import GAConfig
 
     max_gen = GAConfig().max_generations
-    bounds = on_bounds(out["kinematics"])
+    bounds = on_bounds(out["kinematics"], out.get("bounds_deg"))
     lines = [f"hawksim trim: minimum-power trim at {out['speed']:g} m/s ascent on the surrogate (GA, seed "
              f"{out['seed']}, then Nelder-Mead; paper Eq. 3)",
              line("kinematics", f"{kinematics_text(out['kinematics'])}; body angle chi {num(out['chi'])} deg"),

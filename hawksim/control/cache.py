@@ -21,11 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-ENV_OFF = "HAWKSIM_NO_CACHE"
+from hawksim.trim.registry import model_digest  # noqa: F401 (its home: hawksim.trim.registry)
 
-_MODEL_FIELDS = ("body_mass", "body_inertia", "body_pos", "body_quat", "body_ipos", "body_iquat", "jnt_axis",
-                 "jnt_pos", "jnt_type", "dof_damping", "dof_armature")
-"""The MjModel arrays a flight's mechanics depend on, hashed into the key (with the time step and gravity)."""
+ENV_OFF = "HAWKSIM_NO_CACHE"
 
 
 def cache_dir() -> Path:
@@ -34,15 +32,6 @@ def cache_dir() -> Path:
 
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base) / "hawksim" / "control" / sources_digest()
-
-
-def model_digest(model) -> str:
-    """SHA-256 over the mechanics of a MuJoCo model (:data:`_MODEL_FIELDS`, time step, gravity)."""
-    h = hashlib.sha256()
-    for name in _MODEL_FIELDS:
-        h.update(np.ascontiguousarray(getattr(model, name)).tobytes())
-    h.update(np.array([model.opt.timestep, *model.opt.gravity]).tobytes())
-    return h.hexdigest()
 
 
 def map_key(kind: str, orbit, model, **settings) -> str:

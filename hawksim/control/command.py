@@ -80,7 +80,7 @@ def check_shipped_control(speed: float, profile, aero: str) -> None:
     sp = shipped_schedule_speeds(aero)
     if not sp:
         raise ValueError(f"--aero {aero} under control: no shipped {aero} orbit for this backend "
-                         f"(hawksim/data/{desc.orbit_table} was solved with another network)")
+                         f"(hawksim/insects/hawkmoth/data/{desc.orbit_table} was solved with another network)")
     lo, hi = sp[0], sp[-1]
     grid = ", ".join(f"{v:g}" for v in sp)
     if desc.memory == WAKE:

@@ -49,9 +49,12 @@ from hawksim.control.derivatives import (XI_NAMES, Snapshot, central_jacobians, 
 from hawksim.control.lqr import U_MAX, X_MAX, augment
 from hawksim.control.schedule import Schedule
 from hawksim.flight.orbit import Orbit
-from hawksim.insect.insect import DEFAULT_INSECT
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+from hawksim.trim.registry import point_key
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 from hawksim.insect.model import load_model
+from hawksim.stability.linear_model import LinearModel, record_names
 
 WING_INPUTS = ("f", "phi0_l", "phi0_r", "alpha0_l", "alpha0_r", "theta0", "phi_a_l", "phi_a_r")
 """Channels of the constrained controller: f (both wings; relative, f / f_ref - 1), each wing's (left, right)
@@ -123,13 +126,14 @@ def wing_channels(base: Kinematics, left: np.ndarray, right: np.ndarray) -> np.n
 _CHANNEL_PARAM = [_P[k] for k in ("f", "phi0", "phi0", "alpha0", "alpha0", "theta0", "phi_a", "phi_a")]
 
 
-def channel_bounds(base: Kinematics, *, envelope: float | None = None,
-                   held: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+def channel_bounds(base: Kinematics, *, envelope: float | None = None, held: tuple[str, ...] = (),
+                   insect: Insect | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(lower, upper) (8,) of the channels about ``base`` that keep both wings inside Table 2, and with
     ``envelope`` (a fraction of Table 2's width) within +-envelope x width of ``base`` per parameter (the
     surrogate's training envelope: :data:`hawksim.surrogate.flights.KIN_SPREAD`); the channels of the
-    parameters in ``held`` (PARAM_NAMES) are held at the reference (both bounds 0)."""
-    lo, hi = bounds_si()
+    parameters in ``held`` (PARAM_NAMES) are held at the reference (both bounds 0). Table 2 is ``insect``'s
+    kinematic bounds (default :func:`hawksim.insect.folder.default_insect`'s)."""
+    lo, hi = (default_insect() if insect is None else insect).bounds_si()
     p = base.as_array()
     idx = _CHANNEL_PARAM
     lb, ub = lo[idx] - p[idx], hi[idx] - p[idx]
@@ -144,24 +148,16 @@ def channel_bounds(base: Kinematics, *, envelope: float | None = None,
     return lb, ub
 
 
-@dataclass(frozen=True)
-class WingMapModel:
-    """The controlled one-beat map in the per-wing channels about ``orbit`` (normalized as
-    :class:`hawksim.control.derivatives.BeatMapModel`): A (11, 11), B0 and B1 (11, 8) over :data:`WING_INPUTS`;
-    on a history network's augmented state (``records`` n > 0) (11 + 6 n) rows."""
+WingMapModel = LinearModel
+"""The per-wing model's name of :class:`hawksim.stability.linear_model.LinearModel` (``map="wings"``): the controlled
+one-beat map in the per-wing channels, normalized as the per-beat model: A (11, 11), B0 and B1 (11, 8) over
+:data:`WING_INPUTS`; on a history network's augmented state (``records`` n > 0) (11 + 6 n) rows."""
 
-    orbit: Orbit
-    A: np.ndarray
-    B0: np.ndarray
-    B1: np.ndarray
-    delta: float
-    wall_time_s: float
-    records: int = 0
 
-    def to_json(self) -> dict:
-        return {"speed": self.orbit.speed, "aero": self.orbit.aero, "states": list(XI_NAMES),
-                "inputs": list(WING_INPUTS), "A": self.A.tolist(), "B0": self.B0.tolist(), "B1": self.B1.tolist(),
-                "delta": self.delta}
+def _wing_model(orbit: Orbit, A, B0, B1, delta: float, wall: float, records: int = 0) -> LinearModel:
+    return LinearModel(point=orbit, map="wings", states=XI_NAMES + record_names(records), inputs=WING_INPUTS, A=A,
+                       B0=B0, B1=B1, scale=xi_scale(orbit.kinematics), dt=orbit.kinematics.period, delta=delta,
+                       wall_time_s=wall, records=records)
 
 
 def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float | None = None,
@@ -178,7 +174,7 @@ def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float |
         raise ValueError("per-wing derivatives need an orbit with a settable state or a record (quasi-steady or "
                          "surrogate); the UVLM's wake is neither")
     t0 = time.perf_counter()
-    model = model if model is not None else load_model()
+    model = model if model is not None else load_model(morph=orbit.insect.morphology)
     if delta is None:
         delta = descriptor(orbit.aero).fd.control
     sc = xi_scale(orbit.kinematics)
@@ -188,8 +184,8 @@ def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float |
         if A is not None and A.shape[0] > 11:  # the augmented state: the commands' effect on the record too
             _, B0, B1 = record_jacobians(lambda x, vp, v, r: snap.beat(x, vp, v, record=r, wings=wing_params), x0,
                                          snap.record, orbit.kinematics, delta, 0, len(WING_INPUTS), states=False)
-            return WingMapModel(orbit=orbit, A=np.array(A, float), B0=B0, B1=B1, delta=delta,
-                                wall_time_s=time.perf_counter() - t0, records=len(snap.record))
+            return _wing_model(orbit, np.array(A, float), B0, B1, delta, time.perf_counter() - t0,
+                               records=len(snap.record))
 
         def beat(x, v_prev, v):
             return snap.beat(x, v_prev, v, wings=wing_params)
@@ -201,8 +197,7 @@ def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float |
 
     A_, B0, B1 = central_jacobians(beat, normalized_xi(sc), x0, sc, delta, 0 if A is not None else 8,
                                    len(WING_INPUTS))
-    return WingMapModel(orbit=orbit, A=np.array(A if A is not None else A_, float), B0=B0, B1=B1, delta=delta,
-                        wall_time_s=time.perf_counter() - t0)
+    return _wing_model(orbit, np.array(A if A is not None else A_, float), B0, B1, delta, time.perf_counter() - t0)
 
 
 def wing_weights(u_max: dict | None = None) -> np.ndarray:
@@ -313,7 +308,7 @@ class ConstrainedSchedule(Schedule):
         if kw.get("rate", "beat") != "beat":
             raise ValueError("the constrained LQR updates once per wingbeat (--control-rate beat)")
         insect = kw.get("insect")
-        if insect is not None and insect != DEFAULT_INSECT:  # its wing models and plans use Table 2's box
+        if insect is not None and insect != default_insect():  # its wing models and plans use Table 2's box
             raise ValueError(f"insect {insect.name!r}: the constrained LQR is designed for the default hawkmoth only "
                              "(control another insect with control='lqr')")
         super().__init__(v_lo, v_hi, **kw)
@@ -322,7 +317,7 @@ class ConstrainedSchedule(Schedule):
         self.held = HELD_AT_BOUND if held is None else tuple(held)
         self.wing_models, self.constrained = {}, {}
         for p in self.points:
-            key = (p.speed, p.orbit.aero)
+            key = point_key(p.speed, p.orbit.aero, p.orbit.insect, kw.get("model"), "wings")
             if key not in _WING_MODELS:
                 _WING_MODELS[key] = linearize_wings(p.orbit, A=p.model.A, model=kw.get("model"))
             self.wing_models[p.speed] = _WING_MODELS[key]
@@ -337,7 +332,7 @@ class ConstrainedSchedule(Schedule):
         kin, x_ref, _, _ = self.reference(v, phase)
         pos_ref = sum(w * pt.reference_state(phase)[1] for w, pt in self.weights(v))
         xi = np.concatenate([x_sensed - x_ref, pos_sensed - pos_ref])
-        lb, ub = channel_bounds(kin, envelope=self.envelope, held=self._held(kin))
+        lb, ub = channel_bounds(kin, envelope=self.envelope, held=self._held(kin), insect=self.insect)
         past_v = [wing_channels(kin, left, right) for left, right in past]
         out, active = np.zeros(len(WING_INPUTS)), False
         rec_dev = None if record is None or not self.feeds_record else record - self.reference_record(v, phase)
@@ -364,9 +359,10 @@ class ConstrainedSchedule(Schedule):
         (:data:`hawksim.control.schedule.BOUND_TOL`)."""
         from hawksim.control.schedule import BOUND_TOL
 
-        lo, hi = bounds_si()
+        lo, hi = self.insect.bounds_si()
         p = kin.as_array()
         return tuple(k for k in self.held if min(p[_P[k]] - lo[_P[k]], hi[_P[k]] - p[_P[k]]) <= BOUND_TOL)
 
 
 _WING_MODELS: dict = {}
+"""The process's per-wing models, keyed by :func:`hawksim.flight.points.point_key` (insect, backend, speed, MJCF)."""

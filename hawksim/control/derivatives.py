@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -39,6 +38,7 @@ from hawksim.frames import STABILITY_TO_WORLD
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
 from hawksim.stability.history_floquet import RECORD_LAT, RECORD_LONG
+from hawksim.stability.linear_model import LinearModel, record_names
 
 XI_NAMES = ("u", "v", "w", "p", "q", "r", "phi", "theta", "psi", "X", "Y")
 """The extended state: body state (hawksim.flight.orbit.STATE_NAMES) and horizontal position X (forward), Y (right)."""
@@ -213,65 +213,20 @@ def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, 
     return read_body_state(sim, orbit.chi_ref), stability_position(sim.d.qpos[:3]) - p0
 
 
-@dataclass(frozen=True)
-class BeatMapModel:
-    """The linearized controlled one-beat map about ``orbit`` (normalized, module docstring): A (11, 11), B0 and
-    B1 (11, 7); ``scale`` (11,) SI per normalized state unit; ``coupling``: largest ``|entry|`` of the
-    longitudinal-lateral cross blocks of A, B0, B1; wall_time_s; ``clipped``: differenced on the map saturated at
-    Table 2 (:data:`SATURATED_DERIVATIVES`)."""
+BeatMapModel = LinearModel
+"""The per-beat model's name of :class:`hawksim.stability.linear_model.LinearModel` (``map="beat"``): A (11, 11),
+B0 and B1 (11, 7) normalized (module docstring); on a history network's augmented state (``records`` n) 11 + 6 n
+states."""
 
-    orbit: Orbit
-    A: np.ndarray
-    B0: np.ndarray
-    B1: np.ndarray
-    scale: np.ndarray
-    coupling: float
-    delta: float
-    wall_time_s: float
-    clipped: bool = False
-    records: int = 0
-    """A history network's orbit linearized on the augmented state (``linearize(..., records=True)``): the n records
-    of its calls in the state, after the 11 of xi (:func:`record_index`); A (11 + 6 n) square, B0 and B1
-    (11 + 6 n, 7). 0: the body state only (for a history network: the record held at the orbit's)."""
-    record_ref: np.ndarray | None = None
-    """The orbit's record (n, 6) SI at phase 0 (the linearization point's)."""
 
-    @property
-    def Bt(self) -> np.ndarray:
-        """Sensitivity to a command held over the beat and the one before (B0 + B1)."""
-        return self.B0 + self.B1
-
-    def block(self, which: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(A, B0, B1) of the longitudinal ('long': LONG_X x SYM_INPUTS) or lateral ('lat': LAT_X x ANTI_INPUTS)
-        subsystem, the records' values of that subsystem after the body states (:func:`record_index`)."""
-        xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
-        xs = list(xs) + record_index(which, self.records)
-        ix = np.ix_(xs, xs)
-        iu = np.ix_(xs, us)
-        return self.A[ix], self.B0[iu], self.B1[iu]
-
-    @property
-    def monodromy(self) -> np.ndarray:
-        """(8, 8) over (u, v, w, p, q, r, phi, theta): the Floquet monodromy (hawksim.stability.floquet)."""
-        return self.A[:8, :8]
-
-    def to_json(self) -> dict:
-        if self.records:
-            raise ValueError("a model on the augmented state is made at start-up, not tabulated (its body block is "
-                             "the record-held model, linearize(..., records=False))")
-        return {"speed": self.orbit.speed, "aero": self.orbit.aero, "states": list(XI_NAMES), "inputs": list(INPUTS),
-                "A": self.A.tolist(), "B0": self.B0.tolist(), "B1": self.B1.tolist(), "scale": self.scale.tolist(),
-                "coupling": self.coupling, "delta": self.delta, "clipped": self.clipped}
-
-    @staticmethod
-    def from_json(d: dict, orbit: Orbit) -> BeatMapModel:
-        """Inverse of :meth:`to_json` about ``orbit`` (the one it was made about; the caller checks which)."""
-        if tuple(d["states"]) != XI_NAMES or tuple(d["inputs"]) != INPUTS:
-            raise ValueError("control model table: states or inputs differ from this version's")
-        return BeatMapModel(orbit=orbit, A=np.asarray(d["A"], float), B0=np.asarray(d["B0"], float),
-                            B1=np.asarray(d["B1"], float), scale=np.asarray(d["scale"], float),
-                            coupling=float(d["coupling"]), delta=float(d["delta"]),
-                            wall_time_s=float(d.get("wall_time_s", 0.0)), clipped=bool(d.get("clipped", False)))
+def beat_model(orbit: Orbit, A, B0, B1, *, scale, coupling: float, delta: float, wall_time_s: float,
+               clipped: bool = False, record_ref: np.ndarray | None = None) -> LinearModel:
+    """The :class:`LinearModel` of the controlled one-beat map about ``orbit`` (states :data:`XI_NAMES`, then a
+    history network's record values when ``record_ref`` (n, 6) is given; inputs :data:`INPUTS`; dt = T)."""
+    n = 0 if record_ref is None else len(record_ref)
+    return LinearModel(point=orbit, map="beat", states=XI_NAMES + record_names(n), inputs=INPUTS, A=A, B0=B0, B1=B1,
+                       scale=scale, dt=orbit.kinematics.period, delta=delta, wall_time_s=wall_time_s,
+                       coupling=float(coupling), clipped=bool(clipped), records=n, record_ref=record_ref)
 
 
 def central_jacobians(beat, xi, x0: np.ndarray, sc: np.ndarray, delta: float,
@@ -356,7 +311,7 @@ shipped tables."""
 
 
 def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel | None = None,
-              clip: bool | None = None, records: bool = False) -> BeatMapModel:
+              clip: bool | None = None, records: bool = False) -> LinearModel:
     """:class:`BeatMapModel` about ``orbit`` by central differences (module docstring), in normalized states and
     inputs (angles in radians before normalizing: :func:`xi_scale`). Quasi-steady and surrogate:
     each derivative beat is launched from the orbit's phase-0 state (the state is settable). UVLM (an orbit with
@@ -396,9 +351,9 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
         key = cache.map_key("beat", orbit, model, delta=delta, clip=bool(clip))
         z = cache.load(key)
         if z is not None:
-            return BeatMapModel(orbit=orbit, A=z["A"], B0=z["B0"], B1=z["B1"], scale=z["scale"],
-                                coupling=float(z["coupling"]), delta=delta, wall_time_s=time.perf_counter() - t0,
-                                clipped=bool(clip), records=len(z["record_ref"]), record_ref=z["record_ref"])
+            return beat_model(orbit, z["A"], z["B0"], z["B1"], scale=z["scale"], coupling=float(z["coupling"]),
+                              delta=delta, wall_time_s=time.perf_counter() - t0, clipped=bool(clip),
+                              record_ref=z["record_ref"])
         rec0 = snap.record
         A, B0, B1 = record_jacobians(lambda x, dp, d, r: snap.beat(x, dp, d, record=r), x0, rec0, kin, delta, 8)
     else:
@@ -407,9 +362,8 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     cross = max(np.abs(M[np.ix_(a, b)]).max() for M, (a, b) in
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
                  (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
-    out = BeatMapModel(orbit=orbit, A=A, B0=B0, B1=B1, scale=sc, coupling=float(cross), delta=delta,
-                       wall_time_s=time.perf_counter() - t0, clipped=bool(clip),
-                       records=0 if rec0 is None else len(rec0), record_ref=rec0)
+    out = beat_model(orbit, A, B0, B1, scale=sc, coupling=float(cross), delta=delta,
+                     wall_time_s=time.perf_counter() - t0, clipped=bool(clip), record_ref=rec0)
     if rec0 is not None:
         cache.store(key, {"A": A, "B0": B0, "B1": B1, "scale": sc, "coupling": np.array(out.coupling),
                           "record_ref": rec0})

@@ -28,20 +28,19 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
-
 import mujoco
 import numpy as np
 
 from hawksim.backends.record import record_scale
 from hawksim.backends.registry import descriptor
-from hawksim.control.derivatives import (LAT_X, LONG_X, Snapshot, central_jacobians, normalized_xi, record_index,
+from hawksim.control.derivatives import (LAT_X, LONG_X, XI_NAMES, Snapshot, central_jacobians, normalized_xi,
                                          record_jacobians, stability_position, xi_scale)
 from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
                                    wing_kinematics)
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
+from hawksim.stability.linear_model import LinearModel, record_names
 
 HALVES = 2
 """Control updates per wingbeat in the half-stroke mode (phases 0 and 0.5)."""
@@ -84,57 +83,25 @@ def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray,
     return read_body_state(sim, orbit.chi_ref), stability_position(sim.d.qpos[:3]) - p0
 
 
-@dataclass(frozen=True)
-class HalfStrokeModel:
-    """The linearized half-stroke maps about ``orbit`` (module docstring): ``A``, ``B0``, ``B1`` each a pair
-    (first half, second half) of (11, 11) / (11, 7) normalized matrices; ``x_half`` (9,) SI: the orbit's body
-    state at phase 0.5; ``pos_half`` (2,) [m]: its horizontal displacement (X forward, Y right) over the first
-    half (the phase-0.5 reference of the hold point); ``scale`` (11,); ``coupling``: the largest ``|entry|`` of
-    the longitudinal-lateral cross blocks."""
+HalfStrokeModel = LinearModel
+"""The half-stroke model's name of :class:`hawksim.stability.linear_model.LinearModel` (``map="half-stroke"``): A,
+B0, B1 each a pair (first half, second half) of (11, 11) / (11, 7) normalized (module docstring); ``x_half`` (9,)
+SI: the orbit's body state at phase 0.5; ``pos_half`` (2,) [m]: its horizontal displacement (X forward, Y right)
+over the first half (the phase-0.5 reference of the hold point); ``block(which, half)``; ``monodromy``: the product
+of the two halves' state maps' body block. A history network's orbit: the n records of its calls in the state after
+the 11 of xi, normalized by ``record_scale``; ``record_ref``: its record (n, 6) SI at phase 0 and at phase 0.5."""
 
-    orbit: Orbit
-    A: tuple[np.ndarray, np.ndarray]
-    B0: tuple[np.ndarray, np.ndarray]
-    B1: tuple[np.ndarray, np.ndarray]
-    x_half: np.ndarray
-    pos_half: np.ndarray
-    scale: np.ndarray
-    coupling: float
-    delta: float
-    wall_time_s: float = 0.0
-    records: int = 0
-    """A history network's orbit: the n records of its calls in the state (0 otherwise). The maps are then on the
-    augmented state (the 11 of xi, then each record's 6 values, oldest first, normalized by :attr:`record_scale`):
-    A (11 + 6 n) square, B0 and B1 (11 + 6 n, 7); the records are the backend's, read at each update."""
-    record_ref: tuple[np.ndarray, np.ndarray] | None = None
-    """The orbit's record (n, 6) SI at phase 0 and at phase 0.5 (the linearization points' records)."""
-    record_scale: np.ndarray | None = None
-    """(6,) SI per normalized unit of a record's values: U (velocities), 1 / T (rates)."""
 
-    def record_index(self, which: str) -> list[int]:
-        """:func:`hawksim.control.derivatives.record_index` of this model's records (empty without them)."""
-        return record_index(which, self.records)
-
-    def block(self, which: str, half: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(A, B0, B1) of the 'long' (u, w, q, theta, X; f, phi0, alpha0, theta0) or 'lat' (v, p, r, phi, psi, Y;
-        dphi_a, dphi0, dalpha0) subsystem over half ``half`` (0 or 1), the records' values of that subsystem after
-        the body states (:meth:`record_index`)."""
-        xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
-        xs = list(xs) + self.record_index(which)
-        ix, iu = np.ix_(xs, xs), np.ix_(xs, us)
-        return self.A[half][ix], self.B0[half][iu], self.B1[half][iu]
-
-    @property
-    def monodromy(self) -> np.ndarray:
-        """(8, 8) over (u, v, w, p, q, r, phi, theta): the product of the two halves' state maps (one beat; with
-        records, the body rows and columns of the augmented product)."""
-        return (self.A[1] @ self.A[0])[:8, :8]
-
-    def to_json(self) -> dict:
-        return {"speed": self.orbit.speed, "aero": self.orbit.aero, "inputs": list(INPUTS),
-                "A": [a.tolist() for a in self.A], "B0": [b.tolist() for b in self.B0],
-                "B1": [b.tolist() for b in self.B1], "x_half": self.x_half.tolist(), "pos_half": self.pos_half.tolist(),
-                "scale": self.scale.tolist(), "coupling": self.coupling, "delta": self.delta}
+def half_stroke_model(orbit: Orbit, mats, *, x_half, pos_half, scale, coupling: float, delta: float,
+                      wall_time_s: float, record_ref=None, record_scale=None) -> LinearModel:
+    """The :class:`LinearModel` of the two half-stroke maps ``mats`` [(A, B0, B1) of half 0, of half 1]."""
+    n = 0 if record_ref is None else len(record_ref[0])
+    return LinearModel(point=orbit, map="half-stroke", states=XI_NAMES + record_names(n), inputs=INPUTS,
+                       A=tuple(m[0] for m in mats), B0=tuple(m[1] for m in mats),
+                       B1=tuple(m[2] for m in mats), scale=scale, dt=orbit.kinematics.period / HALVES,
+                       delta=delta, wall_time_s=wall_time_s, coupling=float(coupling), records=n,
+                       record_ref=None if record_ref is None else tuple(record_ref),
+                       record_scale=record_scale, x_half=x_half, pos_half=pos_half)
 
 
 def linearize_half_stroke(orbit: Orbit, *, delta: float | None = None,
@@ -175,11 +142,11 @@ def _to_arrays(h: HalfStrokeModel) -> dict[str, np.ndarray]:
 
 def _from_arrays(orbit: Orbit, z: dict, delta: float, wall: float) -> HalfStrokeModel:
     n = int(z["records"])
-    return HalfStrokeModel(orbit=orbit, A=(z["A0"], z["A1"]), B0=(z["B00"], z["B01"]), B1=(z["B10"], z["B11"]),
-                           x_half=z["x_half"], pos_half=z["pos_half"], scale=z["scale"], coupling=float(z["coupling"]),
-                           delta=delta, wall_time_s=wall, records=n,
-                           record_ref=(z["record_ref0"], z["record_ref1"]) if n else None,
-                           record_scale=z["record_scale"] if n else None)
+    return half_stroke_model(orbit, [(z[f"A{j}"], z[f"B0{j}"], z[f"B1{j}"]) for j in range(HALVES)],
+                             x_half=z["x_half"], pos_half=z["pos_half"], scale=z["scale"],
+                             coupling=float(z["coupling"]), delta=delta, wall_time_s=wall,
+                             record_ref=(z["record_ref0"], z["record_ref1"]) if n else None,
+                             record_scale=z["record_scale"] if n else None)
 
 
 def _linearize_half_stroke(orbit: Orbit, delta: float, model, t0: float) -> HalfStrokeModel:
@@ -213,7 +180,6 @@ def _linearize_half_stroke(orbit: Orbit, delta: float, model, t0: float) -> Half
     cross = max(np.abs(M[np.ix_(a, b)]).max() for A, B0, B1 in mats for M, (a, b) in
                 ((A, (LONG_X, LAT_X)), (A, (LAT_X, LONG_X)), (B0, (LONG_X, ANTI_INPUTS)), (B0, (LAT_X, SYM_INPUTS)),
                  (B1, (LONG_X, ANTI_INPUTS)), (B1, (LAT_X, SYM_INPUTS))))
-    return HalfStrokeModel(orbit=orbit, A=(mats[0][0], mats[1][0]), B0=(mats[0][1], mats[1][1]),
-                           B1=(mats[0][2], mats[1][2]), x_half=x_half, pos_half=pos_half, scale=sc,
-                           coupling=float(cross), delta=delta, wall_time_s=time.perf_counter() - t0, records=n,
-                           record_ref=recs, record_scale=record_scale(orbit.kinematics) if n else None)
+    return half_stroke_model(orbit, mats, x_half=x_half, pos_half=pos_half, scale=sc, coupling=float(cross),
+                             delta=delta, wall_time_s=time.perf_counter() - t0, record_ref=recs,
+                             record_scale=record_scale(orbit.kinematics) if n else None)

@@ -1,6 +1,6 @@
 """Discrete-time LQR on the controlled one-beat map, with a sensing delay, gain-scheduled over the ascent speed.
 
-Plant (per subsystem, :meth:`hawksim.control.derivatives.BeatMapModel.block`): x_{k+1} = A x_k + B0 u_{k-1} + B1 u_k
+Plant (per subsystem, :meth:`hawksim.stability.linear_model.LinearModel.block`): x_{k+1} = A x_k + B0 u_{k-1} + B1 u_k
 (normalized deviations from the orbit; u_{k-1} enters because beat k blends the previous command into the new
 one). With a sensing delay of d wingbeats the command of beat k can use x_{k-d} and the commands already sent;
 the augmented state
@@ -21,9 +21,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import solve_discrete_are
 
-from hawksim.control.derivatives import LAT_X, LONG_X, XI_NAMES, BeatMapModel
+from hawksim.control.derivatives import LAT_X, LONG_X, XI_NAMES
 from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS
 from hawksim.stability.history_floquet import RECORD_LAT, RECORD_LONG
+from hawksim.stability.linear_model import LinearModel
 
 X_MAX = {"u": 0.01, "v": 0.01, "w": 0.01, "p": 0.05, "q": 0.05, "r": 0.05, "phi": np.deg2rad(1.0),
          "theta": np.deg2rad(1.0), "psi": np.deg2rad(2.0), "X": 0.3, "Y": 0.3}
@@ -78,12 +79,12 @@ def _sorted(w):
     return w[np.argsort(-np.abs(w), kind="stable")]
 
 
-def lqr_gain(lin: BeatMapModel, which: str, delay: int = 0, x_max: dict | None = None,
+def lqr_gain(lin: LinearModel, which: str, delay: int = 0, x_max: dict | None = None,
              u_max: dict | None = None, inputs: tuple[int, ...] | None = None) -> Gain:
-    """LQR of the 'long' or 'lat' subsystem of ``lin`` with a sensing delay of ``delay`` wingbeats; ``inputs``: the
-    channels (indices in :data:`INPUTS`) of the subsystem it may use (default all; the others stay at the
-    reference). A model on a history network's augmented state (``lin.records``): the record's values carry no
-    weight and are fed back."""
+    """LQR of the 'long' or 'lat' subsystem of the per-beat ``lin`` (a :class:`LinearModel`) with a sensing delay
+    of ``delay`` wingbeats; ``inputs``: the channels (indices in :data:`INPUTS`) of the subsystem it may use (default
+    all; the others stay at the reference). A model on a history network's augmented state (``lin.records``): the
+    record's values carry no weight and are fed back."""
     A, B0, B1 = lin.block(which)
     xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
     if inputs is not None:
@@ -150,3 +151,20 @@ def periodic_lqr_gains(blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]], 
     mu, ol = _sorted(np.linalg.eigvals(M)), _sorted(np.linalg.eigvals(A_beat))
     return tuple(Gain(K=K, multipliers=mu, open_loop=ol, states=tuple(xs), inputs=tuple(us), delay=int(delay),
                       record=tuple(record)) for K in Ks)
+
+
+def periodic_lqr_gain(lin: LinearModel, which: str, delay: int = 0, x_max: dict | None = None,
+                      u_max: dict | None = None, inputs: tuple[int, ...] | None = None) -> tuple[Gain, ...]:
+    """:func:`periodic_lqr_gains` of the 'long' or 'lat' subsystem of a periodic ``lin`` (the half-stroke map, a
+    :class:`LinearModel` with phases), a sensing delay of ``delay`` SAMPLES; ``inputs``: the subsystem's channels it
+    may use (indices in :data:`INPUTS`, default all). A model on a history network's augmented state feeds its
+    record values back (unweighted)."""
+    xs, us = (LONG_X, SYM_INPUTS) if which == "long" else (LAT_X, ANTI_INPUTS)
+    blocks = [lin.block(which, j) for j in range(lin.phases)]
+    if inputs is not None:
+        if not set(inputs) <= set(us) or not inputs:
+            raise ValueError(f"inputs {inputs} are not a non-empty subset of the {which} channels {us}")
+        cols = [us.index(i) for i in inputs]
+        blocks, us = [(A, B0[:, cols], B1[:, cols]) for A, B0, B1 in blocks], tuple(inputs)
+    record = (RECORD_LONG if which == "long" else RECORD_LAT) if lin.records else ()
+    return periodic_lqr_gains(blocks, xs, us, delay, x_max, u_max, record)

@@ -4,12 +4,12 @@ interpolated linearly in between; updated once per wingbeat or once per half-str
 Quasi-steady: the orbits are solved (:func:`hawksim.flight.orbit.periodic_orbit`, ~1 s) and linearized
 (:func:`hawksim.control.derivatives.linearize`, ~2 s; per half-stroke :func:`hawksim.control.halfstroke.
 linearize_half_stroke`, ~3 s) at :data:`SCHEDULE_SPEEDS`, cached per process. UVLM (per beat only): the SHIPPED
-orbits (hawksim/data/orbit_table_uvlm.json, converged at :data:`UVLM_SCHEDULE_SPEEDS`) and their one-beat control
-derivatives shipped in hawksim/data/control_models_uvlm.json (``hawksim reproduce --only control_uvlm``,
-:func:`control_model_table`; linearizing one speed takes minutes), so the schedule covers 1-2 m/s only, and a
-speed outside the grid's range is refused (ValueError naming it). Per-step surrogate (per beat only): the same
-from its shipped orbits (hawksim/data/orbit_table_surrogate.json, for the shipped network only) at
-:func:`surrogate_schedule_speeds` (0, 0.5, 1, 1.5, 2 m/s) and hawksim/data/control_models_surrogate.json
+orbits (insects/hawkmoth/data/orbit_table_uvlm.json, converged at :data:`UVLM_SCHEDULE_SPEEDS`) and their one-beat
+control derivatives shipped in insects/hawkmoth/data/control_models_uvlm.json (``hawksim reproduce --only
+control_uvlm``, :func:`control_model_table`; linearizing one speed takes minutes), so the schedule covers 1-2 m/s only,
+and a speed outside the grid's range is refused (ValueError naming it). Per-step surrogate (per beat only): the same
+from its shipped orbits (hawksim/insects/hawkmoth/data/orbit_table_surrogate.json, for the shipped network only) at
+:func:`surrogate_schedule_speeds` (0, 0.5, 1, 1.5, 2 m/s) and insects/hawkmoth/data/control_models_surrogate.json
 (``hawksim reproduce --only control_surrogate``; without it the derivatives are recomputed, ~5 s per speed).
 
 Per beat the gains are :func:`hawksim.control.lqr.lqr_gain` of the one-beat map; per half-stroke
@@ -29,14 +29,16 @@ import numpy as np
 from hawksim.backends.record import record_scale
 from hawksim.backends.builtin import BUILTINS
 from hawksim.backends.registry import descriptor
-from hawksim.control.derivatives import LAT_X, LONG_X, BeatMapModel, linearize, xi_scale
+from hawksim.control.derivatives import XI_NAMES, BeatMapModel, linearize, xi_scale
 from hawksim.control.halfstroke import HALVES, HalfStrokeModel, linearize_half_stroke
-from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gains
-from hawksim.control.plant import ANTI_INPUTS, INPUTS, SYM_INPUTS, command_of, wing_kinematics
+from hawksim.control.lqr import U_MAX, Gain, lqr_gain, periodic_lqr_gain
+from hawksim.control.plant import INPUTS, SYM_INPUTS, command_of, wing_kinematics
 from hawksim.flight.orbit import Orbit, periodic_orbit, shipped_orbit
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.trim.registry import point_key, shipped_table
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import TABLE3_SPEEDS, Kinematics
-from hawksim.stability.history_floquet import RECORD_LAT, RECORD_LONG
+from hawksim.stability.linear_model import LinearModel
 
 SCHEDULE_SPEEDS = TABLE3_SPEEDS
 """Ascent speeds [m/s] of the quasi-steady gain schedule's orbits (0, 0.5, 1, 1.5, 2)."""
@@ -176,43 +178,42 @@ def control_model_table(models: list[BeatMapModel], command: str) -> dict:
 
 
 def shipped_control_model(speed: float, aero: str) -> BeatMapModel | None:
-    """The shipped one-beat model of ``aero`` at exactly ``speed`` (its descriptor's ``control_model_table``) about
-    the shipped orbit there, None if absent (or if the orbit it was made about is not the shipped one, or the table
-    does not hold for the backend as built now)."""
-    from importlib import resources
-
+    """The shipped one-beat model of ``aero`` at exactly ``speed`` (its descriptor's ``control_model_table``, read once
+    per process through the registry :func:`hawksim.flight.points.shipped_table`) about the shipped orbit there, None
+    if absent (or if the orbit it was made about is not the shipped one, or the table does not hold for the backend
+    as built now)."""
     desc = descriptor(aero)
     name = desc.control_model_table
-    path = resources.files("hawksim") / "data" / name if name else None
+    table = shipped_table(name) if name else None
     orbit = shipped_orbit(speed, aero)
-    if path is None or not path.is_file() or orbit is None:
-        return None
-    table = json.loads(path.read_text())
-    if not desc.tables_hold(table):
+    if table is None or orbit is None or not desc.tables_hold(table):
         return None
     for row in table["rows"]:
         if abs(row["speed"] - speed) < 1e-9 and row["orbit_f_hz"] == orbit.kinematics.f \
                 and row["orbit_residual"] == orbit.residual:
-            return BeatMapModel.from_json(row, orbit)
+            if tuple(row["states"]) != XI_NAMES or tuple(row["inputs"]) != INPUTS:
+                raise ValueError("control model table: states or inputs differ from this version's")
+            return LinearModel.from_json(row, orbit)
     return None
 
 
 _POINTS: dict = {}
 _HALF: dict = {}
-"""The process's orbits and linear models: keyed (speed, aero) for the default insect and (speed, aero, insect key)
-for another (:func:`insect_key`), so that two insects never share an orbit or gains."""
+"""The process's orbits and linear models, keyed by :func:`hawksim.flight.points.point_key` (insect digest, backend,
+speed, MJCF digest; then what was made about the point), so that two insects or two MuJoCo models never share an
+orbit or gains."""
 
 
 def insect_key(insect: Insect | None) -> tuple:
     """The part of a cache key that names the insect: () for the default insect (the keys as they were), else its
     spec as sorted JSON (:meth:`Insect.to_dict`: morphology, P0 and bounds), which two insects share only if equal."""
-    if insect is None or insect == DEFAULT_INSECT:
+    if insect is None or insect == default_insect():
         return ()
     return (json.dumps(insect.to_dict(), sort_keys=True),)
 
 
 def _orbit_and_model(speed: float, aero: str, model, log, insect: Insect | None = None) -> tuple[Orbit, BeatMapModel]:
-    key = (float(speed), aero, *insect_key(insect))
+    key = point_key(speed, aero, insect, model)
     desc = descriptor(aero)
     if key not in _POINTS:
         if insect_key(insect) and desc.shipped_orbits_only:
@@ -245,16 +246,15 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     ``rate`` (:data:`RATES`); orbits and linear models are cached per process and per insect. ``x_max``/``u_max``
     override Bryson's bounds (:mod:`hawksim.control.lqr`); ``command_weight`` multiplies R of the half-stroke design
     (default :data:`HALF_STROKE_COMMAND_WEIGHT`). ``insect``: the insect controlled (default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`): its own orbit (solved here: backends of shipped orbits only take
+    :func:`hawksim.insect.folder.default_insect`): its own orbit (solved here: backends of shipped orbits only take
     the default insect, ValueError otherwise), linearized on its MJCF (``model`` must be its MJCF if given)."""
     if rate not in RATES:
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
     if rate == "half-stroke":
         descriptor(aero).half_stroke.require("rate='half-stroke'", aero)
-    ik = insect_key(insect)
     orb, lin = _orbit_and_model(speed, aero, model, log, insect)
     if rate == "beat" and orb.record is not None:  # a history network: the per-beat design on the augmented state
-        key = (float(speed), aero, "records", *ik)
+        key = point_key(speed, aero, insect, model, "records")
         if key not in _POINTS:
             if log is not None:
                 log(f"linearizing the {aero} orbit at {speed:g} m/s with its record of calls (seconds) ...")
@@ -264,21 +264,15 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
     if rate == "beat":
         return SchedulePoint(float(speed), orb, lin, long, lat)
-    key = (float(speed), aero, *ik)
+    key = point_key(speed, aero, insect, model, "half-stroke")
     if key not in _HALF:
         _HALF[key] = linearize_half_stroke(orb, model=model)
     h = _HALF[key]
     d = HALVES * int(delay)
     cw = HALF_STROKE_COMMAND_WEIGHT if command_weight is None else float(command_weight)
     um = {k: v / np.sqrt(cw) for k, v in {**U_MAX, **(u_max or {})}.items()}
-    rl, rt = (RECORD_LONG, RECORD_LAT) if h.records else ((), ())
-    if sym is None:
-        gl = periodic_lqr_gains([h.block("long", j) for j in range(HALVES)], LONG_X, SYM_INPUTS, d, x_max, um, rl)
-    else:  # the channels of the per-beat design (theta0 out where it sits on its bound)
-        cols = [SYM_INPUTS.index(i) for i in sym]
-        blocks = [(A, B0[:, cols], B1[:, cols]) for A, B0, B1 in (h.block("long", j) for j in range(HALVES))]
-        gl = periodic_lqr_gains(blocks, LONG_X, sym, d, x_max, um, rl)
-    gt = periodic_lqr_gains([h.block("lat", j) for j in range(HALVES)], LAT_X, ANTI_INPUTS, d, x_max, um, rt)
+    gl = periodic_lqr_gain(h, "long", d, x_max, um, inputs=sym)  # theta0 out where it sits on its bound
+    gt = periodic_lqr_gain(h, "lat", d, x_max, um)
     return SchedulePoint(float(speed), orb, lin, gl[0], gt[0], rate="half-stroke", half=h, long_half=gl[1],
                          lat_half=gt[1])
 
@@ -318,7 +312,7 @@ class Schedule:
     """Gain schedule over the ascent speed: :class:`SchedulePoint` at the grid speeds needed for [v_lo, v_hi]
     (``speeds``: default :func:`schedule_speeds` of ``aero``); a range outside the grid's is refused (ValueError).
     ``rate``: :data:`RATES`; ``delay`` [wingbeats]; ``insect`` (default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`, kept as :attr:`insect`); the rest as :func:`schedule_point`."""
+    :func:`hawksim.insect.folder.default_insect`, kept as :attr:`insect`); the rest as :func:`schedule_point`."""
 
     def __init__(self, v_lo: float, v_hi: float, *, delay: int = 0, aero: str = "quasi-steady", model=None,
                  log=None, speeds=None, x_max=None, u_max=None, rate: str = "beat",
@@ -336,7 +330,7 @@ class Schedule:
         hi = sp[min(len(sp) - 1, np.searchsorted(sp, v_hi, side="left"))]
         self.delay = int(delay)
         self.rate = rate
-        self.insect = DEFAULT_INSECT if insect is None else insect
+        self.insect = default_insect() if insect is None else insect
         self.per_beat = HALVES if rate == "half-stroke" else 1
         self.points = [schedule_point(v, delay=delay, aero=aero, model=model, log=log, x_max=x_max, u_max=u_max,
                                       rate=rate, command_weight=command_weight, insect=insect)
@@ -413,11 +407,9 @@ class Schedule:
 def operating_point_override(speed: float, aero: str, orbit: Orbit, model: BeatMapModel):
     """Within the block, the schedules at ``speed`` [m/s] with the backend ``aero`` design their per-beat gains on
     ``orbit`` and its linear model ``model`` (:func:`hawksim.control.derivatives.linearize`) instead of the shipped
-    or solved ones (an experiment on other kinematics); the process's cache is put back after. The orbit's insect
-    (:attr:`Orbit.insect`) is the one whose schedules take it: another insect's orbit (its own start, where
-    :func:`hawksim.flight.orbit.periodic_orbit` from the default insect's trim does not converge) serves its flights
-    only."""
-    key = (float(speed), aero, *insect_key(orbit.insect))
+    or solved ones (an experiment on other kinematics; the orbit's insect, the generated MJCF); the process's cache
+    is put back after."""
+    key = point_key(speed, aero, orbit.insect)
     saved = _POINTS.get(key)
     _POINTS[key] = (orbit, model)
     try:

@@ -1,7 +1,7 @@
 """The free body's state at a wing phase: its chart (heading axes, Euler angles about a reference body angle),
 and how it is written into and read from a :class:`hawksim.flight.simulator.Simulator`.
 
-State (9,), SI, documented exactly (``BodyState``):
+State (9,), SI, documented exactly (``BodyState``, :mod:`hawksim.state`):
 
 * u, v, w [m/s]: velocity of the body's centre of mass (the free joint's linear qvel; the body frame's origin
   is its centre of mass) in the HEADING axes H: the stability axes (x forward horizontal, y right, z down)
@@ -31,8 +31,6 @@ their exact prescribed phase-0 pose and rates (the continuous flight tracks them
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import mujoco
 import numpy as np
 
@@ -41,42 +39,10 @@ from hawksim.backends.memory import PREVIOUS_CALL
 from hawksim.backends.registry import descriptor_of
 from hawksim.flight.simulator import Simulator
 from hawksim.frames import STABILITY_TO_WORLD, pitch_of, quat_from_matrix, quat_to_matrix, rot_x, rot_y, rot_z
-
-STATE_NAMES = ("u", "v", "w", "p", "q", "r", "phi", "theta", "psi")
-"""Body state at phase 0, see the module docstring (m/s, rad/s, rad)."""
-
-SYM_STATE = (0, 2, 4, 7)
-"""Indices of the symmetric (longitudinal) state (u, w, q, theta) in :data:`STATE_NAMES`."""
+from hawksim.state import STATE_NAMES, SYM_STATE, BodyState  # noqa: F401 (their home: hawksim.state)
 
 S = STABILITY_TO_WORLD
 """World (z up, heading +x) <-> stability axes (x forward, y right, z down): a rotation by pi about x."""
-
-
-@dataclass(frozen=True)
-class BodyState:
-    """The map's state (see the module docstring): u, v, w [m/s] and p, q, r [rad/s] in the heading axes
-    (x forward horizontal, y right, z down), Euler angles phi (bank), theta (body pitch), psi (heading) [rad]."""
-
-    u: float = 0.0
-    v: float = 0.0
-    w: float = 0.0
-    p: float = 0.0
-    q: float = 0.0
-    r: float = 0.0
-    phi: float = 0.0
-    theta: float = 0.0
-    psi: float = 0.0
-
-    def as_array(self) -> np.ndarray:
-        """(9,) in :data:`STATE_NAMES` order."""
-        return np.array([getattr(self, k) for k in STATE_NAMES])
-
-    @classmethod
-    def from_array(cls, x) -> BodyState:
-        return cls(*map(float, x))
-
-    def to_dict(self) -> dict[str, float]:
-        return {k: float(getattr(self, k)) for k in STATE_NAMES}
 
 
 def state_to_world(x: np.ndarray, chi_ref: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

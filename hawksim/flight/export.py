@@ -4,17 +4,18 @@ The file holds plain arrays only (``np.load(path, allow_pickle=False)`` reads it
 
 - per-step arrays, one row per integration step (state at the step's start, loads held over the step), SI:
   the fields of :class:`hawksim.flight.result.FlightResult` under their own names (``t``, ``body_pos``, ``body_quat``,
-  ``body_v``, ``body_omega``, ``wing_R``, ``wing_origin``, ``force``, ``moment``, ``power_aero``, ``power_joint``) and
-  two derived ones: ``attitude`` (n, 3) pitch, roll, yaw [rad] (:meth:`FlightResult.attitude`) and ``wing_angles``
-  (n, 2, 3) the sweep, elevation and rotation angles phi, theta, alpha [rad] of the left and right wing (paper Eq. 1's
-  angles, read back from the wing frames);
+  ``body_v``, ``body_omega``, ``wing_R``, ``wing_origin``, ``force``, ``moment``, ``wing_moment``, ``power_aero``,
+  ``power_joint``) and two derived ones: ``attitude`` (n, 3) pitch, roll, yaw [rad] (:meth:`FlightResult.attitude`)
+  and ``wing_angles`` (n, 2, 3) the sweep, elevation and rotation angles phi, theta, alpha [rad] of the left and
+  right wing (paper Eq. 1's angles, read back from the wing frames);
 - the per-beat table, one row per wingbeat, each column an array named ``beat_<key>`` (nested keys joined by ``_``:
   ``beat_commands_f_hz``); vectors become (beats, k) arrays;
 - ``metadata``: a 0-d unicode array holding one JSON object: ``format`` (:data:`FORMAT`), ``hawksim_version``,
   ``command`` (the argument list), ``seed`` (None: a flight is deterministic), ``units`` (array name -> unit),
   ``descriptions`` (array name -> shape, frame and meaning), ``frames``, the run's ``summary`` (the compact JSON of
   ``hawksim fly --json``), and what :meth:`FlightResult.load` needs to rebuild the result exactly (``kinematics_si``,
-  ``aero_every``, ``flight_wall_time_s``). Read it with ``json.loads(str(z["metadata"]))``.
+  ``aero_every``, ``flight_wall_time_s``; under a controller ``speed_references_m_s`` and ``beat_log``, the
+  loop's per-beat rows, :attr:`FlightResult.beat_log`). Read it with ``json.loads(str(z["metadata"]))``.
 
 :func:`read_flight` reads a file back (arrays and metadata, the format checked); :meth:`FlightResult.save` and
 :meth:`FlightResult.load` write and read a result through this module. The layout is documented for users in
@@ -49,6 +50,8 @@ STEP_ARRAYS = {
     "wing_origin": ("m", "(n, 2, 3) wing hinge positions (left, right), world frame"),
     "force": ("N", "(n, 2, 3) aerodynamic force on each wing (left, right), world frame"),
     "moment": ("N m", "(n, 3) total aerodynamic moment about the body centre of mass, world frame"),
+    "wing_moment": ("N m", "(n, 2, 3) aerodynamic moment of each wing (left, right) about the body centre of mass, "
+                           "world frame (their sum is moment)"),
     "power_aero": ("W", "(n,) aerodynamic power of the wings"),
     "power_joint": ("W", "(n,) aerodynamic + inertial power of the wings relative to the body"),
     "attitude": ("rad", "(n, 3) body pitch (nose up), roll (right wing down), yaw, not wrapped"),
@@ -99,7 +102,8 @@ def wing_angles(result: FlightResult) -> np.ndarray:
 
 def step_arrays(result: FlightResult) -> dict[str, np.ndarray]:
     """The per-step arrays of :data:`STEP_ARRAYS` (float64)."""
-    out = {k: np.asarray(getattr(result, k), dtype=float) for k in STEP_ARRAYS if k not in ("attitude", "wing_angles")}
+    out = {k: np.asarray(getattr(result, k), dtype=float) for k in STEP_ARRAYS
+           if k not in ("attitude", "wing_angles") and getattr(result, k) is not None}
     out["attitude"] = result.attitude()
     out["wing_angles"] = wing_angles(result)
     return out
@@ -170,6 +174,9 @@ def flight_file_bytes(result: FlightResult, beats: list[dict], *, command: list[
             "trim_source": result.trim_source, "aero_every": int(result.aero_every),
             "flight_wall_time_s": float(result.wall_time_s), "end_t_s": result.end_t,
             "end_pos_m": None if result.end_pos is None else [float(x) for x in result.end_pos],
+            "speed_references_m_s": (None if result.speed_references is None
+                                     else [float(v) for v in result.speed_references]),
+            "beat_log": result.beat_log,
             "insect": result.insect.to_dict(),
             "insect_units": "SI (kg, m); P0_W [W]; bounds_deg: f [Hz], the angles [deg] "
                             "(hawksim.insect.insect.Insect.to_dict)",

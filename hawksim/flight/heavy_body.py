@@ -13,7 +13,7 @@ from hawksim.flight.power import P_plus
 from hawksim.flight.simulator import Simulator
 from hawksim.frames import quat_from_matrix, rot_y
 from hawksim.insect.model import load_model
-from hawksim.insect.morphology import HAWKMOTH
+from hawksim.insect.folder import default_insect
 
 HEAVY = 1e4
 """Body mass and inertia factor of the heavy-body flights."""
@@ -37,7 +37,8 @@ def heavy_free_flight(kin, speed: float, backend, *, steps_per_cycle: int, aero_
     sim.advance((cycles - 1) * steps_per_cycle)
     r = sim.advance(steps_per_cycle)
     F = r.force.sum(1)
-    W = HAWKMOTH.weight
+    insect = default_insect()
+    W = insect.weight
     pitching = -(r.moment_about_body() * r.body_R[:, :, 1]).sum(1)
-    return {"L": F[:, 2].mean() / W, "D": -F[:, 0].mean() / W, "M": pitching.mean() / (W * HAWKMOTH.cbar),
+    return {"L": F[:, 2].mean() / W, "D": -F[:, 0].mean() / W, "M": pitching.mean() / (W * insect.cbar),
             **{f"P_{s}": P_plus(r.power_joint, aero_every, first=r.first, sampling=s) for s in ("updates", "steps")}}

@@ -31,7 +31,7 @@ backtracking line search.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
@@ -42,8 +42,9 @@ from hawksim.backends.builtin import (FD_STEP, QUASI_STEADY, SURROGATE_FD_STEP, 
                                       UVLM_WARM_BEATS)
 from hawksim.backends.memory import RECORD
 from hawksim.backends.registry import descriptor, descriptor_of
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, reference_speed
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
+from hawksim.insect.kinematics import Kinematics, reference_speed
 from hawksim.insect.model import load_model
 from hawksim.backends import flight_backend
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE
@@ -52,6 +53,8 @@ from hawksim.flight.body_state import (S, STATE_NAMES, SYM_STATE, BodyState, rea
                                        set_body_state, state_to_world, world_to_state)
 from hawksim.flight.power import P_plus
 from hawksim.flight.simulator import Simulator, aero_every_for
+from hawksim.trim.point import OperatingPoint
+from hawksim.trim.registry import shipped_point
 from hawksim.trim.tables import trim_kinematics
 
 STEPS_PER_CYCLE = FLY_STEPS_PER_CYCLE
@@ -114,14 +117,14 @@ def backend_record(backend, every: int) -> np.ndarray | None:
 class OrbitFlight:
     """Free flights of the orbit solver from phase 0: one reusable MjModel, a Simulator per kinematics (aero: the
     name of a registered backend that supports periodic orbits, :mod:`hawksim.backends.registry`) of ``insect``
-    (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): its wings in the backend, its MJCF unless ``model`` is
+    (default :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF unless ``model`` is
     given, its P0 in :attr:`Beats.P_plus`."""
 
     def __init__(self, aero: str, symmetric: bool = True, model: mujoco.MjModel | None = None,
                  insect: Insect | None = None):
         self.aero = aero
         self.symmetric = symmetric
-        self.insect = DEFAULT_INSECT if insect is None else insect
+        self.insect = default_insect() if insect is None else insect
         self.model = model if model is not None else load_model(morph=self.insect.morphology)
 
     def fly(self, kin: Kinematics, x0: np.ndarray, beats: int, chi_ref: float, backend=None,
@@ -155,93 +158,9 @@ class OrbitFlight:
                      backend_record(backend, every))
 
 
-@dataclass(frozen=True)
-class Orbit:
-    """A periodic orbit of the free body (symmetric flight).
-
-    speed [m/s]: target ascent speed V; aero: backend name; kinematics: the orbit's (f, phi0 solved, the rest
-    the held-body trim's); initial_state: the state at the start of the periodic beat (SI, see
-    :class:`BodyState`); launch_state: the state at t = 0 (equal to initial_state except for the UVLM, where
-    ``warm_beats`` beats from an empty wake precede the periodic beat); residual: max abs normalized residual
-    (periodicity of (u, w, q, theta) by U, 1/T, rad; mean velocity by U); residuals (6,): the vector;
-    mean_velocity (3,): mean velocity of the body centre of mass over the periodic beat, world frame (z up) [m/s];
-    mean_pitch [rad]: cycle-mean body pitch; P_plus: cycle mean of max(0, joint power) / P0 over the periodic beat
-    (:func:`hawksim.flight.power.P_plus`; the shipped UVLM and surrogate tables: its "steps" sampling);
-    iterations: Newton iterations; converged: residual <= tol; floor: for the UVLM, the max abs normalized
-    periodicity residual of the NEXT beat (the wake's beat-to-beat variation), 0 otherwise;
-    history: max abs residual after each iteration; wall_time_s.
-    """
-
-    speed: float
-    aero: str
-    kinematics: Kinematics
-    initial_state: BodyState
-    launch_state: BodyState
-    warm_beats: int
-    residual: float
-    residuals: np.ndarray
-    mean_velocity: np.ndarray
-    mean_pitch: float
-    P_plus: float
-    iterations: int
-    converged: bool
-    floor: float = 0.0
-    history: tuple[float, ...] = field(default=(), repr=False)
-    wall_time_s: float = 0.0
-    chi_ref: float = 0.0
-    """The reference body angle [rad] of the state's attitude chart (the held-body trim's chi)."""
-    record: np.ndarray | None = field(default=None, repr=False, compare=False)
-    """The orbit of a per-step surrogate with history inputs (a delay system): its record (n, 6) of the n calls
-    before the periodic beat (body-axes velocity relative to the air [m/s] and angular velocity [rad/s], oldest
-    first), which is the periodic beat's own calls: the augmented state (body state and record) repeats. Every
-    flight from the orbit starts with it (:meth:`seed`); warm_beats is then 0. None for a memoryless backend."""
-    record_dt: float = 0.0
-    """The interval [s] between the record's calls (T / calls per beat)."""
-    record_change: float = 0.0
-    """max ``|record after the periodic beat - record before|`` (normalized: velocities / U, rates x T) at the solution
-    (the fixed point of the record, :data:`RECORD_TOL`); 0 without a record."""
-    insect: Insect = field(default=DEFAULT_INSECT, repr=False)
-    """The insect whose orbit this is (its wings, MJCF and P0); the flights from it (:func:`fly_orbit`,
-    :func:`beat_map`, the monodromy) fly it."""
-
-    @property
-    def has_memory(self) -> bool:
-        """Whether the orbit's flights carry backend memory that its body state does not set (warm-up beats or a
-        record): its derivatives branch from a flight of it (:class:`hawksim.control.derivatives.Snapshot`)."""
-        return bool(self.warm_beats) or self.record is not None
-
-    def seed(self, backend) -> None:
-        """Make ``backend`` start its flights with this orbit's record (nothing for an orbit without one)."""
-        if self.record is not None:
-            backend.seed(np.asarray(self.record, float), float(self.record_dt))
-
-    def to_json(self) -> dict:
-        """SI, JSON-ready (kinematics in SI under ``kinematics_si``, edge units under ``kinematics``)."""
-        return {"speed": self.speed, "aero": self.aero, "kinematics": self.kinematics.to_edge(),
-                "kinematics_si": dict(zip(PARAM_NAMES, map(float, self.kinematics.as_array()))),
-                "initial_state": self.initial_state.to_dict(), "launch_state": self.launch_state.to_dict(),
-                "warm_beats": self.warm_beats, "residual": self.residual, "residuals": list(map(float, self.residuals)),
-                "mean_velocity": list(map(float, self.mean_velocity)), "mean_pitch": self.mean_pitch,
-                "P_plus": self.P_plus, "iterations": self.iterations, "converged": bool(self.converged),
-                "floor": self.floor, "history": list(self.history), "wall_time_s": self.wall_time_s,
-                "chi_ref": self.chi_ref} | ({} if self.record is None else {
-                    "record": np.asarray(self.record).tolist(), "record_dt": self.record_dt,
-                    "record_change": self.record_change}) | ({} if self.insect == DEFAULT_INSECT else {
-                    "insect": self.insect.to_dict()})
-
-    @staticmethod
-    def from_json(d: dict) -> Orbit:
-        kin = Kinematics.from_array(np.array([d["kinematics_si"][k] for k in PARAM_NAMES]))
-        return Orbit(speed=float(d["speed"]), aero=d["aero"], kinematics=kin,
-                     initial_state=BodyState(**d["initial_state"]), launch_state=BodyState(**d["launch_state"]),
-                     warm_beats=int(d["warm_beats"]), residual=float(d["residual"]),
-                     residuals=np.asarray(d["residuals"], dtype=float), mean_velocity=np.asarray(d["mean_velocity"]),
-                     mean_pitch=float(d["mean_pitch"]), P_plus=float(d["P_plus"]), iterations=int(d["iterations"]),
-                     converged=bool(d["converged"]), floor=float(d["floor"]), history=tuple(d["history"]),
-                     wall_time_s=float(d["wall_time_s"]), chi_ref=float(d["chi_ref"]),
-                     record=np.asarray(d["record"], float) if d.get("record") is not None else None,
-                     record_dt=float(d.get("record_dt", 0.0)), record_change=float(d.get("record_change", 0.0)),
-                     insect=Insect.from_dict(d["insect"]) if d.get("insect") is not None else DEFAULT_INSECT)
+Orbit = OperatingPoint
+"""The free-body name of :class:`hawksim.trim.point.OperatingPoint` (the same type; :func:`periodic_orbit` returns
+one with ``body="free"``)."""
 
 
 def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
@@ -250,24 +169,14 @@ def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
     return descriptor("uvlm").orbit_tolerance.met(r, *scales(kin))
 
 
-def shipped_orbit(speed: float, aero: str) -> Orbit | None:
-    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (its descriptor's ``orbit_table``), None if absent
-    (or if the table does not hold for the backend as built now: the surrogate's orbits hold for the network they
-    were solved with only); SI (kinematics and launch state angles in radians)."""
-    import json
-    from importlib import resources
-
-    desc = descriptor(aero)
-    path = resources.files("hawksim") / "data" / desc.orbit_table if desc.orbit_table else None
-    if path is None or not path.is_file():
-        return None
-    table = json.loads(path.read_text())
-    if not desc.tables_hold(table):
-        return None
-    for row in table["rows"]:
-        if abs(row["speed"] - speed) < 1e-9:
-            return Orbit.from_json(row)
-    return None
+def shipped_orbit(speed: float, aero: str, *, insect: Insect | None = None,
+                  model: mujoco.MjModel | None = None) -> Orbit | None:
+    """The shipped orbit of ``aero`` at exactly ``speed`` [m/s] (its descriptor's ``orbit_table``) for ``insect`` on
+    ``model`` (default: the default insect on its generated MJCF), None if absent (or if the table does not hold for
+    the backend as built now: the surrogate's orbits hold for the network they were solved with only); SI
+    (kinematics and launch state angles in radians). The registry of :mod:`hawksim.trim.registry` (each table read
+    once per process)."""
+    return shipped_point(speed, aero, insect=insect, model=model)
 
 
 def orbit_table(orbits: list[Orbit], command: str) -> dict:
@@ -340,7 +249,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     :data:`UVLM_WARM_BEATS` for the UVLM). ``tol``: the max abs normalized residual (default: the backend's
     ``orbit_tolerance``, :class:`hawksim.backends.registry.OrbitTolerance`). ``fd_step``: the Jacobian's step
     (default: the backend's ``fd.orbit``). ``log``: called with a line per iteration. ``insect``: the insect flown
-    (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): its wings in the backend, its MJCF unless ``model`` is
+    (default :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF unless ``model`` is
     given (then the two must describe the same insect), its P0 in :attr:`Orbit.P_plus`; the start is the default
     insect's held-body trim unless ``kinematics`` is given.
 
@@ -355,7 +264,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     t_start = time.perf_counter()
     desc = descriptor(aero)
     desc.orbits.require("a periodic orbit", aero)
-    insect = DEFAULT_INSECT if insect is None else insect
+    insect = default_insect() if insect is None else insect
     guess = shipped_orbit(speed, desc.orbit_guess) if desc.orbit_guess else None  # the surrogate mimics the UVLM
     if kinematics is None and guess is not None:
         kinematics = guess.kinematics
@@ -446,7 +355,9 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     if rec is not None:
         _, every = make_orbit_backend(aero, kinematics=kin, insect=insect)
         extra = {"record": rec, "record_dt": kin.period * every / STEPS_PER_CYCLE, "record_change": change}
-    return Orbit(speed=float(speed), aero=aero, kinematics=kin, initial_state=BodyState.from_array(b.states[warm]),
+    return OperatingPoint(speed=float(speed), aero=aero, kinematics=kin, body="free",
+                 source=f"Newton shooting on the one-wingbeat map of the free body ({aero})",
+                 initial_state=BodyState.from_array(b.states[warm]),
                  launch_state=BodyState.from_array(x_launch), warm_beats=warm, residual=hist[-1], residuals=r,
                  mean_velocity=b.mean_velocity[warm], mean_pitch=float(b.mean_pitch[warm]),
                  P_plus=float(b.P_plus[warm]), iterations=it, converged=met(r, z) and change <= RECORD_TOL,

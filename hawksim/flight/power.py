@@ -24,7 +24,7 @@ unchanged (the loads applied are the same held ones), only the power's estimate 
 (the quasi-steady backend in `hawksim fly`) both samplings are the same numbers.
 
 ``sampling="steps"`` is the estimate before this change (every step's joint power, lag included): the P+ of the
-shipped UVLM and surrogate orbit tables (``hawksim/data/orbit_table_{uvlm,surrogate}.json``) and of the results
+shipped UVLM and surrogate orbit tables (``insects/hawkmoth/data/orbit_table_{uvlm,surrogate}.json``) and of the results
 written before this change (issue 48, item 5) were computed this way; set :data:`POWER_SAMPLING` to "steps" (or pass
 it) to reproduce them.
 """
@@ -71,7 +71,7 @@ def P_plus(power_joint: np.ndarray, aero_every: int = 1, *, first: int = 0, samp
     """:func:`required_power` over the reference power ``P0`` [W] (a flight's own:
     :attr:`hawksim.insect.insect.Insect.P0`; None: the default insect's, 84.2 mW), dimensionless."""
     if P0 is None:
-        from hawksim.insect.insect import DEFAULT_INSECT
+        from hawksim.insect.folder import default_insect
 
-        P0 = DEFAULT_INSECT.P0
+        P0 = default_insect().P0
     return required_power(power_joint, aero_every, first=first, sampling=sampling) / P0

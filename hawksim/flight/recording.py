@@ -61,7 +61,7 @@ from hawksim.flight.recording_layout import (  # noqa: F401  (re-exported: the r
 from hawksim.flight.result import FlightResult
 from hawksim.frames import quat_from_matrices
 from hawksim.insect.accessors import WING_SIDES as SIDES
-from hawksim.insect.insect import DEFAULT_INSECT
+from hawksim.insect.folder import default_insect
 from hawksim.insect.morphology import Morphology
 
 N_SPAN, N_CHORD = 21, 4
@@ -77,12 +77,14 @@ def _xyzw(q_wxyz: np.ndarray) -> np.ndarray:
     return np.concatenate([q_wxyz[..., 1:], q_wxyz[..., :1]], axis=-1)
 
 
-def wing_mesh(morph: Morphology = DEFAULT_INSECT.morphology, side: str = "left") -> tuple[np.ndarray, np.ndarray]:
+def wing_mesh(morph: Morphology | None = None, side: str = "left") -> tuple[np.ndarray, np.ndarray]:
     """Triangulated planform in the wing frame: vertices (N_SPAN (N_CHORD+1), 3) [m], triangles (m, 3).
 
     Stations r = R (1 - cos(pi k / (N_SPAN-1))) / 2, each from the leading to the trailing edge in N_CHORD
     equal steps; the right wing is the left one with y -> -y (winding reversed to keep normals along +z).
+    ``morph``: the insect's (None: the default insect's).
     """
+    morph = default_insect().morphology if morph is None else morph
     pl = morph.planform
     r = morph.R * 0.5 * (1 - np.cos(np.pi * np.arange(N_SPAN) / (N_SPAN - 1)))
     s = np.linspace(0.0, 1.0, N_CHORD + 1)
@@ -169,7 +171,7 @@ def write_rrd(path, result: FlightResult, morph: Morphology | None = None, *, pr
     return path
 
 
-def wing_outline(morph: Morphology = DEFAULT_INSECT.morphology, side: str = "left") -> np.ndarray:
+def wing_outline(morph: Morphology | None = None, side: str = "left") -> np.ndarray:
     """Closed planform outline in the wing frame (2 N_SPAN + 1, 3) [m]: leading edge root to tip, trailing edge
     back to the root (the stations of :func:`wing_mesh`)."""
     verts, _ = wing_mesh(morph, side)
@@ -177,9 +179,10 @@ def wing_outline(morph: Morphology = DEFAULT_INSECT.morphology, side: str = "lef
     return np.concatenate([grid[:, 0], grid[::-1, -1], grid[:1, 0]])
 
 
-def body_labels(morph: Morphology = DEFAULT_INSECT.morphology) -> tuple[np.ndarray, list[str]]:
+def body_labels(morph: Morphology | None = None) -> tuple[np.ndarray, list[str]]:
     """Label positions (3, 3) [m] in the body frame and the names: ahead of the head, above the thorax and behind
-    the abdomen, :data:`LABEL_GAP_M` beyond each part's surface."""
+    the abdomen, :data:`LABEL_GAP_M` beyond each part's surface (``morph`` None: the default insect's)."""
+    morph = default_insect().morphology if morph is None else morph
     c = morph.segment_centres()
     ax = {s.name: s.semi_axes for s in morph.segments}
     pos = [c["head"] + [ax["head"][0] + LABEL_GAP_M, 0, 0], c["thorax"] + [0, 0, ax["thorax"][2] + LABEL_GAP_M],

@@ -10,7 +10,8 @@ import numpy as np
 from hawksim.flight.power import P_plus
 from hawksim.frames import attitude_of, pitch_of, quat_to_matrix, roll_of
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 
 DEPARTURE_SPEED = 0.1
 """A flight has departed when a wingbeat's mean vertical speed leaves the target, or its horizontal speed leaves
@@ -25,7 +26,8 @@ class FlightResult:
 
     Shapes: n steps. t (n,) [s]; body_pos (n, 3) [m]; body_quat (n, 4) (w, x, y, z); body_v (n, 3) [m/s];
     body_omega (n, 3) [rad/s] world; wing_R (n, 2, 3, 3); wing_origin (n, 2, 3) [m]; force (n, 2, 3) [N] per
-    wing; moment (n, 3) total aerodynamic moment about the body centre of mass [N m]; power_aero (n,) [W];
+    wing; moment (n, 3) total aerodynamic moment about the body centre of mass [N m] (wing_moment (n, 2, 3): each
+    wing's; :meth:`wing_angles`: the joint angles); power_aero (n,) [W];
     power_joint (n,) [W] (aerodynamic + inertial power of the wings, relative to the body). end_t [s] and end_pos
     (3,) [m]: time and body centre of mass after the last step (None where the flight was interrupted), so that
     the last wingbeat's mean speed spans the whole beat like the others. aero_every: steps per backend update (the
@@ -59,14 +61,32 @@ class FlightResult:
     end_pos: np.ndarray | None = None
     """Backend extras (e.g. UVLM pressure and wake) for the steps where they were kept, as (step, dict)."""
     aero_every: int = 1
-    insect: Insect = DEFAULT_INSECT
+    insect: Insect = field(default_factory=default_insect)
     """The insect flown (:class:`hawksim.insect.insect.Insect`): its weight, mean chord and P0 are the units of
     :meth:`summary`'s L+, D+, M+ and P+."""
+    beat_log: list[dict] | None = field(default=None, repr=False)
+    """A flight under a controller (:func:`hawksim.flight.loop.run`): one row per complete wingbeat as the loop
+    measured it and the controller described it (:class:`hawksim.control.controller.LQR`: speed command and
+    reference, tracking errors, commands in edge units, saturation, end state; docs/output.md); None open loop."""
+    wing_moment: np.ndarray | None = field(default=None, repr=False)
+    """(n, 2, 3) each wing's (left, right) aerodynamic moment about the body centre of mass [N m], world frame (its
+    own moment plus its force's about the centre of mass; the sum over the wings is :attr:`moment`); None in a file
+    saved before it was kept."""
+    speed_references: np.ndarray | None = None
+    """A flight under a controller: the speed each beat was flown to (beats,) [m/s] (a scheduled controller's
+    rate-limited reference; else the target), which :meth:`departed_at_beat` tests against; None open loop."""
 
     @property
     def body_R(self) -> np.ndarray:
         """(n, 3, 3) body frame -> world."""
         return quat_to_matrix(self.body_quat)
+
+    def wing_angles(self) -> np.ndarray:
+        """(n, 2, 3) the joint angles: sweep phi, elevation theta, rotation alpha [rad] of the left and right wing
+        (paper Eq. 1's angles, read back from the wing frames; :func:`hawksim.flight.export.wing_angles`)."""
+        from hawksim.flight.export import wing_angles
+
+        return wing_angles(self)
 
     def pitch(self) -> np.ndarray:
         """Body pitch (n,) [rad]: elevation of the body x axis above the horizontal (nose up positive)."""
@@ -117,12 +137,22 @@ class FlightResult:
     def departed_at_beat(self, beats: list[dict] | None = None) -> int | None:
         """First wingbeat (1-based) whose cycle mean is more than :data:`DEPARTURE_SPEED` from the target speed
         (vertical) or from zero (horizontal), or more than :data:`DEPARTURE_ANGLE_DEG` from the first beat's pitch,
-        roll or yaw; None if the flight never departed."""
+        roll or yaw; None if the flight never departed. A flight with :attr:`speed_references` (under a
+        controller; its beats may differ in length as f changes) tests the vertical speed against them instead: a
+        beat departs when it is more than DEPARTURE_SPEED outside the range of this beat's and the previous beat's
+        reference (a reference change reaches the flight one beat late: the new kinematics blend in over the
+        beat)."""
         beats = self.beats() if beats is None else beats
         ref = beats[0]
+        r = self.speed_references
         for k, b in enumerate(beats, 1):
-            if (abs(b["mean_vertical_speed"] - self.speed_target) > DEPARTURE_SPEED
-                    or b["horizontal_speed"] > DEPARTURE_SPEED
+            vz = b["mean_vertical_speed"]
+            if r is None:
+                off = abs(vz - self.speed_target)
+            else:
+                a, c = r[min(k - 1, len(r) - 1)], r[max(0, min(k - 2, len(r) - 1))]
+                off = max(min(a, c) - vz, vz - max(a, c), 0.0)
+            if (off > DEPARTURE_SPEED or b["horizontal_speed"] > DEPARTURE_SPEED
                     or any(abs(b[a] - ref[a]) > DEPARTURE_ANGLE_DEG for a in ("pitch_deg", "roll_deg", "yaw_deg"))):
                 return k
         return None
@@ -160,15 +190,36 @@ class FlightResult:
             },
         }
 
+    def beat_table(self, log: list[dict] | None = None) -> list[dict]:
+        """The full per-beat table: :meth:`beats` (the contract's means) numbered from 1 with each beat's P+
+        (:func:`hawksim.flight.power.P_plus` over the beat's steps), merged with the controller's per-beat rows
+        ``log`` (default :attr:`beat_log`; their own vertical speed, roll and yaw are the same means measured on the
+        body origin and are not repeated)."""
+        log = self.beat_log if log is None else log
+        n = self.steps_per_cycle
+        rows = []
+        for k, b in enumerate(self.beats(), 1):
+            row = {"beat": k, **b}
+            a = (k - 1) * n
+            row["P_plus"] = P_plus(self.power_joint[a:a + n], self.aero_every, first=a, P0=self.insect.P0)
+            if log is not None and k <= len(log):
+                c = log[k - 1]
+                row["P_plus"] = c.get("P_plus", row["P_plus"])
+                row.update({key: v for key, v in c.items() if key not in row and key not in ("roll_deg", "yaw_deg")})
+            rows.append(row)
+        return rows
+
     def save(self, path: str | Path, *, beats: list[dict] | None = None) -> Path:
         """Write the flight to ``path`` as the ``.npz`` file of ``hawksim fly --out`` (:mod:`hawksim.flight.export`:
         the per-step arrays, the per-beat table, the metadata with units), all or nothing. ``beats``: the per-beat
-        table (default :meth:`beats`; a controlled flight's richer table, e.g.
-        ``hawksim.control.closed_loop.ClosedLoopFlight.beats``, may be given). The backend's ``extras`` are not
-        saved. OSError naming the path when it cannot be written. Returns ``path``."""
+        table (default :meth:`beats` open loop, :meth:`beat_table` with the controller's rows under a controller).
+        The backend's ``extras`` are not saved. OSError naming the path when it cannot be written. Returns
+        ``path``."""
         from hawksim.flight.export import save_flight
 
-        return save_flight(path, self, self.beats() if beats is None else beats, summary=self.summary())
+        if beats is None:
+            beats = self.beats() if self.beat_log is None else self.beat_table()
+        return save_flight(path, self, beats, summary=self.summary())
 
     @classmethod
     def load(cls, path: str | Path) -> FlightResult:
@@ -182,7 +233,8 @@ class FlightResult:
 
         arrays, meta = read_flight(path)
         derived = ("attitude", "wing_angles")
-        missing = [k for k in STEP_ARRAYS if k not in derived and k not in arrays]
+        optional = ("wing_moment",)  # files written before it was kept load without it
+        missing = [k for k in STEP_ARRAYS if k not in derived + optional and k not in arrays]
         if missing:
             raise ValueError(f"{str(path)!r} is a hawksim flight file without the array(s) {missing}")
         if "kinematics_si" in meta:
@@ -196,10 +248,12 @@ class FlightResult:
             aero_every = descriptor(meta["aero"]).update_interval(meta["steps_per_cycle"])
         wall = meta.get("flight_wall_time_s", (meta.get("summary") or {}).get("flight_wall_time_s", 0.0))
         end_pos = meta.get("end_pos_m")
-        insect = Insect.from_dict(meta["insect"]) if meta.get("insect") is not None else DEFAULT_INSECT
+        insect = Insect.from_dict(meta["insect"]) if meta.get("insect") is not None else default_insect()
         return cls(speed_target=meta["speed_target_m_s"], cycles=meta["cycles"], aero=meta["aero"], kinematics=kin,
                    steps_per_cycle=meta["steps_per_cycle"],
-                   **{k: arrays[k] for k in STEP_ARRAYS if k not in derived},
+                   **{k: arrays.get(k) for k in STEP_ARRAYS if k not in derived},
                    wall_time_s=wall, trim_source=meta["trim_source"], end_t=meta.get("end_t_s"),
                    end_pos=None if end_pos is None else np.array(end_pos, dtype=float), aero_every=int(aero_every),
-                   insect=insect)
+                   insect=insect, beat_log=meta.get("beat_log"),
+                   speed_references=None if meta.get("speed_references_m_s") is None
+                   else np.array(meta["speed_references_m_s"], dtype=float))

@@ -6,7 +6,8 @@ apart from :class:`hawksim.insect.morphology.Morphology` because P0 and the boun
 geometry: P0 is a measured flight power (the hawkmoth's hover, Nguyen et al. 2020 Sec. 3.1) and the bounds are the
 kinematic envelope of the searches (Table 2); the MJCF and the aerodynamic models depend on the morphology alone.
 
-:data:`DEFAULT_INSECT` is the default hawkmoth (``Morphology()``, P0 = 84.2 mW, Table 2's bounds): every default
+:data:`DEFAULT_INSECT` (:func:`hawksim.insect.folder.default_insect`) is the default insect, loaded from its folder
+(``hawksim/insects/hawkmoth``: ``Morphology()``, P0 = 84.2 mW, Table 2's bounds; equal to ``Insect()``): every default
 argument that takes an insect is this one, so the hawkmoth's numbers are unchanged where none is given.
 
 :meth:`Insect.from_dict` reads a spec (the JSON of ``--insect FILE``, or the ``insect`` entry of a saved flight):
@@ -19,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
@@ -40,11 +42,24 @@ class Insect:
         P0: reference power [W], the unit of P+ (default :data:`hawksim.insect.morphology.P0_W`, the hawkmoth's).
         bounds_deg: kinematic bounds {parameter: (lower, upper)}, f in Hz and angles in degrees, in
             :data:`hawksim.insect.kinematics.PARAM_NAMES` (default Table 2 of Nguyen et al. 2020).
+        label: the insect's name (its folder's, :func:`hawksim.insect.folder.load_insect`); None: the morphology's.
+        folder: the insect's folder (its MJCF, tables and networks: :mod:`hawksim.insect.tables`); None for an
+            insect made in Python or read from a lone spec file.
+        model_file: file name of its generated MJCF in ``folder``.
+        reference_deg: its reference kinematics {"speed": speeds [m/s], parameter: values (Hz, deg)}, or None.
+        sources: {spec field: (source class, citation)} of the numbers its spec annotated.
+
+    Two insects are equal when their morphology, P0 and bounds are (the other attributes say where it came from).
     """
 
     morphology: Morphology = HAWKMOTH
     P0: float = P0_W
     bounds_deg: MappingProxyType = field(default_factory=_table2)
+    label: str | None = field(default=None, compare=False)
+    folder: Path | None = field(default=None, compare=False)
+    model_file: str | None = field(default=None, compare=False)
+    reference_deg: MappingProxyType | None = field(default=None, compare=False, repr=False)
+    sources: MappingProxyType = field(default_factory=lambda: MappingProxyType({}), compare=False, repr=False)
 
     def __post_init__(self):
         if not isinstance(self.morphology, Morphology):
@@ -65,8 +80,8 @@ class Insect:
 
     @property
     def name(self) -> str:
-        """The morphology's label."""
-        return self.morphology.name
+        """Its label, else the morphology's."""
+        return self.label or self.morphology.name
 
     @property
     def weight(self) -> float:
@@ -85,8 +100,9 @@ class Insect:
         return lo, hi
 
     def with_morphology(self, morph: Morphology) -> Insect:
-        """This insect with another morphology (same P0 and bounds)."""
-        return dataclasses.replace(self, morphology=morph)
+        """This insect with another morphology (same P0 and bounds; no folder: its tables and MJCF are another
+        morphology's)."""
+        return dataclasses.replace(self, morphology=morph, label=None, folder=None, model_file=None)
 
     def to_dict(self) -> dict:
         """JSON-ready: Morphology's fields by name (segments as lists of {name, mass, centre, semi_axes}, the wing
@@ -109,8 +125,12 @@ class Insect:
     @staticmethod
     def from_dict(spec: dict, base: Insect | None = None) -> Insect:
         """The insect of a spec (:meth:`to_dict`'s keys; any left out keep ``base``'s, default
-        :data:`DEFAULT_INSECT`). ValueError naming the field for an unknown field or an invalid value."""
-        base = DEFAULT_INSECT if base is None else base
+        :func:`hawksim.insect.folder.default_insect`). ValueError naming the field for an unknown field or an invalid
+        value."""
+        if base is None:
+            from hawksim.insect.folder import default_insect
+
+            base = default_insect()
         if not isinstance(spec, dict):
             raise ValueError(f"an insect spec must be an object of fields, got {type(spec).__name__}")
         names = {f.name for f in dataclasses.fields(Morphology)}
@@ -119,7 +139,7 @@ class Insect:
             if key == "P0_W":
                 P0 = _number(key, value, positive=True)
             elif key == "bounds_deg":
-                bounds = _bounds(value)
+                bounds = _bounds(value, base.bounds_deg)
             elif key not in names:
                 known = ", ".join(sorted([*names, "P0_W", "bounds_deg"]))
                 raise ValueError(f"unknown insect field {key!r}; known: {known}")
@@ -192,10 +212,10 @@ def _vector(key: str, value) -> tuple[float, float, float]:
     return tuple(_number(key, v) for v in value)
 
 
-def _bounds(value) -> dict:
+def _bounds(value, base_bounds) -> dict:
     if not isinstance(value, dict):
         raise ValueError(f"insect field 'bounds_deg' must be an object {{parameter: [lower, upper]}}, got {value!r}")
-    out = dict(DEFAULT_INSECT.bounds_deg)
+    out = dict(base_bounds)
     for k, v in value.items():
         if k not in PARAM_NAMES:
             raise ValueError(f"insect field 'bounds_deg' has an unknown parameter {k!r}; "
@@ -210,30 +230,17 @@ def _bounds(value) -> dict:
 
 
 def read_insect(path) -> Insect:
-    """The insect of a JSON spec file (:meth:`Insect.from_dict`). ValueError (one line, naming the file or the
-    field) for a missing or unreadable file, invalid JSON, or an unknown or invalid field. Without a ``name`` the
-    insect is named after the file's stem."""
-    import json
-    from pathlib import Path
+    """The insect of a spec file (TOML or JSON: :func:`hawksim.insect.folder.read_spec_file`). ValueError (one line,
+    naming the file or the field) for a missing or unreadable file, a syntax error, or an unknown or invalid field.
+    Without a ``name`` the insect is named after the file's stem."""
+    from hawksim.insect.folder import read_spec_file
 
-    p = Path(path)
-    try:
-        text = p.read_text()
-    except FileNotFoundError:
-        raise ValueError(f"insect file {str(p)!r} does not exist") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ValueError(f"insect file {str(p)!r} cannot be read: {getattr(exc, 'strerror', None) or exc}") from None
-    try:
-        spec = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"insect file {str(p)!r} is not valid JSON: {exc.msg} (line {exc.lineno})") from None
-    if isinstance(spec, dict) and "name" not in spec:
-        spec = {**spec, "name": p.stem}
-    try:
-        return Insect.from_dict(spec)
-    except ValueError as exc:
-        raise ValueError(f"insect file {str(p)!r}: {exc}") from None
+    return read_spec_file(Path(path))
 
 
-DEFAULT_INSECT = Insect()
-"""The default hawkmoth: ``Morphology()``, P0 = 84.2 mW, Table 2's bounds."""
+def __getattr__(name: str):
+    if name == "DEFAULT_INSECT":  # the default insect, loaded from its folder on first use
+        from hawksim.insect.folder import default_insect
+
+        return default_insect()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -32,7 +32,7 @@ result of the seed paper, with the rule and the residual).
   Lengths and diameters are representative of adult *M. sexta* (body length ~ 45-50 mm, thorax ~ 10 mm
   wide; Willmott & Ellington 1997, J. Exp. Biol. 200:2693-2704; O'Hara & Palazotto 2012,
   Arthropod Struct. Dev. 41:101-110). The mass split between segments is a model choice (documented in
-  models/hawkmoth/README.md); it sets the body inertia, not the cycle-averaged aerodynamics.
+  hawksim/insects/hawkmoth/README.md); it sets the body inertia, not the cycle-averaged aerodynamics.
 """
 
 from __future__ import annotations

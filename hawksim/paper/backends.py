@@ -15,7 +15,7 @@ At 0, 1 and 2 m/s, for the quasi-steady model, the per-step surrogate of the UVL
   their ``resolved`` flag, and its hover row marked not resolved, since its orbit did not converge and its map is
   not smooth there, docs/free_flight.md), the surrogate's from the monodromy on its augmented state (body and
   record of calls, :func:`hawksim.stability.history_floquet.history_monodromy`; a memoryless network's from its
-  shipped control model's monodromy, hawksim/data/control_models_surrogate.json);
+  shipped control model's monodromy, hawksim/insects/hawkmoth/data/control_models_surrogate.json);
 * controlled flights under the LQR at each backend's default rate (per beat; the surrogate per half-stroke,
   :func:`hawksim.control.schedule.default_rate`; :func:`hawksim.control.closed_loop.fly_closed_loop`): quasi-steady
   and surrogate flown here (100 beats from the orbit, 100 from a perturbed start, 30 with a 0.5 m/s lateral gust over
@@ -96,7 +96,7 @@ def floquet(aero: str, speed: float, out_dir: Path) -> dict:
         from hawksim.stability.floquet import LAT, LONG
 
         M = m.monodromy
-        out = {"source": "hawksim/data/control_models_surrogate.json (monodromy, step %g)" % m.delta}
+        out = {"source": "hawksim/insects/hawkmoth/data/control_models_surrogate.json (monodromy, step %g)" % m.delta}
         for name, ix in (("longitudinal", LONG), ("lateral", LAT)):
             w = np.linalg.eigvals(M[np.ix_(ix, ix)])
             out[name] = [_c(z) for z in w[np.argsort(-np.abs(w))]]
@@ -122,7 +122,7 @@ def open_loop(aero: str, speed: float) -> dict:
     from hawksim.flight.orbit import periodic_orbit, shipped_orbit
     from hawksim.flight.power import P_plus
     from hawksim.insect.model import load_model
-    from hawksim.insect.morphology import HAWKMOTH
+    from hawksim.insect.folder import default_insect
     from hawksim.trim.point import Trim
 
     orb = shipped_orbit(speed, aero)
@@ -145,7 +145,7 @@ def open_loop(aero: str, speed: float) -> dict:
     beats = r.summary()["beats"]
     lift, _ = r.lift_drag()
     spc = r.steps_per_cycle
-    L = [float(lift[k * spc:(k + 1) * spc].mean() / HAWKMOTH.weight) for k in range(n)]
+    L = [float(lift[k * spc:(k + 1) * spc].mean() / default_insect().weight) for k in range(n)]
     P = [P_plus(r.power_joint[k * spc:(k + 1) * spc], r.aero_every, first=k * spc) for k in range(n)]
     ref = beats[w]["pitch_deg"]
     hold = 0

@@ -88,7 +88,7 @@ def trims_label(reports: list[dict]) -> str:
     src = {r.get("trim", {}).get("source", "") for r in reports}
     if src == {"given"}:
         return "the kinematics of the paper's Table 3"
-    return "the shipped UVLM-balanced minimum-power trims (hawksim/data/trim_table.json)"
+    return "the shipped UVLM-balanced minimum-power trims (hawksim/insects/hawkmoth/data/trim_table.json)"
 
 
 def plot(studies: dict, out_dir: Path, trims: str | None = None) -> list[Path]:

@@ -298,7 +298,7 @@ def _figures(res: dict, out_dir: Path, plotting) -> list[Path]:
 
 
 def trim_table(res: dict, command: str) -> dict:
-    """The UVLM-balanced trims in the layout of ``hawksim/data/trim_table.json`` (what `hawksim fly` uses)."""
+    """The UVLM-balanced trims in the layout of ``insects/hawkmoth/data/trim_table.json`` (what `hawksim fly` uses)."""
     from hawksim import __version__
     from hawksim.trim.balance import FREE, TRIM_RESOLUTION
 

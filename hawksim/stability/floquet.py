@@ -24,21 +24,26 @@ to still air, with the attitude frozen, the meaning of Eq. 15's derivatives). Th
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import mujoco
 import numpy as np
 
 from hawksim.backends.held import held_flight
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import Kinematics
 from hawksim.backends.builtin import QUASI_STEADY
 from hawksim.backends.registry import descriptor
 from hawksim.flight.orbit import S, Orbit, OrbitFlight, scales
 from hawksim.frames import cross
+from hawksim.stability.linear_model import LinearModel
 
 FLOQUET_STATES = (0, 1, 2, 3, 4, 5, 6, 7)
 """Indices (into STATE_NAMES) of the monodromy's states: u, v, w, p, q, r, phi, theta."""
+
+FLOQUET_NAMES = ("u", "v", "w", "p", "q", "r", "phi", "theta")
+"""The monodromy's states by name (:data:`FLOQUET_STATES`)."""
 
 LONG = (0, 2, 4, 7)
 """Longitudinal (u, w, q, theta) indices into the 8 Floquet states."""
@@ -86,6 +91,8 @@ class Floquet:
     wall_time_s: float
     reach_long: tuple[float, ...] = (1.0, 1.0, 1.0, 1.0)
     reach_lat: tuple[float, ...] = (1.0, 1.0, 1.0, 1.0)
+    linear: LinearModel | None = field(default=None, repr=False, compare=False)
+    """The linear model this is the eigen-analysis of (``map="monodromy"``; :func:`floquet_analysis`)."""
 
     @property
     def resolved_long(self) -> tuple[bool, ...]:
@@ -139,11 +146,25 @@ def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
     if delta is None:  # the backend's: the UVLM's free wake amplifies round-off (docs/free_flight.md)
         delta = descriptor(orbit.aero).fd.monodromy
     M, A = _monodromy_matrix(orbit, delta, model, lateral)
-    fl = _floquet(M, delta, time.perf_counter() - t0)
-    if not orbit.warm_beats:
+    lin = LinearModel(point=orbit, map="monodromy", states=FLOQUET_NAMES, inputs=(), A=M,
+                      scale=state_scale(orbit.kinematics), dt=orbit.kinematics.period, delta=delta,
+                      wall_time_s=time.perf_counter() - t0, launch=A if orbit.warm_beats else None)
+    fl = floquet_analysis(lin)
+    return fl if lateral or not orbit.warm_beats else replace(fl, reach_lat=(1.0,) * 4)
+
+
+def floquet_analysis(lin: LinearModel) -> Floquet:
+    """The Floquet analysis of a monodromy (``lin.map == "monodromy"``, :func:`monodromy`): the eigen-analysis of its
+    A per longitudinal and lateral block, and for a UVLM orbit (``lin.launch``, the launches' d x(w) / d x0) each
+    mode's reach (:data:`REACH_MIN`)."""
+    if lin.map != "monodromy":
+        raise ValueError(f"floquet_analysis takes a monodromy (map='monodromy'), got map={lin.map!r}")
+    fl = replace(_floquet(lin.A, lin.delta, lin.wall_time_s), linear=lin)
+    if lin.launch is None:
         return fl
+    A = lin.launch
     return replace(fl, reach_long=reach(A[np.ix_(LONG, LONG)], fl.eigenvectors_long),
-                   reach_lat=reach(A[np.ix_(LAT, LAT)], fl.eigenvectors_lat) if lateral else (1.0,) * 4)
+                   reach_lat=reach(A[np.ix_(LAT, LAT)], fl.eigenvectors_lat))
 
 
 def reach(A: np.ndarray, V: np.ndarray) -> tuple[float, ...]:
@@ -211,7 +232,7 @@ class _RelativeMotion:
     def __init__(self, v_d: np.ndarray, omega_d: np.ndarray, morph=None):
         from hawksim.backends.quasi_steady import QuasiSteadyBackend
 
-        self.inner = QuasiSteadyBackend(DEFAULT_INSECT.morphology if morph is None else morph)
+        self.inner = QuasiSteadyBackend(default_insect().morphology if morph is None else morph)
         self.v_d, self.omega_d = np.asarray(v_d, float), np.asarray(omega_d, float)
 
     def reset(self, state):
@@ -266,14 +287,14 @@ def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int =
                         insect: Insect | None = None) -> AveragedSystem:
     """Stability derivatives of the quasi-steady backend at ``kin`` on the held trim path (ascent ``speed``,
     body at chi), and the nondimensional A matrices (hawksim.stability.system). ``insect`` (default
-    :data:`hawksim.insect.insect.DEFAULT_INSECT`): its wings in the backend, its MJCF for the held flights and the
+    :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF for the held flights and the
     mass and inertia, its morphology for Eq. 8's scales."""
     from hawksim.insect.kinematics import reference_speed
     from hawksim.insect.model import load_model
     from hawksim.stability.derivatives import mass_properties
     from hawksim.stability.system import about_centre_of_mass, nondimensional_system
 
-    insect = DEFAULT_INSECT if insect is None else insect
+    insect = default_insect() if insect is None else insect
     model = load_model(morph=insect.morphology)
     U, T = reference_speed(kin, insect.morphology), kin.period
     dv, dw = DERIV_DELTA_VELOCITY * U, DERIV_DELTA_RATE / T

@@ -21,7 +21,7 @@ the body-state rows of their eigenvectors carry (:attr:`HistoryFloquet.body_shar
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -32,7 +32,8 @@ from hawksim.flight.orbit import (STEPS_PER_CYCLE, SURROGATE_FD_STEP, Orbit, mak
                                   set_body_state)
 from hawksim.flight.simulator import Simulator, aero_every_for
 from hawksim.insect.model import load_model
-from hawksim.stability.floquet import FLOQUET_STATES, LAT, LONG, state_scale
+from hawksim.stability.floquet import FLOQUET_NAMES, FLOQUET_STATES, LAT, LONG, state_scale
+from hawksim.stability.linear_model import LinearModel, record_names
 
 RECORD_LONG, RECORD_LAT = (0, 2, 4), (1, 3, 5)
 """A record's longitudinal (v_x, v_z, omega_y) and lateral (v_y, omega_x, omega_z) components (body axes)."""
@@ -63,6 +64,8 @@ class HistoryFloquet:
     was solved with (its :attr:`hawksim.flight.orbit.Orbit.record`, or the warm-up beat's calls; nan: an orbit with
     neither)."""
     wall_time_s: float
+    linear: LinearModel | None = field(default=None, repr=False, compare=False)
+    """The linear model this is the eigen-analysis of (``map="history"``; :func:`history_floquet_analysis`)."""
 
     def body_modes(self, system: str, share: float = 0.05, count: int = 4) -> np.ndarray:
         """The ``count`` largest multipliers of ``system`` ('long' or 'lat') whose eigenvectors put at least
@@ -79,7 +82,8 @@ class _DelayMap:
     def __init__(self, orbit: Orbit, model: mujoco.MjModel | None, network=None):
         self.orbit = orbit
         if network is None:
-            backend, every = make_orbit_backend(orbit.aero, symmetric=False, kinematics=orbit.kinematics)
+            backend, every = make_orbit_backend(orbit.aero, symmetric=False, kinematics=orbit.kinematics,
+                                                insect=orbit.insect)
         else:
             backend = StepSurrogateBackend(orbit.kinematics, network)
             every = aero_every_for(backend, STEPS_PER_CYCLE)
@@ -87,7 +91,8 @@ class _DelayMap:
             raise ValueError("history_monodromy needs a per-step surrogate with history lags (this backend has none)")
         orbit.seed(backend)  # an orbit solved on the augmented state starts with its record
         self.backend = backend
-        self.sim = Simulator(model if model is not None else load_model(), orbit.kinematics, backend,
+        model = model if model is not None else load_model(morph=orbit.insect.morphology)
+        self.sim = Simulator(model, orbit.kinematics, backend,
                              steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
         self.calls = STEPS_PER_CYCLE // aero_every_for(backend, STEPS_PER_CYCLE)
         self.records = record_size(backend.lags, self.calls)
@@ -156,14 +161,29 @@ def history_monodromy(orbit: Orbit, *, delta: float = SURROGATE_FD_STEP, model: 
                 rows[k, c] += s * delta * rec_scale[c]
             outs.append(pack(*dm.beat(x, rows)))
         J[:, j] = (outs[0] - outs[1]) / (2 * delta)
+    lin = LinearModel(point=orbit, map="history", states=FLOQUET_NAMES + record_names(n), inputs=(), A=J,
+                      scale=np.concatenate([U_T, np.tile(rec_scale, n)]), dt=orbit.kinematics.period, delta=delta,
+                      wall_time_s=time.perf_counter() - t_start, records=n, record_ref=r0, record_scale=rec_scale,
+                      residual=residual, record_mismatch=mismatch)
+    return history_floquet_analysis(lin)
+
+
+def history_floquet_analysis(lin: LinearModel) -> HistoryFloquet:
+    """The eigen-analysis of an augmented monodromy (``lin.map == "history"``, :func:`history_monodromy`): its
+    longitudinal and lateral blocks (the body's 4 states, then each record's 3 values), their multipliers and how
+    much of each eigenvector lies in the body states."""
+    if lin.map != "history":
+        raise ValueError(f"history_floquet_analysis takes an augmented monodromy (map='history'), got map={lin.map!r}")
+    J, n = lin.A, lin.records
     long_ix = list(LONG) + [8 + 6 * k + c for k in range(n) for c in RECORD_LONG]
     lat_ix = list(LAT) + [8 + 6 * k + c for k in range(n) for c in RECORD_LAT]
     L, Lt = J[np.ix_(long_ix, long_ix)], J[np.ix_(lat_ix, lat_ix)]
     coupling = max(np.linalg.norm(J[np.ix_(long_ix, lat_ix)]), np.linalg.norm(J[np.ix_(lat_ix, long_ix)]))
     (wl, sl), (wt, st) = _modes(L), _modes(Lt)
     return HistoryFloquet(long=L, lat=Lt, coupling=float(coupling), multipliers_long=wl, multipliers_lat=wt,
-                          body_share_long=sl, body_share_lat=st, records=n, delta=delta,
-                          residual=residual, record_mismatch=mismatch, wall_time_s=time.perf_counter() - t_start)
+                          body_share_long=sl, body_share_lat=st, records=n, delta=lin.delta,
+                          residual=lin.residual, record_mismatch=lin.record_mismatch,
+                          wall_time_s=lin.wall_time_s, linear=lin)
 
 
 def _modes(M: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -51,9 +51,17 @@ def _mode(mu, ex, vec_abs, resolved: bool, reach: float) -> dict:
 
 
 def floquet_json(fl) -> dict:
-    """The CLI contract's ``floquet`` block of a :class:`hawksim.stability.floquet.Floquet`: per system the
-    multipliers mu and exponents ln(mu) per wingbeat (comparable with the nondimensional eigenvalues, t+ = t/T) as
+    """The CLI contract's ``floquet`` block of a :class:`hawksim.stability.floquet.Floquet` (or of the monodromy's
+    :class:`hawksim.stability.linear_model.LinearModel`, analysed by
+    :func:`hawksim.stability.floquet.floquet_analysis`): per system the multipliers mu and exponents ln(mu) per
+    wingbeat (comparable with the nondimensional eigenvalues, t+ = t/T) as
     [re, im], and the modes (kind and stability of each exponent, |mu| and the eigenvector's magnitudes)."""
+    from hawksim.stability.linear_model import LinearModel
+
+    if isinstance(fl, LinearModel):
+        from hawksim.stability.floquet import floquet_analysis
+
+        fl = floquet_analysis(fl)
     out = {}
     for name, mu, ex, vec, ok, rch in (
             ("longitudinal", fl.multipliers_long, fl.exponents_long, fl.eigenvectors_long, fl.resolved_long,
@@ -74,10 +82,17 @@ def floquet_json(fl) -> dict:
 
 def history_floquet_json(hf, count: int = 4) -> dict:
     """The ``floquet`` block (the keys of :func:`floquet_json`) of a history network's augmented monodromy
-    (:class:`hawksim.stability.history_floquet.HistoryFloquet`): per system its ``count`` largest body modes (the
+    (:class:`hawksim.stability.history_floquet.HistoryFloquet`, or its LinearModel, ``map="history"``): per system
+    its ``count`` largest body modes (the
     eigenvalues whose eigenvectors put at least 5 % of their norm in the 4 body states,
     :meth:`HistoryFloquet.body_modes`), each with its eigenvector's body-state magnitudes (normalized to 1) and
     ``body_share``; every mode is a mode of the map (``resolved``, reach 1)."""
+    from hawksim.stability.linear_model import LinearModel
+
+    if isinstance(hf, LinearModel):
+        from hawksim.stability.history_floquet import history_floquet_analysis
+
+        hf = history_floquet_analysis(hf)
     out = {}
     for name, M in (("longitudinal", hf.long), ("lateral", hf.lat)):
         w, V = np.linalg.eig(M)
@@ -107,10 +122,15 @@ def history_floquet_json(hf, count: int = 4) -> dict:
 
 def averaged_json(system) -> dict:
     """The contract's ``longitudinal`` / ``lateral`` blocks of an :class:`hawksim.stability.floquet.AveragedSystem`
-    (cycle-averaged derivatives of one backend)."""
+    or of the averaged :class:`hawksim.stability.linear_model.LinearModel` (``map="averaged"``: A_long and A_lat its
+    diagonal blocks) (cycle-averaged derivatives of one backend)."""
     from hawksim.stability.system import LAT_DERIVATIVES, LONG_DERIVATIVES, modes_json
 
     d = system.nondimensional
-    return {"longitudinal": {"derivatives": {k: d[k] for k in LONG_DERIVATIVES}, **modes_json(system.A_long)},
-            "lateral": {"derivatives": {k: d[k] for k in LAT_DERIVATIVES}, **modes_json(system.A_lat)},
+    if getattr(system, "map", None) == "averaged":
+        A_long, A_lat = system.A[:4, :4], system.A[4:, 4:]
+    else:
+        A_long, A_lat = system.A_long, system.A_lat
+    return {"longitudinal": {"derivatives": {k: d[k] for k in LONG_DERIVATIVES}, **modes_json(A_long)},
+            "lateral": {"derivatives": {k: d[k] for k in LAT_DERIVATIVES}, **modes_json(A_lat)},
             "derivatives_dimensional": system.derivatives, "nondimensional": system.scalars}

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hawksim.insect.kinematics import Kinematics, reference_speed
-from hawksim.insect.insect import DEFAULT_INSECT
+from hawksim.insect.folder import default_insect
 from hawksim.insect.morphology import RHO_AIR, G, Morphology
 
 LONG_DERIVATIVES = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
@@ -48,7 +48,7 @@ class Scales:
     @classmethod
     def of(cls, kin: Kinematics, morph: Morphology | None = None, rho: float = RHO_AIR) -> Scales:
         """The scales of ``kin`` flown by ``morph`` (default the default insect's morphology)."""
-        morph = DEFAULT_INSECT.morphology if morph is None else morph
+        morph = default_insect().morphology if morph is None else morph
         return cls(U=reference_speed(kin, morph), T=kin.period, S_t=2 * morph.wing_area, cbar=morph.cbar, rho=rho)
 
     @property

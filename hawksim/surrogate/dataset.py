@@ -40,7 +40,8 @@ import numpy as np
 from hawksim import __version__
 from hawksim.backends.averages import OUTPUTS
 from hawksim.backends.resolution import Resolution
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+from hawksim.insect.folder import default_insect
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 
 APPLICATION_ID = 0x48574B53
 """``PRAGMA application_id`` of a hawksim data set ('HWKS'): tells our files from other SQLite files."""
@@ -133,7 +134,7 @@ def sample_kinematics(seed: int, speed: float, i: int) -> Kinematics:
     """Kinematics of sample i: uniform within Table 2's bounds, a pure function of (seed, speed, i)."""
     if seed < 0 or i < 0:
         raise ValueError(f"seed and sample index must be >= 0, got seed={seed}, i={i}")
-    lo, hi = bounds_si()
+    lo, hi = default_insect().bounds_si()
     u = np.random.default_rng([int(seed), speed_key(speed), int(i)]).random(len(PARAM_NAMES))
     return Kinematics.from_array(lo + u * (hi - lo))
 
@@ -165,16 +166,18 @@ def held_labels(r, average_cycles: int) -> tuple:
     last ``average_cycles`` wingbeats: (y = (L+, D+, M+, P+), power_W [W], the peak force coefficient (see
     :data:`PEAK_FORCE_CEILING`), the averages one wingbeat earlier or None when the run has no earlier window);
     all None when any of them is not finite. :func:`label_status` turns them into the data set's status."""
-    from hawksim.insect.morphology import HAWKMOTH, RHO_AIR
+    from hawksim.insect.morphology import RHO_AIR
+
+    morph = default_insect().morphology
 
     a, kin, k = r.averages, r.kinematics, average_cycles
     y = (a.L_plus, a.D_plus, a.M_plus, a.P_plus)
     prev = None
     if len(r.per_cycle) > k:  # the averaged window moved back by one wingbeat (equal-length beats: mean)
         prev = tuple(float(np.mean([getattr(c, n) for c in r.per_cycle[-k - 1:-1]])) for n in OUTPUTS)
-    u_tip = 2.0 * math.pi * kin.f * kin.phi_a * HAWKMOTH.R
+    u_tip = 2.0 * math.pi * kin.f * kin.phi_a * morph.R
     peak = float(np.linalg.norm(r.force_world, axis=1).max()
-                 / (0.5 * RHO_AIR * u_tip**2 * 2.0 * HAWKMOTH.wing_area))
+                 / (0.5 * RHO_AIR * u_tip**2 * 2.0 * morph.wing_area))
     if not all(math.isfinite(v) for v in (*y, a.power_W, peak, *(prev or ()))):
         return None, None, None, None
     return y, a.power_W, peak, prev

@@ -16,8 +16,8 @@ Flight ``i`` of seed ``s`` (:func:`sample_flight`, a pure function of (s, i) by
 ``numpy.random.default_rng([s, FLIGHT_STREAM, i])``):
 
 - ascent speed V uniform in [0, 2] m/s; launch state and kinematics interpolated linearly in V between the shipped
-  UVLM orbits (``hawksim/data/orbit_table_uvlm.json``: 0, 1, 1.5, 2 m/s; the hover row is not converged but is a
-  launch state of the right kind);
+  UVLM orbits (``insects/hawkmoth/data/orbit_table_uvlm.json``: 0, 1, 1.5, 2 m/s; the hover row is not converged
+  but is a launch state of the right kind);
 - kinematics: each of the seven parameters moved uniformly by +-:data:`KIN_SPREAD` of Table 2's width (f +-0.625 Hz,
   the angles +-1.25 deg), clipped to Table 2;
 - launched on the (interpolated) orbit's launch state; after :data:`WARM_BEATS` beats, which develop the wake, the
@@ -49,7 +49,8 @@ import numpy as np
 
 from hawksim import __version__
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE, FLY_UVLM, FLY_WAKE_CYCLES
-from hawksim.insect.kinematics import PARAM_NAMES, Kinematics, bounds_si
+from hawksim.insect.folder import default_insect
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 from hawksim.surrogate.dataset import (
     PEAK_FORCE_CEILING,
     DatasetError,
@@ -182,12 +183,11 @@ class FlightSample:
 @functools.lru_cache(maxsize=1)
 def _orbit_rows() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(speeds (k,), kinematics (k, 7) SI, launch states (k, 9), chi_ref (k,)) of the shipped UVLM orbits."""
-    from importlib import resources
-
-    from hawksim.backends.registry import descriptor
     from hawksim.flight.orbit import Orbit
+    from hawksim.insect.folder import default_insect
+    from hawksim.insect.tables import table_path
 
-    rows = json.loads((resources.files("hawksim") / "data" / descriptor("uvlm").orbit_table).read_text())["rows"]
+    rows = json.loads(table_path(default_insect(), "orbit", "uvlm").read_text())["rows"]
     orbits = sorted((Orbit.from_json(r) for r in rows), key=lambda o: o.speed)
     return (np.array([o.speed for o in orbits]), np.array([o.kinematics.as_array() for o in orbits]),
             np.array([o.launch_state.as_array() for o in orbits]), np.array([o.chi_ref for o in orbits]))
@@ -212,7 +212,7 @@ def sample_flight(seed: int, i: int, family: str = "orbit") -> FlightSpec:
     rng = np.random.default_rng([int(seed), fam.stream, int(i)])
     speed = float(rng.uniform(0.0, 2.0))
     kin0, x0, chi = orbit_at(speed)
-    lo, hi = bounds_si()
+    lo, hi = default_insect().bounds_si()
     k = np.clip(kin0.as_array() + fam.kin_spread * (hi - lo) * rng.uniform(-1, 1, len(PARAM_NAMES)), lo, hi)
     symmetric = i % fam.lateral_every != fam.lateral_every - 1
     u = rng.uniform(-1, 1, len(STATE_NAMES))
@@ -238,7 +238,9 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
     from hawksim.flight.simulator import Simulator, aero_every_for
     from hawksim.frames import pitch_of
     from hawksim.insect.model import load_model
-    from hawksim.insect.morphology import HAWKMOTH, RHO_AIR
+    from hawksim.insect.morphology import RHO_AIR
+
+    morph = default_insect().morphology
 
     spec = sample_flight(seed, i, family)
     fam = FAMILIES[family]
@@ -248,8 +250,8 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
     every = aero_every_for(backend, FLY_STEPS_PER_CYCLE)
     sim = Simulator(load_model(), kin, backend, steps_per_cycle=FLY_STEPS_PER_CYCLE, aero_every=every)
     set_body_state(sim, np.asarray(spec.x0), spec.chi_ref)
-    u_tip = 2.0 * math.pi * kin.f * kin.phi_a * HAWKMOTH.R
-    f_ceiling = PEAK_FORCE_CEILING * 0.5 * RHO_AIR * u_tip**2 * HAWKMOTH.wing_area  # per wing
+    u_tip = 2.0 * math.pi * kin.f * kin.phi_a * morph.R
+    f_ceiling = PEAK_FORCE_CEILING * 0.5 * RHO_AIR * u_tip**2 * morph.wing_area  # per wing
     v_ref = np.array([0.0, 0.0, spec.speed])
     rows, cut, status, att0 = [], None, "ok", None
     try:

@@ -37,7 +37,7 @@ from hawksim.backends.step_network import (
     mirror_inputs,
 )
 from hawksim.insect.kinematics import Kinematics
-from hawksim.insect.morphology import HAWKMOTH, P0_W
+from hawksim.insect.folder import default_insect
 from hawksim.surrogate.flights import COLUMNS, WARM_BEATS, StoredFlight
 
 UPDATES_PER_BEAT = 40
@@ -299,14 +299,15 @@ def flight_loads(fl: StoredFlight, y_left: np.ndarray, y_right: np.ndarray, geom
 def cycle_means(fl: StoredFlight, loads: dict[str, np.ndarray], power_aero_uvlm: np.ndarray) -> np.ndarray:
     """(beats, 4) L+, D+, M+, P+ of every complete wingbeat past the warm-up; P+ from the recorded joint power
     with the UVLM's aerodynamic power replaced by ``loads['power_aero']``."""
-    W, c = HAWKMOTH.weight, HAWKMOTH.cbar
+    insect = default_insect()
+    W, c, P0 = insect.weight, insect.cbar, insect.P0
     n = fl.rows.shape[0]
     p = fl.rows[:, COLUMN_INDEX["power_joint"]] - power_aero_uvlm + loads["power_aero"]
     out = []
     for k in range(WARM_BEATS, n // UPDATES_PER_BEAT):
         s = slice(k * UPDATES_PER_BEAT, (k + 1) * UPDATES_PER_BEAT)
         out.append((loads["lift"][s].mean() / W, loads["drag"][s].mean() / W, loads["moment"][s].mean() / (W * c),
-                    np.maximum(p[s], 0.0).mean() / P0_W))
+                    np.maximum(p[s], 0.0).mean() / P0))
     return np.array(out).reshape(-1, 4)
 
 

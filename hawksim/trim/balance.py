@@ -20,7 +20,8 @@ import numpy as np
 
 from hawksim.backends.held import CycleAverages, run
 from hawksim.backends.resolution import DEFAULT, Resolution
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 from hawksim.trim.point import Trim
 
@@ -65,7 +66,7 @@ def balance_on_uvlm(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOL
 def _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect) -> Trim:
     """One Newton-Broyden pass of :func:`balance_on_uvlm`."""
     idx = [PARAM_NAMES.index(k) for k in free]
-    lo, hi = (DEFAULT_INSECT if insect is None else insect).bounds_si()
+    lo, hi = (default_insect() if insect is None else insect).bounds_si()
     x0 = kin0.as_array()
     cache: dict[tuple, CycleAverages] = {}
 

@@ -34,8 +34,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from hawksim.backends.averages import CycleAverages
-from hawksim.insect.insect import DEFAULT_INSECT, Insect
-from hawksim.insect.kinematics import PARAM_NAMES, TABLE2_BOUNDS_DEG, Kinematics
+from hawksim.insect.folder import default_insect
+from hawksim.insect.insect import Insect
+from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
 from hawksim.trim.point import Trim
 
 R_PENALTY = 2.0
@@ -47,7 +48,7 @@ S_PENALTY = 5.0
 def bound_violation(x: np.ndarray, lo: np.ndarray | None = None, hi: np.ndarray | None = None) -> np.ndarray:
     """Eq. 3's sum_i |zeta_i| / (Max_i - Min_i) for x (n, 7) SI (Table 2's bounds by default)."""
     if lo is None or hi is None:
-        lo, hi = DEFAULT_INSECT.bounds_si()
+        lo, hi = default_insect().bounds_si()
     x = np.atleast_2d(x)
     zeta = np.maximum(lo - x, 0.0) + np.maximum(x - hi, 0.0)
     return np.sum(zeta / (hi - lo), axis=1)
@@ -63,17 +64,18 @@ def fitness(y: np.ndarray, x: np.ndarray, r: float = R_PENALTY, s: float = S_PEN
 
 
 def surrogate_insect(insect: Insect | None) -> Insect:
-    """``insect`` (default :data:`hawksim.insect.insect.DEFAULT_INSECT`) checked for a trim on the shipped surrogate:
+    """``insect`` (default :func:`hawksim.insect.folder.default_insect`) checked for a trim on the shipped surrogate:
     the network was trained on the default hawkmoth's morphology within Table 2, so the insect's morphology must be
     that one (its label aside) and its kinematic bounds inside Table 2 (a narrower envelope); its P0 may differ (P+
     is rescaled). ValueError naming the field otherwise."""
-    insect = DEFAULT_INSECT if insect is None else insect
-    if dataclasses.replace(insect.morphology, name=DEFAULT_INSECT.name) != DEFAULT_INSECT.morphology:  # any label
+    default = default_insect()
+    insect = default if insect is None else insect
+    if dataclasses.replace(insect.morphology, name=default.morphology.name) != default.morphology:  # any label
         raise ValueError(f"insect {insect.name!r}: the surrogate network was trained on the default hawkmoth's "
                          "morphology; another morphology's trim is its periodic orbit (free flight)")
     for k in PARAM_NAMES:
         lo, hi = insect.bounds_deg[k]
-        t_lo, t_hi = TABLE2_BOUNDS_DEG[k]
+        t_lo, t_hi = default.bounds_deg[k]
         if lo < t_lo or hi > t_hi:
             raise ValueError(f"insect field 'bounds_deg.{k}' = [{lo:g}, {hi:g}] leaves Table 2's [{t_lo:g}, "
                              f"{t_hi:g}], the surrogate network's training box")
@@ -179,7 +181,7 @@ def trim_on_surrogate(surrogate, speed: float, *, seed: int = 0, cfg: GAConfig =
     t0 = time.perf_counter()
     insect = surrogate_insect(insect)
     lo, hi = insect.bounds_si()
-    p_scale = DEFAULT_INSECT.P0 / insect.P0
+    p_scale = default_insect().P0 / insect.P0
     surrogate.features(np.zeros((1, 7)), speed)  # a per-speed network refuses another speed here
 
     def own(y):  # the network's P+ is in the default insect's P0
@@ -210,4 +212,4 @@ def trim_on_surrogate(surrogate, speed: float, *, seed: int = 0, cfg: GAConfig =
                 averages=CycleAverages.from_plus(y),
                 fitness=float(fitness(y[None], x[None], lo=lo, hi=hi)[0]), evaluations=nfev,
                 wall_time_s=time.perf_counter() - t0,
-                seed=int(seed), search=ga)
+                search_seed=int(seed), search=ga)

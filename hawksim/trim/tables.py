@@ -9,9 +9,7 @@ Table 3 (Nguyen et al. 2020). Between tabulated speeds the parameters are interp
 
 from __future__ import annotations
 
-import json
 from functools import lru_cache
-from importlib import resources
 
 import numpy as np
 
@@ -31,11 +29,11 @@ def _trim_model(aero: str) -> str:
 @lru_cache(maxsize=4)
 def _table(aero: str = "uvlm") -> tuple[str, tuple[float, ...], dict[str, tuple[float, ...]]]:
     from hawksim.backends.registry import descriptor
+    from hawksim.trim.registry import shipped_table
 
     name = descriptor(_trim_model(aero)).trim_table
-    path = resources.files("hawksim") / "data" / name
-    if path.is_file():
-        data = json.loads(path.read_text())
+    data = shipped_table(name)  # read once per process (the registry's)
+    if data is not None:
         rows = sorted(data["rows"], key=lambda r: r["speed"])
         speeds = tuple(float(r["speed"]) for r in rows)
         return "hawksim trim table (" + data.get("source", name) + ")", speeds, {

@@ -65,7 +65,7 @@ BIN = Path(sys.executable).parent
 HAWKSIM = str(BIN / "hawksim")
 ROOT = Path(__file__).resolve().parents[2]
 DATA = str(ROOT / "data" / "uvlm_training_0.3.sqlite")
-NETWORK = str(ROOT / "hawksim" / "data" / "surrogates" / "uvlm_v1000.safetensors")
+NETWORK = str(ROOT / "hawksim" / "insects" / "hawkmoth" / "data" / "surrogates" / "uvlm_v1000.safetensors")
 KIN = "f=26.1,beta=4.3,phi0=9.4,theta0=-2.8,alpha0=-0.4,phi_a=58.4,alpha_a=48.8"
 TINY = ("--n-chord", "2", "--n-span", "3", "--steps-per-cycle", "20", "--cycles", "1")
 FSIZE = 1 << 20

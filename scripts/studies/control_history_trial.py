@@ -12,7 +12,7 @@ another network's schedule (the shipped memoryless one's), read from a JSON file
 
     # in the tree with the memoryless network installed (the shipped one)
     python scripts/studies/control_history_trial.py --dump-gains /tmp/memoryless_gains.json
-    # in a scratch worktree with the history network installed as hawksim/data/surrogates/uvlm_step.safetensors
+    # in a scratch worktree with the history network installed as insects/hawkmoth/data/surrogates/uvlm_step.safetensors
     # and its orbit table (scripts/studies/step_surrogate_orbits.py --speeds 0 0.5 1 1.5 2 --no-floquet --table ...)
     NUMBA_NUM_THREADS=1 python scripts/studies/control_history_trial.py --gains /tmp/memoryless_gains.json \
         --out results/control/control_history_trial_gusts.json

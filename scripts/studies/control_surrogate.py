@@ -1,6 +1,6 @@
 """Issue 20's targets with the per-step surrogate in the loop (`hawksim fly --aero surrogate --control lqr`,
 docs/control.md "The per-step surrogate in the loop"): the gain schedule of the shipped surrogate orbits and control
-derivatives (hawksim/data/orbit_table_surrogate.json, control_models_surrogate.json), with
+derivatives (hawksim/insects/hawkmoth/data/orbit_table_surrogate.json, control_models_surrogate.json), with
 
 * the open- and closed-loop multipliers at every schedule speed, without and with a one-beat sensing delay;
 * 100 controlled wingbeats from each orbit, and from a perturbed start (v, w +0.05 m/s, phi, theta +1 deg);

@@ -1,5 +1,5 @@
 """UVLM in the loop (issue 20): the UVLM gain schedule over 1-2 m/s (the shipped UVLM orbits and their shipped
-one-beat control derivatives, hawksim/data/control_models_uvlm.json), 20 controlled wingbeats from each orbit
+one-beat control derivatives, insects/hawkmoth/data/control_models_uvlm.json), 20 controlled wingbeats from each orbit
 (1, 1.5, 2 m/s), the same 20 open loop, and the profile 1 -> 1.5 -> 2 m/s under control. Writes
 results/control/control_uvlm.json. ``python scripts/studies/control_uvlm.py`` (~2 min on a quiet machine:
 the UVLM flies ~4 wingbeats per wall second)."""

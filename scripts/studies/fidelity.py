@@ -177,7 +177,8 @@ def part_recoil() -> dict:
                              "mean_vertical_speed_beats_1_3": [b["mean_vertical_speed"] for b in beats]})
                 print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
     return {"rows": rows, "backend": "quasi-steady", "steps_per_cycle": 200, "beats": FLY_BEATS,
-            "trim": "shipped quasi-steady trim of the default model (hawksim/data/trim_table_quasi_steady.json)"}
+            "trim": "shipped quasi-steady trim of the default model "
+                    "(hawksim/insects/hawkmoth/data/trim_table_quasi_steady.json)"}
 
 
 def _qs_trim(m: Morphology, V: float) -> dict:

@@ -4,10 +4,11 @@ The loop holds the backend's loads over each RK4 step (zero-order hold), so the 
 dt whatever RK4 does with the body. This measures it with the quasi-steady backend (loads every step,
 ``aero_every`` = 1) at 1 m/s:
 
-* ``free``: the free flight from the shipped quasi-steady orbit (``hawksim/data/orbit_table_quasi_steady.json``,
-  launched as `hawksim fly --start orbit` does) for ``--beats`` wingbeats at each steps-per-beat N; per N the last
-  beat's mean L+ (lift of the applied loads / W), P+ (:func:`hawksim.flight.power.P_plus`) and the body state at
-  its end: vertical velocity w [m/s] (world z, up) and pitch [rad] (dynamics, not only loads).
+* ``free``: the free flight from the shipped quasi-steady orbit
+  (``hawksim/insects/hawkmoth/data/orbit_table_quasi_steady.json``, launched as `hawksim fly --start orbit` does) for
+  ``--beats`` wingbeats at each steps-per-beat N; per N the last beat's mean L+ (lift of the applied loads / W), P+
+  (:func:`hawksim.flight.power.P_plus`) and the body state at its end: vertical velocity w [m/s] (world z, up) and pitch
+  [rad] (dynamics, not only loads).
 * ``held``: the held body (:func:`hawksim.backends.held.held_flight`, 3 beats, the last one) at the same N: the
   backend's own sampling (its added-mass rates are backward differences over dt), no body dynamics.
 * ``free_minus_held``: the difference at each N (L+, P+).

@@ -8,9 +8,9 @@ body mass and inertia are 1e4 times larger, gravity off, at the 1 m/s trim, 200 
 errors against the held P+. Cases: quasi-steady every 1 and 5 steps, the UVLM (6 x 12 rings) every 5, the per-step
 surrogate (shipped network, in the native callback) every 5.
 
-Part 2 (``--orbits``): the shipped UVLM and surrogate orbits (``hawksim/data/orbit_table_{uvlm,surrogate}.json``)
-flown as `hawksim fly --start orbit` does, P+ of the periodic beat with both samplings against the table's
-``P_plus`` (which was computed with "steps").
+Part 2 (``--orbits``): the shipped UVLM and surrogate orbits
+(``hawksim/insects/hawkmoth/data/orbit_table_{uvlm,surrogate}.json``) flown as `hawksim fly --start orbit` does, P+ of
+the periodic beat with both samplings against the table's ``P_plus`` (which was computed with "steps").
 
 Prints one JSON object. Usage: python scripts/studies/held_power_bias.py [--orbits]   (~15 s; --orbits ~1 min)
 """

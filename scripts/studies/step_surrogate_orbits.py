@@ -3,18 +3,18 @@ against the UVLM's (issue 21, item 5).
 
 For each speed: Newton shooting on the surrogate's one-beat map (:func:`hawksim.flight.orbit.periodic_orbit`,
 started from the shipped UVLM orbit), its monodromy by central differences (:func:`hawksim.stability.floquet.
-monodromy`), and beside them the shipped UVLM orbit (hawksim/data/orbit_table_uvlm.json) and the UVLM's Floquet
+monodromy`), and beside them the shipped UVLM orbit (insects/hawkmoth/data/orbit_table_uvlm.json) and the UVLM's Floquet
 multipliers (results/free_flight/validation.json, `hawksim reproduce --only validation_uvlm`).
 
     python scripts/studies/step_surrogate_orbits.py --speeds 1 2 --out results/surrogate/step_orbits.json \
-        [--table hawksim/data/orbit_table_surrogate.json]
+        [--table hawksim/insects/hawkmoth/data/orbit_table_surrogate.json]
 
 At a speed with no shipped UVLM orbit (0.5 m/s) Newton starts from the linear interpolation (kinematics and launch
 state) of the neighbouring shipped surrogate orbits; ``--merge`` keeps the table's other rows (a row at the same
 speed is replaced) and appends this command to the table's ``command``:
 
     python scripts/studies/step_surrogate_orbits.py --speeds 0.5 --out results/surrogate/step_orbits_0.5.json \
-        --table hawksim/data/orbit_table_surrogate.json --merge
+        --table hawksim/insects/hawkmoth/data/orbit_table_surrogate.json --merge
 
 For a network with history lags (the shipped one since 2026-12-02: docs/surrogate.md, "History inputs, shipped") the
 orbit is periodic in the body state and the record of past calls (:attr:`hawksim.flight.orbit.Orbit.record`), and

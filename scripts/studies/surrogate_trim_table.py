@@ -1,10 +1,10 @@
-"""Build the trim table of `hawksim fly --aero surrogate` (hawksim/data/trim_table_surrogate.json).
+"""Build the trim table of `hawksim fly --aero surrogate` (hawksim/insects/hawkmoth/data/trim_table_surrogate.json).
 
 The surrogate flight's loads come from the shipped speed-input network, so its trim is that network's own
 GA + Nelder-Mead minimum of Eq. 3 at each study speed (seed 0, population 1e5), in the layout of the other trim
 tables. Prints ONE JSON object.
 
-    python scripts/studies/surrogate_trim_table.py --out hawksim/data/trim_table_surrogate.json
+    python scripts/studies/surrogate_trim_table.py --out hawksim/insects/hawkmoth/data/trim_table_surrogate.json
 """
 
 import argparse
@@ -20,7 +20,7 @@ from hawksim.trim.search import GAConfig, trim_on_surrogate
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--out", default="hawksim/data/trim_table_surrogate.json")
+    ap.add_argument("--out", default="hawksim/insects/hawkmoth/data/trim_table_surrogate.json")
     ap.add_argument("--seed", type=int, default=0)
     a = ap.parse_args()
     net = load(shipped_path(None))

@@ -1,11 +1,12 @@
-"""Build the default trim table (hawksim/data/trim_table.json) by balancing on the UVLM.
+"""Build the default trim table (hawksim/insects/hawkmoth/data/trim_table.json) by balancing on the UVLM.
 
 For each ascent speed the starting point is the paper's Table 3 (until the surrogate's GA + Nelder-Mead
 optimum is available, issue 5), and f, beta, phi0, alpha0 are adjusted until |L+ - 1|, |D+|, |M+| <= 0.01 by the UVLM
 (`hawksim.trim.balance`). Deterministic (no random numbers). Prints one JSON object.
 
-    python scripts/studies/uvlm_trim_table.py --out hawksim/data/trim_table.json
-    python scripts/studies/uvlm_trim_table.py --aero quasi-steady --out hawksim/data/trim_table_quasi_steady.json
+    python scripts/studies/uvlm_trim_table.py --out hawksim/insects/hawkmoth/data/trim_table.json
+    python scripts/studies/uvlm_trim_table.py --aero quasi-steady \
+        --out hawksim/insects/hawkmoth/data/trim_table_quasi_steady.json
 """
 
 import argparse
@@ -24,7 +25,7 @@ QS_RESOLUTION = Resolution(aero="quasi-steady", steps_per_cycle=200, cycles=2)
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--out", default="hawksim/data/trim_table.json")
+    ap.add_argument("--out", default="hawksim/insects/hawkmoth/data/trim_table.json")
     ap.add_argument("--speeds", type=float, nargs="+", default=list(TABLE3_SPEEDS))
     ap.add_argument("--aero", choices=("uvlm", "quasi-steady"), default="uvlm")
     a = ap.parse_args()

@@ -2,6 +2,7 @@
 numbers in its own units, and a one-line exit 2 naming an unknown or invalid field."""
 
 import json
+import shutil
 import subprocess
 import sys
 
@@ -168,3 +169,19 @@ def test_trim_free_flight_insect_is_its_own_orbit(tmp_path):
     assert r.returncode == 0, r.stderr
     orbit = json.loads(r.stdout)
     assert orbit["converged"] and orbit["kinematics"]["f"] > 30.5  # the hawkmoth's flaps at 28.5 Hz
+
+
+def test_the_cli_takes_a_shipped_name_a_folder_and_a_toml_file(tmp_path):
+    from hawksim.insect.folder import INSECTS_DIR
+
+    base = aero()
+    copy = shutil.copytree(INSECTS_DIR / "hawkmoth", tmp_path / "moth2")
+    for given in ("hawkmoth", str(copy)):  # the default insect: exactly as without --insect
+        out = aero("--insect", given)
+        assert {k: v for k, v in out.items() if k != "wall_time_s"} == {
+            k: v for k, v in base.items() if k != "wall_time_s"}
+    spec = tmp_path / "heavier.toml"
+    spec.write_text('base = "hawkmoth"\nname = "heavier"\n[morphology.total_mass]\nvalue = 0.00189444\n'
+                    'unit = "kg"\nsource = "model choice"\ncitation = "1.2 x the hawkmoth"\n')
+    heavy = aero("--insect", str(spec))
+    assert heavy["insect"] == "heavier" and heavy["L_plus"] == pytest.approx(base["L_plus"] / 1.2, rel=1e-9)

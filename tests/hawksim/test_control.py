@@ -6,6 +6,7 @@ issue's targets (CI: 1 m/s; every speed and the ascent profile are `slow`)."""
 import numpy as np
 import pytest
 
+from hawksim.trim.registry import shipped_table
 from hawksim.control.closed_loop import Gust, body_length, fly_closed_loop
 from hawksim.control.schedule import SCHEDULE_SPEEDS, Schedule, schedule_point
 from hawksim.control.derivatives import LAT_X, LONG_X, one_beat
@@ -217,14 +218,12 @@ def test_cli_control_json(capsys):
 
 def test_uvlm_schedule_from_the_shipped_models():
     """The UVLM schedule: the shipped orbits at 1, 1.5, 2 m/s and the control derivatives shipped about exactly
-    those orbits (hawksim/data/control_models_uvlm.json, with its command), stable in closed loop; other speeds
+    those orbits (insects/hawkmoth/data/control_models_uvlm.json, with its command), stable in closed loop; other speeds
     are refused."""
-    import json
-    from importlib import resources
 
     from hawksim.control.schedule import UVLM_SCHEDULE_SPEEDS, shipped_control_model
 
-    table = json.loads((resources.files("hawksim") / "data" / "control_models_uvlm.json").read_text())
+    table = shipped_table("control_models_uvlm.json")
     assert table["command"] == "hawksim reproduce --only control_uvlm" and "seed" in table
     for v in UVLM_SCHEDULE_SPEEDS:
         lin = shipped_control_model(v, "uvlm")

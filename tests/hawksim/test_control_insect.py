@@ -8,6 +8,7 @@ import numpy as np
 
 from hawksim.control import cache
 from hawksim.control.schedule import _POINTS, insect_key, schedule_point
+from hawksim.trim.registry import point_key
 from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.model import load_model
 from hawksim.insect.morphology import HAWKMOTH
@@ -26,7 +27,7 @@ def test_two_insects_never_share_orbits_or_gains():
     hawk = schedule_point(1.0)
     heavy = schedule_point(1.0, insect=HEAVY)
     assert hawk.orbit.insect == DEFAULT_INSECT and heavy.orbit.insect == HEAVY
-    assert (1.0, "quasi-steady") in _POINTS and (1.0, "quasi-steady", *insect_key(HEAVY)) in _POINTS
+    assert point_key(1.0, "quasi-steady") in _POINTS and point_key(1.0, "quasi-steady", HEAVY) in _POINTS
     assert heavy.orbit.kinematics.f > hawk.orbit.kinematics.f + 1.5  # 30.6 vs 28.5 Hz: it carries 1.2x the weight
     assert np.abs(heavy.model.A - hawk.model.A).max() > 1e-3
     assert np.abs(heavy.long.K - hawk.long.K).max() > 1e-3

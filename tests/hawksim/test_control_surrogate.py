@@ -5,7 +5,7 @@ flights hold (CI: 1 m/s, short; `slow`: 100 beats at every speed, the ascent pro
 surrogate's default) every target of issue 20 at every speed (`slow`; CI: the gust and the delay at 1 m/s)."""
 
 import json
-from importlib import resources
+from hawksim.trim.registry import shipped_table
 
 import numpy as np
 import pytest
@@ -74,14 +74,14 @@ def test_controlled_backend_reads_the_plant_kinematics():
 
 
 def test_shipped_control_models_are_about_the_shipped_orbits():
-    """hawksim/data/control_models_surrogate.json: made by its reproduce step for this network, one row per schedule
-    speed about exactly the shipped orbit, differenced through the Table 2 saturation; a fresh linearization at 1 m/s
-    gives the same matrices (deterministic within a vector width and CPU kind; the bound allows other float32 sums:
-    another BLAS's moved them by < 5e-6, and the 512-bit code AMD Zen 5 compiles by default by 4.5e-5 to 1.7e-4
+    """insects/hawkmoth/data/control_models_surrogate.json: made by its reproduce step for this network, one row per
+    schedule speed about exactly the shipped orbit, differenced through the Table 2 saturation; a fresh linearization at
+    1 m/s gives the same matrices (deterministic within a vector width and CPU kind; the bound allows other float32
+    sums: another BLAS's moved them by < 5e-6, and the 512-bit code AMD Zen 5 compiles by default by 4.5e-5 to 1.7e-4
     (1.2e-4 of the largest entry) against the table's 256-bit rows, 2026-12-04: aero/vector_width.py)."""
     from hawksim.backends.step_network import network_sha256
 
-    table = json.loads((resources.files("hawksim") / "data" / "control_models_surrogate.json").read_text())
+    table = shipped_table("control_models_surrogate.json")
     assert table["command"] == "hawksim reproduce --only control_surrogate" and "seed" in table
     assert table["network_sha256"] == network_sha256()
     for v in SPEEDS:

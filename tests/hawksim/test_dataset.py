@@ -256,7 +256,7 @@ SHIPPED_NETWORK_DATA = {"uvlm_training_0.3.sqlite": ("samples", 15000), "uvlm_fl
                         "uvlm_reference_0.1.sqlite": ("samples", 5000),
                         "uvlm_reference_heldout_s22.sqlite": ("samples", 500),
                         "uvlm_training_heldout_s22.sqlite": ("samples", 500)}
-"""The committed data sets and their row counts (hawksim/data/surrogates/README.md)."""
+"""The committed data sets and their row counts (hawksim/insects/hawkmoth/data/surrogates/README.md)."""
 
 
 @pytest.mark.parametrize("name", sorted(SHIPPED_NETWORK_DATA))

@@ -73,7 +73,7 @@ def test_lift_and_weight_scales():
 
 
 def test_quasi_steady_trim_holds_over_three_wingbeats():
-    """From the shipped quasi-steady trim (hawksim/data/trim_table_quasi_steady.json, balanced held-body to
+    """From the shipped quasi-steady trim (insects/hawkmoth/data/trim_table_quasi_steady.json, balanced held-body to
     |L+ - 1|, |D+|, |M+| <= 0.01) the free flight keeps its ascent speed within 0.1 m/s and its cycle-mean body
     angle within 2 deg of chi for 3 beats. (The free body's recoil costs lift: the speed falls ~0.04 m/s per
     beat, see docs/free_flight.md.)"""

@@ -6,7 +6,7 @@ import pytest
 
 from hawksim.frames import quat_to_matrix
 from hawksim.insect.kinematics import MIRROR, table3_kinematics, wing_rotation_body
-from hawksim.insect.model import REPO_MODEL_PATH, load_model, mjcf
+from hawksim.insect.model import DEFAULT_MODEL_PATH, load_model, mjcf
 from hawksim.insect.morphology import HAWKMOTH
 
 TOL = 1e-8
@@ -36,9 +36,18 @@ with the same operations on mirrored data; measured: exact (0)."""
 
 
 def test_committed_xml_is_the_generated_one():
-    assert REPO_MODEL_PATH.read_text() == mjcf(), "regenerate with: python -m hawksim.insect.model"
-    m = mujoco.MjModel.from_xml_path(str(REPO_MODEL_PATH))  # plain MuJoCo loads it
+    assert DEFAULT_MODEL_PATH.read_text() == mjcf(), "regenerate with: python -m hawksim.insect.model"
+    m = mujoco.MjModel.from_xml_path(str(DEFAULT_MODEL_PATH))  # plain MuJoCo loads it
     assert m.nbody == 4
+
+
+def test_every_shipped_insects_mjcf_is_generated_from_its_spec():
+    from hawksim.insect.folder import load_insect, shipped_insects
+    from hawksim.insect.model import insect_mjcf, model_path
+
+    for name in shipped_insects():
+        insect = load_insect(name)
+        assert model_path(insect).read_text() == insect_mjcf(insect), f"{name}: python -m hawksim.insect.model"
 
 
 def test_one_free_joint_and_six_hinges():

@@ -1,9 +1,9 @@
-"""The shipped orbit tables (hawksim/data/orbit_table_*.json, `hawksim reproduce --only orbits`) are periodic
+"""The shipped orbit tables (insects/hawkmoth/data/orbit_table_*.json, `hawksim reproduce --only orbits`) are periodic
 orbits of the current code: re-flying a row's periodic beat from its launch state reproduces the recorded residual,
 and `hawksim fly` starts from them."""
 
 import json
-from importlib import resources
+from hawksim.trim.registry import shipped_table
 
 import numpy as np
 import pytest
@@ -19,8 +19,8 @@ by at most the largest multiplier 2.4 over one beat from a 1e-15 round-off)."""
 
 
 def _rows(aero):
-    path = resources.files("hawksim") / "data" / descriptor(aero).orbit_table
-    return [Orbit.from_json(r) for r in json.loads(path.read_text())["rows"]] if path.is_file() else []
+    table = shipped_table(descriptor(aero).orbit_table)
+    return [Orbit.from_json(r) for r in table["rows"]] if table is not None else []
 
 
 def _refly(o: Orbit) -> np.ndarray:
@@ -103,7 +103,6 @@ decimals, hence this tolerance)."""
 
 
 def test_stability_floquet_cli_contract(capsys):
-    import json
 
     from hawksim.cli import main
 

@@ -41,11 +41,11 @@ def test_dataset_train_predict_trim(tmp_path, capsys):
     sur = load(model)
     assert sur.inputs.speed == 1.0 and sur.hidden == 6 and "--seed 0" in sur.meta["command"]
     kin = "f=30,beta=5,phi0=0,theta0=10,alpha0=0,phi_a=55,alpha_a=45"
-    pred = _run(capsys, ["predict", "--speed", "1", "--kinematics", kin, "--model", str(model), "--json"])
+    pred = _run(capsys, ["predict", "--speed", "1", "--kinematics", kin, "--network", str(model), "--json"])
     from hawksim.cli.args import parse_kinematics
 
     assert pred["P_plus"] == pytest.approx(sur.predict(parse_kinematics(kin).as_array()[None], 1.0)[0, 3])
-    trim = _run(capsys, ["trim", "--speed", "1", "--model", str(model), "--population", "2000", "--no-progress",
+    trim = _run(capsys, ["trim", "--speed", "1", "--network", str(model), "--population", "2000", "--no-progress",
                          "--json"])
     f = trim["P_plus"] + 2 * (abs(1 - trim["L_plus"]) + abs(trim["D_plus"]) + abs(trim["M_plus"]))
     assert trim["fitness"] == pytest.approx(f, rel=FITNESS_RTOL)  # Eq. 3 inside the bounds

@@ -177,7 +177,7 @@ def crafted(tmp_path_factory):
 @pytest.mark.parametrize("name,says", [("meta_array", "its meta is a JSON array, not an object"),
                                        ("meta_string", "its meta is a JSON string, not an object"),
                                        ("meta_nan", "NaN is not JSON")])
-@pytest.mark.parametrize("argv", [PREDICT + ["--model"], ["trim", "--speed", "1", "--population", "100", "--model"],
+@pytest.mark.parametrize("argv", [PREDICT + ["--network"], ["trim", "--speed", "1", "--population", "100", "--network"],
                                   ["train", "--data", "{data}", "--out", "{tmp}/n.safetensors", "--speed", "1",
                                    "--base"]], ids=["predict", "trim", "train --base"])
 def test_a_network_whose_meta_is_not_an_object_is_named(argv, name, says, crafted, tmp_path, capsys):
@@ -189,8 +189,8 @@ def test_a_network_whose_meta_is_not_an_object_is_named(argv, name, says, crafte
     assert not (tmp_path / "n.safetensors").exists()
 
 
-@pytest.mark.parametrize("argv", [PREDICT + ["--json", "--model"],
-                                  ["trim", "--speed", "1", "--population", "100", "--json", "--model"]],
+@pytest.mark.parametrize("argv", [PREDICT + ["--json", "--network"],
+                                  ["trim", "--speed", "1", "--population", "100", "--json", "--network"]],
                          ids=["predict", "trim"])
 def test_a_network_that_overflows_is_a_numerical_failure(argv, crafted, capsys):
     code, out, err = _run(argv + [crafted / "big.safetensors"], capsys)
@@ -217,7 +217,7 @@ def test_the_json_printed_parses_strictly(argv, capsys):
     assert isinstance(obj, dict) and out.count("\n") == 1
 
 
-# ---- defect 11: --model that is not a regular file -------------------------------------------------------------
+# ---- defect 11: --network FILE that is not a regular file ----------------------------------------------------
 
 
 @pytest.mark.parametrize("name,kind", [("fifo", "is a FIFO (named pipe), not a regular file"),
@@ -225,7 +225,7 @@ def test_the_json_printed_parses_strictly(argv, capsys):
                                        ("link_to_fifo", "is a FIFO (named pipe) (the target of the link"),
                                        ("dangling", "does not exist (a link to the missing 'missing.bin')"),
                                        ("huge", "above the limit of 1 GiB")])
-@pytest.mark.parametrize("argv", [PREDICT + ["--model"], ["trim", "--speed", "1", "--population", "100", "--model"],
+@pytest.mark.parametrize("argv", [PREDICT + ["--network"], ["trim", "--speed", "1", "--population", "100", "--network"],
                                   ["train", "--data", TRAINING_DATA, "--out", "n.safetensors", "--speed", "1",
                                    "--base"]],
                          ids=["predict", "trim", "train --base"])

@@ -125,16 +125,16 @@ def test_bad_files_are_refused_with_a_clear_error(tmp_path):
 def test_predict_cli_with_model_file(tmp_path, capsys):
     s = make_surrogate(speed=0.5)
     p = s.save(tmp_path / "m.safetensors")
-    assert main(["predict", "--speed", "0.5", "--kinematics", KIN, "--model", str(p), "--json"]) == 0
+    assert main(["predict", "--speed", "0.5", "--kinematics", KIN, "--network", str(p), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     from hawksim.cli.args import parse_kinematics
 
     ref = s.predict(parse_kinematics(KIN).as_array()[None], 0.5)[0]
     assert [out[k] for k in ("L_plus", "D_plus", "M_plus", "P_plus")] == pytest.approx(ref, rel=CLI_RTOL)
 
-    for args, needle in ((["--speed", "1.0", "--model", str(p)], "0.5 m/s"),
-                         (["--speed", "0.5", "--model", str(tmp_path / "nope.safetensors")], "nope.safetensors"),
-                         (["--speed", "0.5", "--model", str(p), "--kinematics", KIN.replace("f=26", "f=60")],
+    for args, needle in ((["--speed", "1.0", "--network", str(p)], "0.5 m/s"),
+                         (["--speed", "0.5", "--network", str(tmp_path / "nope.safetensors")], "nope.safetensors"),
+                         (["--speed", "0.5", "--network", str(p), "--kinematics", KIN.replace("f=26", "f=60")],
                           "f=60")):
         full = ["predict", "--kinematics", KIN, *args, "--json"]
         assert main(full) == 2
@@ -153,7 +153,7 @@ def test_shipped_surrogates_load_and_record_their_provenance():
 
 
 SHIPPED_DATA = Path(__file__).resolve().parents[2] / "data" / "uvlm_training_0.3.sqlite"
-"""The data set the shipped networks were trained on (hawksim/data/surrogates/README.md)."""
+"""The data set the shipped networks were trained on (hawksim/insects/hawkmoth/data/surrogates/README.md)."""
 R2_FLOOR = {"L_plus": 0.99, "P_plus": 0.99}
 """Held-out R^2 the shipped networks must keep: issue 4's target for L+ and P+ (after the paper's Fig. 5, where
 the networks reach R^2 ~ 0.99-1.0). Measured on the 0.3 data set: L+ 0.9906-0.9956 per-speed, 0.9922-0.9959

@@ -96,7 +96,7 @@ def test_flight_on_a_balancing_surrogate_holds_its_speed(monkeypatch):
                     reason="the speed-input surrogate is not in this checkout")
 @pytest.mark.parametrize("speed", [0.5, 1.0, 2.0])
 def test_shipped_surrogate_trim_holds_over_ten_wingbeats(speed):
-    """From the shipped surrogate trim (hawksim/data/trim_table_surrogate.json: the speed-input network's own
+    """From the shipped surrogate trim (insects/hawkmoth/data/trim_table_surrogate.json: the speed-input network's own
     minimum of Eq. 3), the free flight on that network's loads keeps its ascent speed within 0.05 m/s over 10
     beats: the trim balances the network (|L+ - 1| < 1e-3 there) and lift falls as the ascent speeds up."""
     from hawksim.cli.fly import fly_named

@@ -129,16 +129,17 @@ def test_trim_on_a_small_surrogate_balances_at_the_constrained_power_minimum():
 
 def test_trim_cli_and_bad_input(tmp_path, capsys):
     p = _linear_surrogate(0.5).save(tmp_path / "v05.safetensors")
-    assert main(["trim", "--speed", "0.5", "--model", str(p), "--population", "5000", "--no-progress", "--json"]) == 0
+    assert main(["trim", "--speed", "0.5", "--network", str(p), "--population", "5000", "--no-progress", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert {"kinematics", "chi", "L_plus", "D_plus", "M_plus", "P_plus", "fitness"} <= out.keys()
     assert set(out["kinematics"]) == {"f", "beta", "phi0", "theta0", "alpha0", "phi_a", "alpha_a"}
     assert abs(out["L_plus"] - 1) < CLI_BALANCE_TOL
     assert out["chi"] == pytest.approx(60.0 - out["kinematics"]["beta"])  # chi = 60 deg - beta
-    for args, needle in ((["--speed", "1.0", "--model", str(p)], "0.5 m/s"),
-                         (["--speed", "0.5", "--model", str(tmp_path / "missing.safetensors")], "missing.safetensors"),
-                         (["--speed", "0.5", "--model", str(p), "--population", "0"], "--population"),
-                         (["--speed", "2.5", "--model", str(p)], "--speed")):
+    for args, needle in ((["--speed", "1.0", "--network", str(p)], "0.5 m/s"),
+                         (["--speed", "0.5", "--network", str(tmp_path / "missing.safetensors")],
+                          "missing.safetensors"),
+                         (["--speed", "0.5", "--network", str(p), "--population", "0"], "--population"),
+                         (["--speed", "2.5", "--network", str(p)], "--speed")):
         assert main(["trim", *args, "--no-progress", "--json"]) == 2
         cap = capsys.readouterr()
         assert cap.out == "" and len(cap.err.strip().splitlines()) == 1 and needle in cap.err

@@ -1,5 +1,5 @@
-"""The shipped UVLM trim table (hawksim/data/trim_table.json, `hawksim reproduce --only trim`) is balanced by the
-current UVLM and reproducible from the table: its kinematics, as stored (rounded to ~1e-10), re-run at the
+"""The shipped UVLM trim table (insects/hawkmoth/data/trim_table.json, `hawksim reproduce --only trim`) is balanced by
+the current UVLM and reproducible from the table: its kinematics, as stored (rounded to ~1e-10), re-run at the
 balance's resolution give the recorded averages (hawksim 0.1's wake turned that rounding into L+ 1.03-1.06
 against the balance's 1.00 at 0.5 m/s: docs/uvlm.md, "Round-off sensitivity") and, where the balance converged,
 |L+ - 1|, |D+|, |M+| <= the table's tolerance."""

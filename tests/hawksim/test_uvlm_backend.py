@@ -157,8 +157,8 @@ def test_uvlm_flight_stays_symmetric():
 
 
 def test_uvlm_trim_holds_over_two_wingbeats():
-    """From the shipped UVLM-balanced minimum-power trim at 1 m/s (hawksim/data/trim_table.json), the free 6-DOF
-    flight with the UVLM in the loop keeps its ascent speed within 0.1 m/s and its cycle-mean body angle within
+    """From the shipped UVLM-balanced minimum-power trim at 1 m/s (insects/hawkmoth/data/trim_table.json), the free
+    6-DOF flight with the UVLM in the loop keeps its ascent speed within 0.1 m/s and its cycle-mean body angle within
     2 deg of chi for 2 beats (measured with hawksim 0.2: 1.007, 0.954 m/s; 0.1: 1.007, 0.950). It then keeps
     slowing, 0.89 m/s in beat 3: the held-body balance credits the wings with ~15 % more lift than the recoiling
     free body gets (docs/results.md), and the longitudinal mode is unstable (docs/stability.md)."""
