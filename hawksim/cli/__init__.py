@@ -24,7 +24,7 @@ from aero.vector_width import apply_vector_width
 from hawksim import interrupts
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli import aero, dataset, fly, predict, reproduce, stability, train, trim, warmup
-from hawksim.cli.args import Parser, UsageError, default_insect_as_none
+from hawksim.cli.args import Parser, UsageError, check_kinematics_bounds, default_insect_as_none
 from hawksim.cli.progress import close_all
 from hawksim.environment import check_environment
 
@@ -78,6 +78,7 @@ def main(argv: list[str] | None = None) -> int:
         args = parser.parse_args(argv)
         args.t0 = t0
         default_insect_as_none(args)  # --insect hawkmoth: exactly as without --insect
+        check_kinematics_bounds(args)  # the insect's bounds (Table 2 for the hawkmoth)
         spc = getattr(args, "steps_per_cycle", None)
         if spc is not None and spc < MIN_STEPS_PER_CYCLE:
             raise UsageError(f"--steps-per-cycle {spc} must be >= {MIN_STEPS_PER_CYCLE}")

@@ -142,8 +142,9 @@ aero_cycles_arg = positive_int_arg("cycles", MAX_AERO_CYCLES, " (the free wake's
 
 
 def parse_kinematics(text: str) -> Kinematics:
-    """``f=..,beta=..,phi0=..,theta0=..,alpha0=..,phi_a=..,alpha_a=..`` (Hz, deg) -> Kinematics, checked
-    against Table 2. Raises argparse.ArgumentTypeError naming the bad key or value."""
+    """``f=..,beta=..,phi0=..,theta0=..,alpha0=..,phi_a=..,alpha_a=..`` (Hz, deg) -> Kinematics. Raises
+    argparse.ArgumentTypeError naming the bad key or value. The bounds are the insect's, checked once every option is
+    parsed (:func:`check_kinematics_bounds`: ``--insect`` may come after ``--kinematics``)."""
     values: dict[str, float] = {}
     for item in filter(None, (s.strip() for s in text.split(","))):
         key, sep, val = item.partition("=")
@@ -162,9 +163,22 @@ def parse_kinematics(text: str) -> Kinematics:
         if not math.isfinite(values[key]):
             raise argparse.ArgumentTypeError(f"--kinematics {key}={val} is not finite")
     try:
-        return Kinematics.from_edge(values)
+        return Kinematics.from_edge(values, check_bounds=False)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(f"--kinematics: {exc}") from None
+
+
+def check_kinematics_bounds(args) -> None:
+    """UsageError (exit 2, the message argparse gives a bad option) if ``args.kinematics`` lies outside the insect's
+    kinematic bounds (``args.insect``'s; Table 2 for the default insect)."""
+    kin = getattr(args, "kinematics", None)
+    if not isinstance(kin, Kinematics):
+        return
+    insect = getattr(args, "insect", None)
+    try:
+        Kinematics.from_edge(kin.to_edge(), bounds_deg=None if insect is None else insect.bounds_deg)
+    except ValueError as exc:
+        raise UsageError(f"hawksim {args.command}: argument --kinematics: --kinematics: {exc}") from None
 
 
 def perturbation_arg(text: str) -> tuple[str, float]:

@@ -190,9 +190,11 @@ def cmd_fly(args) -> dict:
         guard = InterruptGuard().__enter__()
         progress = guard.progress(progress)
     try:
-        if control is not None:
-            return _fly_controlled(args, control, progress, guard)
-        return _fly_open_loop(args, progress, guard)
+        out = _fly_controlled(args, control, progress, guard) if control is not None else _fly_open_loop(
+            args, progress, guard)
+        if getattr(args, "insect", None) is not None:  # another insect than the default: say which
+            out["insect"] = args.insect.name
+        return out
     finally:
         if guard is not None:
             guard.__exit__(None, None, None)

@@ -157,7 +157,10 @@ def render(out: dict) -> str:
             how += ", " + "; ".join(f"gust {g['velocity']} m/s at beat {g['start']} for {g['beats']}"
                                     for g in ctl["gusts"])
     k = out["kinematics"]
-    lines = [f"hawksim fly: hawkmoth, {out['aero']} aerodynamics, {out['speed_target']:g} m/s ascent, "
+    from hawksim.insect.folder import default_insect
+
+    name = out.get("insect", default_insect().name)
+    lines = [f"hawksim fly: {name}, {out['aero']} aerodynamics, {out['speed_target']:g} m/s ascent, "
              f"{out['cycles']} wingbeats, {how}"]
     st = out.get("start") or {}
     lines.append(f"  start      {st.get('source', out.get('trim_source'))}")

@@ -250,8 +250,9 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     ``orbit_tolerance``, :class:`hawksim.backends.registry.OrbitTolerance`). ``fd_step``: the Jacobian's step
     (default: the backend's ``fd.orbit``). ``log``: called with a line per iteration. ``insect``: the insect flown
     (default :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF unless ``model`` is
-    given (then the two must describe the same insect), its P0 in :attr:`Orbit.P_plus`; the start is the default
-    insect's held-body trim unless ``kinematics`` is given.
+    given (then the two must describe the same insect), its P0 in :attr:`Orbit.P_plus`; without ``kinematics`` the
+    start is the default insect's held-body trim, or another insect's reference kinematics at ``speed``
+    (:meth:`hawksim.insect.insect.Insect.reference_kinematics`; ValueError if it has none).
 
     A per-step surrogate with history inputs (and ``warm_beats`` not given) is a delay system: its state is the
     body state and the record of its last calls (:mod:`hawksim.stability.history_floquet`). Its orbit is solved on
@@ -265,10 +266,16 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     desc = descriptor(aero)
     desc.orbits.require("a periodic orbit", aero)
     insect = default_insect() if insect is None else insect
-    guess = shipped_orbit(speed, desc.orbit_guess) if desc.orbit_guess else None  # the surrogate mimics the UVLM
+    guess = (shipped_orbit(speed, desc.orbit_guess, insect=insect)  # the surrogate mimics the UVLM
+             if desc.orbit_guess else None)
     if kinematics is None and guess is not None:
         kinematics = guess.kinematics
         x0 = guess.initial_state.as_array() if x0 is None else x0
+    if kinematics is None and insect != default_insect():  # another insect: from its own reference kinematics
+        kinematics = insect.reference_kinematics(speed)
+        if kinematics is None:
+            raise ValueError(f"insect {insect.name!r} has no reference kinematics (its spec's reference_kinematics): "
+                             "give kinematics to start the orbit from")
     base = kinematics if kinematics is not None else trim_kinematics(speed, aero)
     chi = base.chi
     delay = (desc.memory == RECORD and warm_beats is None  # the orbit of a delay system

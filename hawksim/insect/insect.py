@@ -99,6 +99,18 @@ class Insect:
         hi = np.array([_to_si(k, self.bounds_deg[k][1]) for k in PARAM_NAMES])
         return lo, hi
 
+    def reference_kinematics(self, speed: float):
+        """Its reference kinematics (:attr:`reference_deg`) at ascent ``speed`` [m/s], interpolated linearly in the
+        speed (held at the end values outside them): a :class:`hawksim.insect.kinematics.Kinematics` (SI); None if
+        the insect has none."""
+        from hawksim.insect.kinematics import Kinematics
+
+        if self.reference_deg is None:
+            return None
+        v = self.reference_deg["speed"]
+        return Kinematics.from_edge({k: float(np.interp(speed, v, self.reference_deg[k])) for k in PARAM_NAMES},
+                                    check_bounds=False)
+
     def with_morphology(self, morph: Morphology) -> Insect:
         """This insect with another morphology (same P0 and bounds; no folder: its tables and MJCF are another
         morphology's)."""

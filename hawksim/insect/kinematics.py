@@ -102,9 +102,12 @@ class Kinematics:
 
     # ---- construction and conversion at the edges ------------------------------------------------
     @classmethod
-    def from_edge(cls, values: dict[str, float], check_bounds: bool = True) -> Kinematics:
+    def from_edge(cls, values: dict[str, float], check_bounds: bool = True,
+                  bounds_deg: dict | None = None) -> Kinematics:
         """From a dict in edge units (f in Hz, angles in degrees). Unknown or missing keys raise ValueError;
-        with ``check_bounds`` a value outside Table 2 raises ValueError naming it."""
+        with ``check_bounds`` a value outside ``bounds_deg`` ({parameter: (lower, upper)}, Hz and degrees; default
+        Table 2, the hawkmoth's: an insect's own are :attr:`hawksim.insect.insect.Insect.bounds_deg`) raises
+        ValueError naming it."""
         unknown = set(values) - set(PARAM_NAMES)
         if unknown:
             raise ValueError(f"unknown kinematic parameter(s) {sorted(unknown)}; expected {list(PARAM_NAMES)}")
@@ -112,12 +115,13 @@ class Kinematics:
         if missing:
             raise ValueError(f"missing kinematic parameter(s) {missing}")
         if check_bounds:
+            box = "Table 2's" if bounds_deg is None else "the insect's bounds"
             for k in PARAM_NAMES:
-                lo, hi = TABLE2_BOUNDS_DEG[k]
+                lo, hi = (TABLE2_BOUNDS_DEG if bounds_deg is None else bounds_deg)[k]
                 v = float(values[k])
                 if not (lo <= v <= hi):
                     unit = "Hz" if k == "f" else "deg"
-                    raise ValueError(f"kinematic parameter {k}={v:g} {unit} is outside Table 2's [{lo:g}, {hi:g}]")
+                    raise ValueError(f"kinematic parameter {k}={v:g} {unit} is outside {box} [{lo:g}, {hi:g}]")
         return cls(**{k: _to_si(k, values[k]) for k in PARAM_NAMES})
 
     def to_edge(self) -> dict[str, float]:

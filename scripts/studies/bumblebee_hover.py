@@ -1,8 +1,9 @@
 """The bumblebee in hover (issue 50, item 6): minimum-power trim, free-body orbit, Floquet multipliers beside the
 averaged modes, and a controlled hover of 20 beats, with the quasi-steady and the UVLM backends.
 
-The insect is ``hawksim/insects/bumblebee/bumblebee.json`` (its README gives each number's source or rule). Stages
-(each written to --out as it finishes; a rerun skips the stages already there, so the run is resumable):
+The insect is the shipped folder ``hawksim/insects/bumblebee/`` (``insect.toml``; its README gives each number's source
+or rule). Stages (each written to --out as it finishes; a rerun skips the stages already there, so the run is
+resumable):
 
 * ``qs_search``: the minimum of Eq. 3 (:func:`hawksim.trim.search.fitness`, the insect's bounds and P0) on the
   quasi-steady backend itself (there is no bumblebee network): :func:`hawksim.trim.search.ga_nelder_mead` (a
@@ -21,7 +22,7 @@ The insect is ``hawksim/insects/bumblebee/bumblebee.json`` (its README gives eac
   :func:`hawksim.stability.floquet.monodromy` multipliers; beside them the averaged modes of
   :func:`hawksim.stability.floquet.quasi_steady_system` at the quasi-steady orbit's kinematics (exp(lambda) per beat).
 * ``qs_lqr``: 20 beats of the per-beat LQR about the quasi-steady orbit, started off it (q = 60 deg/s), the
-  flight of ``hawksim fly --speed 0 --insect hawksim/insects/bumblebee/bumblebee.json --control lqr --cycles 20
+  flight of ``hawksim fly --speed 0 --insect bumblebee --control lqr --cycles 20
   --perturb q=60`` (in process: that command's own orbit solve starts from the hawkmoth's trim, :func:`qs_lqr`).
 
     python scripts/studies/bumblebee_hover.py --out results/bumblebee_hover.json [--stages qs_trim,...] \\
@@ -40,7 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
-SPEC = Path(__file__).resolve().parents[2] / "hawksim" / "insects" / "bumblebee" / "bumblebee.json"
+SPEC = "bumblebee"
+"""The shipped insect's name (its folder hawksim/insects/bumblebee/)."""
 SEED = 0
 STAGES = ("qs_search", "qs_trim", "qs_measured_amplitude", "uvlm_trim", "qs_orbit", "qs_lqr", "uvlm_orbit",
           "uvlm_floquet")
@@ -59,9 +61,9 @@ iteration 6 on (a first run went to iteration 11 without change: steps halved to
 
 
 def _insect():
-    from hawksim.insect.insect import read_insect
+    from hawksim.insect.folder import load_insect
 
-    return read_insect(SPEC)
+    return load_insect(SPEC)
 
 
 def _res():
@@ -310,7 +312,7 @@ def qs_lqr(insect, out) -> dict:
                          aero="quasi-steady", rate="beat")
     fly = command_summary(cl, BEATS, "lqr", "quasi-steady", "beat")
     beats = fly["beats"]
-    return {"flight": f"hawksim fly --speed 0 --insect hawksim/insects/bumblebee/bumblebee.json --control lqr "
+    return {"flight": f"hawksim fly --speed 0 --insect bumblebee --control lqr "
                       f"--cycles {BEATS} --perturb q={PERTURB_Q_DEG_S:g} (in process, on the orbit of the bumblebee's "
                       "trim)",
             "departed_at_beat": fly.get("departed_at_beat"), "orbit_f_hz": orbit.kinematics.f,

@@ -1,4 +1,4 @@
-"""The bumblebee (issue 50, item 6): its spec (hawksim/insects/bumblebee/bumblebee.json) loads and follows the rules
+"""The bumblebee (issue 50, item 6): its folder (hawksim/insects/bumblebee/insect.toml) loads and follows the rules
 its README states, the stored hover trim balances on the quasi-steady backend, the stored orbit's Floquet multipliers
 are reproduced, the 20-beat controlled hover stays within bounds, and adding the bumblebee changed nothing outside its
 folder (the default insect and the hawkmoth's quasi-steady averages are as they were; the folder is self-contained).
@@ -8,6 +8,8 @@ The stored numbers are results/bumblebee_hover.json (written by the hover study 
 from __future__ import annotations
 
 import json
+import sys
+import subprocess
 import math
 import shutil
 from pathlib import Path
@@ -17,13 +19,14 @@ import pytest
 
 from hawksim.backends.held import run
 from hawksim.backends.resolution import Resolution
-from hawksim.insect.insect import DEFAULT_INSECT, Insect, read_insect
+from hawksim.insect.folder import load_insect
+from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import TABLE2_BOUNDS_DEG, Kinematics, table3_kinematics
 from hawksim.insect.morphology import HAWKMOTH, P0_W
 
 ROOT = Path(__file__).resolve().parents[2]
 FOLDER = ROOT / "hawksim" / "insects" / "bumblebee"
-SPEC = FOLDER / "bumblebee.json"
+SPEC = FOLDER / "insect.toml"
 RESULTS = ROOT / "results" / "bumblebee_hover.json"
 QS_RES = Resolution(aero="quasi-steady", steps_per_cycle=200, cycles=2)
 """The resolution of the bumblebee's (and the hawkmoth's shipped) quasi-steady trim."""
@@ -36,7 +39,7 @@ the commit before the bumblebee was added (e2e07e8)."""
 
 @pytest.fixture(scope="module")
 def bee() -> Insect:
-    return read_insect(SPEC)
+    return load_insect("bumblebee")
 
 
 @pytest.fixture(scope="module")
@@ -172,6 +175,35 @@ def test_controlled_hover_is_reproduced(bee, stored):
     np.testing.assert_allclose(got, [b["mean_vertical_speed"] for b in f["beats"]], atol=1e-9)
 
 
+def _cli(*args):
+    r = subprocess.run([sys.executable, "-m", "hawksim", *args, "--json", "--no-progress"], capture_output=True,
+                       text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout)
+
+
+def test_cli_flies_the_controlled_hover_from_the_folder_alone(stored):
+    """`hawksim fly --insect bumblebee --control lqr`: the orbit from the spec's reference kinematics (the stored
+    quasi-steady trim), its gains, the 20 beats: the stored hover's beats (flown in-process from the same trim) to
+    1e-6 m/s, and the report names the insect."""
+    out = _cli("fly", "--insect", "bumblebee", "--speed", "0", "--control", "lqr", "--cycles", "20",
+               "--perturb", "q=400")
+    assert out["insect"] == "bumblebee"
+    got = [b["mean_vertical_speed"] for b in out["beats"]]
+    np.testing.assert_allclose(got, [b["mean_vertical_speed"] for b in stored["qs_lqr"]["beats"]], atol=1e-6)
+
+
+def test_cli_kinematics_are_checked_against_the_insects_bounds():
+    """--kinematics is checked against the insect's bounds: f = 127 Hz is inside the bumblebee's [71.9, 191.8] Hz and
+    outside the hawkmoth's Table 2 [15, 40] Hz (exit 2, naming it)."""
+    kin = "f=127,beta=5,phi0=0,theta0=10,alpha0=0,phi_a=58,alpha_a=60"
+    out = _cli("aero", "--insect", "bumblebee", "--speed", "0", "--kinematics", kin, "--aero", "quasi-steady")
+    assert out["L_plus"] > 0.3
+    r = subprocess.run([sys.executable, "-m", "hawksim", "aero", "--speed", "0", "--kinematics", kin],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and "f=127 Hz is outside Table 2's [15, 40]" in r.stderr
+
+
 # ---- adding the bumblebee changed nothing outside its folder ----------------------------------------------------
 
 def test_default_insect_is_the_hawkmoth():
@@ -198,8 +230,8 @@ def test_folder_is_self_contained(bee, stored, tmp_path):
     """The folder copied elsewhere loads to the same insect and gives the same quasi-steady averages."""
     copy = tmp_path / "elsewhere" / "bumblebee"
     shutil.copytree(FOLDER, copy)
-    other = read_insect(copy / "bumblebee.json")
-    assert other == bee
+    other = load_insect(copy)
+    assert (other.morphology, other.P0, dict(other.bounds_deg)) == (bee.morphology, bee.P0, dict(bee.bounds_deg))
     kin = _kin(stored["qs_trim"]["balanced"]["kinematics"])
     a, b = (run(kin, 0.0, QS_RES, insect=i).averages for i in (bee, other))
     assert a == b
