@@ -4,8 +4,7 @@ balance's resolution give the recorded averages (hawksim 0.1's wake turned that 
 against the balance's 1.00 at 0.5 m/s: docs/uvlm.md, "Round-off sensitivity") and, where the balance converged,
 |L+ - 1|, |D+|, |M+| <= the table's tolerance."""
 
-import json
-from importlib import resources
+
 
 import numpy as np
 import pytest
@@ -14,9 +13,10 @@ from hawksim import __version__
 from hawksim.backends.held import evaluate
 from hawksim.backends.resolution import Resolution
 from hawksim.insect.kinematics import Kinematics
+from hawksim.trim.registry import shipped_table
 from regeneration import WAITS_FOR_REGENERATION
 
-TABLE = json.loads(resources.files("hawksim").joinpath("data/trim_table.json").read_text())
+TABLE = shipped_table("trim_table.json")
 REPRODUCE_TOL = 1e-6
 """Largest change of a cycle average (L+, D+, M+, P+) between the table and a re-run of its stored kinematics. The
 stored kinematics are rounded to ~1e-10, which the current wake turns into ~1e-8 at hover (test_wake_conditioning);
