@@ -13,10 +13,8 @@ import numpy as np
 
 import hawksim
 
-orbit = hawksim.shipped_orbit(1.0, "quasi-steady")
-trim = hawksim.Trim(1.0, orbit.kinematics, model="quasi-steady", source="shipped periodic orbit")
-backend = hawksim.flight_backend("quasi-steady", kinematics=orbit.kinematics)
-result = hawksim.fly(trim, backend, 5, start_state=(orbit.launch_state.as_array(), orbit.chi_ref))
+orbit = hawksim.find_operating_point(1.0, aero="quasi-steady")  # the shipped free-body orbit
+result = hawksim.fly(orbit, cycles=5)  # open loop from its launch state (the one flight loop)
 result.save("flight.npz")
 
 with np.load("flight.npz", allow_pickle=False) as z:  # numpy alone: no hawksim, no pickle
