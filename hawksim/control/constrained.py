@@ -156,8 +156,8 @@ one-beat map in the per-wing channels, normalized as the per-beat model: A (11, 
 
 def _wing_model(orbit: Orbit, A, B0, B1, delta: float, wall: float, records: int = 0) -> LinearModel:
     return LinearModel(point=orbit, map="wings", states=XI_NAMES + record_names(records), inputs=WING_INPUTS, A=A,
-                       B0=B0, B1=B1, scale=xi_scale(orbit.kinematics), dt=orbit.kinematics.period, delta=delta,
-                       wall_time_s=wall, records=records)
+                       B0=B0, B1=B1, scale=xi_scale(orbit.kinematics, orbit.insect.morphology),
+                       dt=orbit.kinematics.period, delta=delta, wall_time_s=wall, records=records)
 
 
 def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float | None = None,
@@ -177,7 +177,7 @@ def linearize_wings(orbit: Orbit, *, A: np.ndarray | None = None, delta: float |
     model = model if model is not None else load_model(morph=orbit.insect.morphology)
     if delta is None:
         delta = descriptor(orbit.aero).fd.control
-    sc = xi_scale(orbit.kinematics)
+    sc = xi_scale(orbit.kinematics, orbit.insect.morphology)
     if orbit.record is not None:
         snap = Snapshot(orbit, model)
         x0 = orbit.initial_state.as_array()
@@ -337,7 +337,7 @@ class ConstrainedSchedule(Schedule):
         out, active = np.zeros(len(WING_INPUTS)), False
         rec_dev = None if record is None or not self.feeds_record else record - self.reference_record(v, phase)
         for w, pt in self.weights(v):
-            sc = xi_scale(pt.orbit.kinematics)
+            sc = xi_scale(pt.orbit.kinematics, pt.orbit.insect.morphology)
             parts = [xi / sc] if rec_dev is None else [xi / sc, (rec_dev / record_scale(pt.orbit.kinematics)).ravel()]
             z = np.concatenate(parts + past_v)
             vk, a = self.constrained[pt.speed].command(z, lb, ub)

@@ -35,6 +35,7 @@ from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSi
                                    wing_kinematics)
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, read_body_state, scales, set_body_state
 from hawksim.frames import STABILITY_TO_WORLD
+from hawksim.insect.morphology import Morphology
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
 from hawksim.stability.history_floquet import RECORD_LAT, RECORD_LONG
@@ -62,9 +63,10 @@ SURROGATE_FD_DELTA = SURROGATE.fd.control
 chose it)."""
 
 
-def xi_scale(kin: Kinematics) -> np.ndarray:
-    """(11,) SI per normalized unit of :data:`XI_NAMES`: U, 1/T, 1 (angles), U T (positions)."""
-    U, T = scales(kin)
+def xi_scale(kin: Kinematics, morph: Morphology | None = None) -> np.ndarray:
+    """(11,) SI per normalized unit of :data:`XI_NAMES`: U, 1/T, 1 (angles), U T (positions) (U the reference speed
+    with the wing of ``morph``, the insect's: :func:`hawksim.flight.orbit.scales`)."""
+    U, T = scales(kin, morph)
     return np.array([U, U, U, 1 / T, 1 / T, 1 / T, 1.0, 1.0, 1.0, U * T, U * T])
 
 
@@ -331,7 +333,7 @@ def linearize(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
         delta = desc.fd.control
     model = model if model is not None else load_model(morph=orbit.insect.morphology)
     kin = orbit.kinematics
-    sc = xi_scale(kin)
+    sc = xi_scale(kin, orbit.insect.morphology)
     if orbit.has_memory:
         snap = Snapshot(orbit, model, clip=clip)
         x0 = orbit.initial_state.as_array()

@@ -150,7 +150,7 @@ def _from_arrays(orbit: Orbit, z: dict, delta: float, wall: float) -> HalfStroke
 
 
 def _linearize_half_stroke(orbit: Orbit, delta: float, model, t0: float) -> HalfStrokeModel:
-    sc = xi_scale(orbit.kinematics)
+    sc = xi_scale(orbit.kinematics, orbit.insect.morphology)
     zero = np.zeros(len(INPUTS))
     snaps, recs = (None, None), None
     if orbit.has_memory:  # the surrogate with history inputs: branch from the orbit's flight and its record

@@ -393,7 +393,7 @@ class Schedule:
                 raise ValueError("these gains feed the history network's record back: pass the sensed record")
             rec_dev = record - self.reference_record(v, phase)
         for w, pt in self.weights(v):
-            dxi = xi / xi_scale(pt.orbit.kinematics)
+            dxi = xi / xi_scale(pt.orbit.kinematics, pt.orbit.insect.morphology)
             for g in pt.gains(phase):
                 parts = [dxi[list(g.states)]]
                 if g.record:

@@ -45,6 +45,7 @@ from hawksim.backends.registry import descriptor, descriptor_of
 from hawksim.insect.folder import default_insect
 from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import Kinematics, reference_speed
+from hawksim.insect.morphology import Morphology
 from hawksim.insect.model import load_model
 from hawksim.backends import flight_backend
 from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE
@@ -163,10 +164,11 @@ Orbit = OperatingPoint
 one with ``body="free"``)."""
 
 
-def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics) -> bool:
+def orbit_within_uvlm_tolerance(r: np.ndarray, kin: Kinematics, morph: Morphology | None = None) -> bool:
     """Whether a normalized 6-residual (u, w, q, theta periodicity; mean horizontal and vertical velocity) meets
-    the UVLM's orbit tolerance (:data:`UVLM_TOL_VELOCITY` and :data:`UVLM_TOL_RATE` in SI)."""
-    return descriptor("uvlm").orbit_tolerance.met(r, *scales(kin))
+    the UVLM's orbit tolerance (:data:`UVLM_TOL_VELOCITY` and :data:`UVLM_TOL_RATE` in SI); ``morph``: the insect's
+    morphology of :func:`scales`."""
+    return descriptor("uvlm").orbit_tolerance.met(r, *scales(kin, morph))
 
 
 def shipped_orbit(speed: float, aero: str, *, insect: Insect | None = None,
@@ -188,25 +190,29 @@ def orbit_table(orbits: list[Orbit], command: str) -> dict:
             "steps_per_cycle": STEPS_PER_CYCLE, "rows": [o.to_json() for o in orbits]}
 
 
-def scales(kin: Kinematics) -> tuple[float, float]:
-    """(U [m/s], T [s]): the reference speed of Eq. 8 (:func:`hawksim.insect.kinematics.reference_speed`) and the
-    wingbeat period, the units of the normalized states."""
-    return reference_speed(kin), kin.period
+def scales(kin: Kinematics, morph: Morphology | None = None) -> tuple[float, float]:
+    """(U [m/s], T [s]): the reference speed of Eq. 8 (:func:`hawksim.insect.kinematics.reference_speed`, with the
+    wing of ``morph``, the flying insect's morphology: default :func:`hawksim.insect.folder.default_insect`'s) and
+    the wingbeat period, the units of the normalized states."""
+    return reference_speed(kin, default_insect().morphology if morph is None else morph), kin.period
 
 
-def orbit_residual(kin: Kinematics, speed: float, b: Beats, warm: int) -> np.ndarray:
-    """Normalized 6-residual of a flight whose beat ``warm`` (0-based) is the candidate periodic beat."""
-    U, T = scales(kin)
+def orbit_residual(kin: Kinematics, speed: float, b: Beats, warm: int, morph: Morphology | None = None) -> np.ndarray:
+    """Normalized 6-residual of a flight whose beat ``warm`` (0-based) is the candidate periodic beat (``morph``: the
+    insect's morphology of :func:`scales`)."""
+    U, T = scales(kin, morph)
     xa, xb = b.states[warm], b.states[warm + 1]
     dx = xb - xa
     mv = b.mean_velocity[warm]
     return np.array([dx[0] / U, dx[2] / U, dx[4] * T, dx[7], mv[0] / U, (mv[2] - speed) / U])
 
 
-def unpack_unknowns(z: np.ndarray, base: Kinematics, f_ref: float) -> tuple[Kinematics, np.ndarray]:
-    """Normalized unknowns z = (u/U, w/U, q T, theta, f/f_ref, phi0) -> (kinematics, launch state (9,))."""
+def unpack_unknowns(z: np.ndarray, base: Kinematics, f_ref: float,
+                    morph: Morphology | None = None) -> tuple[Kinematics, np.ndarray]:
+    """Normalized unknowns z = (u/U, w/U, q T, theta, f/f_ref, phi0) -> (kinematics, launch state (9,)) (``morph``:
+    the insect's morphology of :func:`scales`)."""
     kin = replace(base, f=float(z[4] * f_ref), phi0=float(z[5]))
-    U, T = scales(kin)
+    U, T = scales(kin, morph)
     x = np.zeros(9)
     x[0], x[2], x[4], x[7] = z[0] * U, z[1] * U, z[2] / T, z[3]
     return kin, x
@@ -252,7 +258,8 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     (default :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF unless ``model`` is
     given (then the two must describe the same insect), its P0 in :attr:`Orbit.P_plus`; without ``kinematics`` the
     start is the default insect's held-body trim, or another insect's reference kinematics at ``speed``
-    (:meth:`hawksim.insect.insect.Insect.reference_kinematics`; ValueError if it has none).
+    (:meth:`hawksim.insect.insect.Insect.reference_kinematics`; the default insect's trim if it has none: a variant
+    of the default insect given by the fields that differ).
 
     A per-step surrogate with history inputs (and ``warm_beats`` not given) is a delay system: its state is the
     body state and the record of its last calls (:mod:`hawksim.stability.history_floquet`). Its orbit is solved on
@@ -272,10 +279,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         kinematics = guess.kinematics
         x0 = guess.initial_state.as_array() if x0 is None else x0
     if kinematics is None and insect != default_insect():  # another insect: from its own reference kinematics
-        kinematics = insect.reference_kinematics(speed)
-        if kinematics is None:
-            raise ValueError(f"insect {insect.name!r} has no reference kinematics (its spec's reference_kinematics): "
-                             "give kinematics to start the orbit from")
+        kinematics = insect.reference_kinematics(speed)  # (None: the default insect's trim, as for a variant of it)
     base = kinematics if kinematics is not None else trim_kinematics(speed, aero)
     chi = base.chi
     delay = (desc.memory == RECORD and warm_beats is None  # the orbit of a delay system
@@ -288,20 +292,21 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     f_ref = base.f
     if x0 is None:
         x0 = initial_guess(base, speed, fl, 0)
-    U, T = scales(base)
+    morph = insect.morphology  # the velocity unit is this insect's wing speed
+    U, T = scales(base, morph)
     z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
     rec = None  # the record the flights start with (a delay orbit's; None: no record)
 
     def F(zz):
-        kin, x = unpack_unknowns(zz, base, f_ref)
+        kin, x = unpack_unknowns(zz, base, f_ref, morph)
         b = fl.fly(kin, x, warm + 1, chi, record=rec)
-        return orbit_residual(kin, speed, b, warm), b
+        return orbit_residual(kin, speed, b, warm, morph), b
 
     def met(rr, zz) -> bool:
         if tol is not None:
             return float(np.abs(rr).max()) <= tol
-        kin_, _ = unpack_unknowns(zz, base, f_ref)
-        return desc.orbit_tolerance.met(rr, *scales(kin_))
+        kin_, _ = unpack_unknowns(zz, base, f_ref, morph)
+        return desc.orbit_tolerance.met(rr, *scales(kin_, morph))
 
     hist: list[float] = []
 
@@ -351,12 +356,12 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
             z, r, b, it = newton(z, it)
         if log is not None:
             log(f"record: max change over the periodic beat {change:.2e}")
-    kin, x_launch = unpack_unknowns(z, base, f_ref)
+    kin, x_launch = unpack_unknowns(z, base, f_ref, morph)
     floor = 0.0
     if warm > 0:
         bf = fl.fly(kin, x_launch, warm + 2, chi)
         rf = orbit_residual(kin, speed, Beats(bf.states[1:], bf.mean_velocity[1:], bf.mean_pitch[1:], bf.P_plus[1:],
-                                         0.0), warm)
+                                         0.0), warm, morph)
         floor = float(np.abs(rf[:4]).max())
     extra = {}
     if rec is not None:

@@ -32,6 +32,7 @@ import numpy as np
 from hawksim.backends.held import held_flight
 from hawksim.insect.folder import default_insect
 from hawksim.insect.insect import Insect
+from hawksim.insect.morphology import Morphology
 from hawksim.insect.kinematics import Kinematics
 from hawksim.backends.builtin import QUASI_STEADY
 from hawksim.backends.registry import descriptor
@@ -116,9 +117,10 @@ class Floquet:
         return float(max(m)) if m else float("nan")
 
 
-def state_scale(kin: Kinematics) -> np.ndarray:
-    """(8,) SI per normalized unit of the Floquet states: U for velocities, 1/T for rates, 1 for angles."""
-    U, T = scales(kin)
+def state_scale(kin: Kinematics, morph: Morphology | None = None) -> np.ndarray:
+    """(8,) SI per normalized unit of the Floquet states: U for velocities, 1/T for rates, 1 for angles (U the
+    reference speed with the wing of ``morph``, the insect's: :func:`hawksim.flight.orbit.scales`)."""
+    U, T = scales(kin, morph)
     return np.array([U, U, U, 1 / T, 1 / T, 1 / T, 1.0, 1.0])
 
 
@@ -147,8 +149,8 @@ def monodromy(orbit: Orbit, *, delta: float | None = None, model: mujoco.MjModel
         delta = descriptor(orbit.aero).fd.monodromy
     M, A = _monodromy_matrix(orbit, delta, model, lateral)
     lin = LinearModel(point=orbit, map="monodromy", states=FLOQUET_NAMES, inputs=(), A=M,
-                      scale=state_scale(orbit.kinematics), dt=orbit.kinematics.period, delta=delta,
-                      wall_time_s=time.perf_counter() - t0, launch=A if orbit.warm_beats else None)
+                      scale=state_scale(orbit.kinematics, orbit.insect.morphology), dt=orbit.kinematics.period,
+                      delta=delta, wall_time_s=time.perf_counter() - t0, launch=A if orbit.warm_beats else None)
     fl = floquet_analysis(lin)
     return fl if lateral or not orbit.warm_beats else replace(fl, reach_lat=(1.0,) * 4)
 
@@ -178,7 +180,7 @@ def _monodromy_matrix(orbit: Orbit, delta: float, model, lateral: bool) -> np.nd
     """(M, A): the (8, 8) normalized monodromy at central-difference step ``delta`` (see :func:`monodromy`) and
     the launch Jacobian A = d x(w) / d x0 (identity without warm-up beats)."""
     kin = orbit.kinematics
-    sc = state_scale(kin)
+    sc = state_scale(kin, orbit.insect.morphology)
     x0 = orbit.launch_state.as_array()
     w = orbit.warm_beats
     fl = {s: OrbitFlight(orbit.aero, symmetric=s, model=model, insect=orbit.insect) for s in (True, False)}

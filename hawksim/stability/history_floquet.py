@@ -137,7 +137,7 @@ def history_monodromy(orbit: Orbit, *, delta: float = SURROGATE_FD_STEP, model: 
     t_start = time.perf_counter()
     dm = _DelayMap(orbit, model, network)
     x0, r0, r_warm = dm.start()
-    U_T = state_scale(orbit.kinematics)
+    U_T = state_scale(orbit.kinematics, orbit.insect.morphology)
     rec_scale = record_scale(orbit.kinematics)
     n = dm.records
 

@@ -161,7 +161,7 @@ def extended_monodromy(orbit, *, delta: float | None = None, model=None) -> tupl
         raise ValueError("extended_monodromy: orbits without warm-up beats only (quasi-steady)")
     h = FD_DELTA if delta is None else delta
     kin = orbit.kinematics
-    sc = state_scale(kin)
+    sc = state_scale(kin, orbit.insect.morphology)
     x0 = orbit.launch_state.as_array()
     fl = {s: OrbitFlight(orbit.aero, symmetric=s, model=model) for s in (True, False)}
     M, J = np.zeros((8, 8)), np.zeros((4, 8))
@@ -244,7 +244,8 @@ def predict_flight(perturbed: FlightResult, perturb: dict[str, float], orbit, *,
     M, J = extended_monodromy(orbit, model=model)
     av = quasi_steady_system(kin, orbit.speed)
     mu = float(np.abs(np.linalg.eigvals(M)).max())
-    return make_prediction(perturbed, ref, perturb, M, J, av.A_long, av.A_lat, state_scale(kin), orbit.chi_ref,
+    return make_prediction(perturbed, ref, perturb, M, J, av.A_long, av.A_lat,
+                           state_scale(kin, orbit.insect.morphology), orbit.chi_ref,
                            orbit.speed, notes=(f"Floquet: monodromy of the {orbit.aero} orbit at {orbit.speed:g} m/s "
                                                f"(largest |mu| {mu:.3f}); averaged: quasi-steady A at the orbit's "
                                                "kinematics (chart-mapped)"))

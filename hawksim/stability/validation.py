@@ -109,7 +109,7 @@ class Flight:
 
 
 def _fly_dev(orbit: Orbit, ref: np.ndarray, d8: np.ndarray, beats: int, symmetric: bool | None) -> Flight:
-    sc = state_scale(orbit.kinematics)
+    sc = state_scale(orbit.kinematics, orbit.insect.morphology)
     dx = np.zeros(9)
     dx[:8] = d8 * sc
     b = fly_orbit(orbit, beats, perturbation=dx, symmetric=symmetric)
@@ -175,7 +175,7 @@ def chart_map(system: str, V_over_U: float) -> np.ndarray:
 
 def drift(ref_states: np.ndarray, orbit: Orbit) -> np.ndarray:
     """(beats + 1,) max-norm normalized distance of a flight's phase-0 states from the orbit's."""
-    sc = state_scale(orbit.kinematics)
+    sc = state_scale(orbit.kinematics, orbit.insect.morphology)
     return np.abs(ref_states[:, :8] / sc - orbit.initial_state.as_array()[:8] / sc).max(axis=1)
 
 
@@ -190,7 +190,7 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
 
     uvlm = orbit.aero == "uvlm"
     beats = beats if beats is not None else (UVLM_BEATS if uvlm else BEATS)
-    sc = state_scale(orbit.kinematics)
+    sc = state_scale(orbit.kinematics, orbit.insect.morphology)
     t0 = time.perf_counter()
     refs = {}
     for sym in ((True, False) if uvlm else (None,)):

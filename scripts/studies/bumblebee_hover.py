@@ -55,9 +55,9 @@ MEASURED_PHI_A_DEG, MEASURED_F_HZ = 58.0, 155.0
 frequency as ../shared/sources/insect-morphology.md quotes it; the amplitude as recalled from that paper, not read in
 the sources file: a comparison point, not an input)."""
 UVLM_MAX_ITER = 8
-"""Newton iterations of the UVLM orbit (each ~7 UVLM flights of 3 beats). The bumblebee's stalls at 4.08e-4 from
-iteration 6 on (a first run went to iteration 11 without change: steps halved to 5e-4), below its wake's floor
-(1.0e-3), as the hawkmoth's hover orbit stalls at its floor (docs/free_flight.md)."""
+"""Newton iterations of the UVLM orbit (each ~7 UVLM flights of 3 beats). The bumblebee's stalls at 8.2e-4 from
+iteration 7 on (steps halved to 5e-4), below its wake's floor (3.3e-3), as the hawkmoth's hover orbit stalls at its
+floor (docs/free_flight.md)."""
 
 
 def _insect():
@@ -278,7 +278,7 @@ def uvlm_floquet(insect, out) -> dict:
     o = out["uvlm_orbit"]["orbit"]
     orbit = periodic_orbit(0.0, "uvlm", kinematics=Kinematics.from_edge(o["kinematics"], check_bounds=False),
                            x0=np.array(o["launch_state"]), insect=insect, max_iter=0)
-    U, T = scales(orbit.kinematics)
+    U, T = scales(orbit.kinematics, insect.morphology)
     r = np.abs(orbit.residuals)
     tol = descriptor("uvlm").orbit_tolerance
     res = {"residual": orbit.residual, "floor": orbit.floor, "converged": orbit.converged,
@@ -293,10 +293,9 @@ def uvlm_floquet(insect, out) -> dict:
 
 def qs_lqr(insect, out) -> dict:
     """20 beats of the per-beat LQR (`hawksim fly --control lqr`'s flight, in process) about the bumblebee's own
-    quasi-steady orbit. The schedule's own orbit solve starts from the default insect's held-body trim
-    (hawksim/flight/orbit.py, ``trim_kinematics``: the hawkmoth's 23.7 Hz), from which Newton does not reach the
-    bumblebee's orbit; so the orbit is solved from the bumblebee's trim (as in ``qs_orbit``) and handed to the
-    schedule by :func:`hawksim.control.schedule.operating_point_override`."""
+    quasi-steady orbit, solved from the bumblebee's trim (as in ``qs_orbit``) and handed to the schedule by
+    :func:`hawksim.control.schedule.operating_point_override` (`hawksim fly --insect bumblebee --control lqr` solves
+    the same orbit from the spec's reference kinematics, that trim: tests/hawksim/test_bumblebee.py)."""
     from hawksim.control.command import command_summary, fly_command
     from hawksim.control.derivatives import linearize
     from hawksim.control.schedule import operating_point_override
