@@ -6,7 +6,6 @@ issue's targets (CI: 1 m/s; every speed and the ascent profile are `slow`)."""
 import numpy as np
 import pytest
 
-from hawksim.trim.registry import shipped_table
 from hawksim.control.closed_loop import Gust, body_length, fly_closed_loop
 from hawksim.control.schedule import SCHEDULE_SPEEDS, Schedule, schedule_point
 from hawksim.control.derivatives import LAT_X, LONG_X, one_beat
@@ -16,6 +15,8 @@ from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend, set_body_s
 from hawksim.flight.simulator import Simulator
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
+from hawksim.trim.registry import shipped_table
+from regeneration import WAITS_FOR_REGENERATION
 
 L = body_length()
 
@@ -256,7 +257,8 @@ def test_cli_uvlm_under_control_json(capsys):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("speed", [1.0, 1.5, 2.0])
+@pytest.mark.parametrize("speed", [pytest.param(1.0, marks=WAITS_FOR_REGENERATION),
+                                   pytest.param(1.5, marks=WAITS_FOR_REGENERATION), 2.0])
 def test_uvlm_in_the_loop_20_beats(speed):
     """The shipped UVLM orbit, its shipped derivatives and LQR, 20 controlled wingbeats within the bounds
     (~25 s per speed on a quiet machine)."""

@@ -12,6 +12,7 @@ import pytest
 from hawksim.flight.orbit import periodic_orbit
 from hawksim.stability.floquet import monodromy
 from hawksim.stability.validation import chart_map, fit_rate, validate_speed
+from regeneration import WAITS_FOR_REGENERATION
 
 TARGET = 0.05
 """Relative error |lambda_nl - lambda_floquet| / |lambda_floquet| of issue 19 (item 4)."""
@@ -63,6 +64,7 @@ monodromy at step 1e-3 gave 0.2286+0.0987i)."""
 
 
 @pytest.mark.slow
+@WAITS_FOR_REGENERATION
 def test_uvlm_floquet_flags_the_wake_mode_and_keeps_the_flight_mode():
     """UVLM, 2 m/s: the lateral block has a real exponent 1.56 (|mu| 4.8) that no perturbed flight shows
     (docs/free_flight.md) beside the oscillation the flights confirm; its reach (3e-4) flags the first unresolved
