@@ -98,6 +98,11 @@ STABILITY_TO_WORLD = np.diag([1.0, -1.0, -1.0])
 rotation by 180 deg about x, so it maps vectors and pseudovectors alike (its own inverse)."""
 
 
+def stability_position(pos_world: np.ndarray) -> np.ndarray:
+    """(X forward, Y right) [m] of a world position (stability axes at heading 0)."""
+    return (STABILITY_TO_WORLD @ np.asarray(pos_world, float))[:2]
+
+
 def pitch_of(R) -> np.ndarray:
     """Pitch [rad] of body frames R (..., 3, 3) (body -> world): elevation of the body x axis above the horizontal,
     nose up positive, in [-pi/2, pi/2]."""

@@ -34,7 +34,7 @@ from hawksim.backends.registry import descriptor
 from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
                                    wing_kinematics)
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, read_body_state, scales, set_body_state
-from hawksim.frames import STABILITY_TO_WORLD
+from hawksim.frames import stability_position
 from hawksim.insect.morphology import Morphology
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
@@ -78,11 +78,6 @@ def normalized_xi(sc: np.ndarray):
         return np.concatenate([x, disp]) / sc
 
     return xi
-
-
-def stability_position(pos_world: np.ndarray) -> np.ndarray:
-    """(X forward, Y right) [m] of a world position (stability axes at heading 0)."""
-    return (STABILITY_TO_WORLD @ np.asarray(pos_world, float))[:2]
 
 
 def set_phase0(sim: ControlledSimulator, x: np.ndarray, chi_ref: float) -> None:

@@ -34,7 +34,8 @@ import numpy as np
 from hawksim.backends.record import record_scale
 from hawksim.backends.registry import descriptor
 from hawksim.control.derivatives import (LAT_X, LONG_X, XI_NAMES, Snapshot, central_jacobians, normalized_xi,
-                                         record_jacobians, stability_position, xi_scale)
+                                         record_jacobians, xi_scale)
+from hawksim.frames import stability_position
 from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
                                    wing_kinematics)
 from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state

@@ -35,7 +35,8 @@ from hawksim.flight.body_state import read_body_state
 from hawksim.flight.plant import saturate
 from hawksim.flight.power import P_plus
 from hawksim.flight.result import FlightResult
-from hawksim.frames import STABILITY_TO_WORLD, attitude_of, cross, pitch_of, quat_from_matrices
+from hawksim.frames import (STABILITY_TO_WORLD, attitude_of, cross, pitch_of, quat_from_matrices,
+                            stability_position)
 from hawksim.insect.folder import default_insect
 from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
@@ -60,11 +61,6 @@ class Gust:
 
     def at(self, beat: int) -> np.ndarray:
         return np.asarray(self.velocity, float) if self.start <= beat < self.start + self.beats else np.zeros(3)
-
-
-def stability_position(pos_world: np.ndarray) -> np.ndarray:
-    """(X forward, Y right) [m] of a world position (stability axes at heading 0)."""
-    return (STABILITY_TO_WORLD @ np.asarray(pos_world, float))[:2]
 
 
 @dataclass(frozen=True)
