@@ -1,0 +1,137 @@
+"""A periodic UVLM orbit at hover: the free wake free only while young (issue 49, item 4).
+
+At hover the free wake stays under the wings and is met again by them: a 1e-5 change of the flight grows ~300-fold
+within three beats (docs/free_flight.md, "Why 4 beats"), so the one-beat map the orbit solver differentiates is not
+smooth and Newton stalls at the map's irregularity. Here the wake is free only while younger than ``--free-beats``
+wingbeats (``aero.uvlm.UVLMConfig.free_wake_age``); older corners move with the air plus a uniform downwash, momentum
+theory's for an actuator disk of the stroke's swept area (:func:`momentum_downwash`; a model choice for the
+far wake's mean motion, not a measurement). Sections (prints ONE JSON object):
+
+* ``smoothness``: the finite-difference derivative of the orbit residual with respect to the relative frequency at
+  steps 1e-5 .. 1e-2 (scripts/studies/uvlm_orbit_floor.py's measure) at the shipped hover iterate, for each
+  ``--free-beats`` value; a smooth map gives the same derivative at the small steps.
+* ``averages``: the held-body cycle averages (`hawksim aero`'s evaluation, the reference lattice) with the whole
+  wake free and with the prescribed far wake, at ``--speeds``: what the definition costs in fidelity.
+* ``orbit``: Newton shooting (:func:`hawksim.flight.orbit.periodic_orbit`) at ``--orbit-speed`` with the prescribed
+  far wake at the first ``--free-beats`` value; its residual, floor and iterations.
+
+    python -m scripts.studies.hover_far_wake --sections smoothness --free-beats 0.5 1 --out results/hover_far_wake.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import dataclasses
+import datetime
+import math
+import os
+import shlex
+import sys
+import time
+
+
+import hawksim.flight.orbit as orbit_mod
+from hawksim.insect.folder import default_insect
+from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.morphology import RHO_AIR
+from hawksim.jsonout import emit
+
+
+def momentum_downwash(speed: float, kin: Kinematics, insect=None) -> float:
+    """Momentum theory's induced velocity at an actuator disk [m/s] carrying the insect's weight in a climb at
+    ``speed`` [m/s]: w = -V/2 + sqrt(V^2/4 + W / (2 rho A)), A = 2 phi_a R^2 the area the two wings sweep (two
+    sectors of angle 2 phi_a and radius R). A model of the far wake's mean motion (Ellington 1984's actuator-disk
+    estimate for hovering insects), not a measurement."""
+    m = (insect or default_insect()).morphology
+    area = 2.0 * kin.phi_a * m.R**2
+    return -speed / 2.0 + math.sqrt(speed**2 / 4.0 + m.weight / (2.0 * RHO_AIR * area))
+
+
+@contextlib.contextmanager
+def prescribed_far_wake(free_beats: float | None, speed: float):
+    """Within the block, every orbit backend (:func:`hawksim.flight.orbit.make_orbit_backend`) keeps its wake free
+    for ``free_beats`` wingbeats of its kinematics and lets older corners drift down at the momentum downwash
+    (None: unchanged)."""
+    if free_beats is None:
+        yield
+        return
+    make = orbit_mod.make_orbit_backend
+
+    def patched(aero, *, kinematics=None, **kw):
+        backend, every = make(aero, kinematics=kinematics, **kw)
+        kin = kinematics
+        w = momentum_downwash(speed, kin)
+        backend.config = dataclasses.replace(backend.config, free_wake_age=free_beats / kin.f,
+                                             far_wake_drift=(0.0, 0.0, -w))
+        return backend, every
+
+    orbit_mod.make_orbit_backend = patched
+    try:
+        yield
+    finally:
+        orbit_mod.make_orbit_backend = make
+
+
+def smoothness(speed: float, free_beats: float | None) -> dict:
+    """uvlm_orbit_floor.py's smoothness measure with the prescribed far wake."""
+    from scripts.studies.uvlm_orbit_floor import smoothness as measure
+
+    t0 = time.perf_counter()
+    with prescribed_far_wake(free_beats, speed):
+        out = measure(speed)
+    d = {k: v[0] for k, v in out["d_residual_d_f_rel_by_step"].items()}  # the u-periodicity row
+    return {"free_beats": free_beats, **out, "d_u_periodicity_by_step": d, "wall_time_s": time.perf_counter() - t0}
+
+
+def averages(speed: float, free_beats: float | None) -> dict:
+    """The held-body cycle averages at the shipped UVLM trim of ``speed`` at the reference lattice."""
+    from hawksim.backends import backend_for
+    from hawksim.backends.held import held_flight
+    from hawksim.backends.resolution import REFERENCE
+    from hawksim.trim.tables import trim_kinematics
+
+    kin = trim_kinematics(speed, "uvlm")
+    backend = backend_for(REFERENCE)
+    if free_beats is not None:
+        backend.config = dataclasses.replace(backend.config, free_wake_age=free_beats / kin.f,
+                                             far_wake_drift=(0.0, 0.0, -momentum_downwash(speed, kin)))
+    r = held_flight(kin, speed, backend, cycles=REFERENCE.cycles, steps_per_cycle=REFERENCE.steps_per_cycle)
+    return {"speed": speed, "free_beats": free_beats, **r.averages.to_dict()}
+
+
+def solve(speed: float, free_beats: float) -> dict:
+    t0 = time.perf_counter()
+    with prescribed_far_wake(free_beats, speed):
+        o = orbit_mod.periodic_orbit(speed, "uvlm", log=lambda *a: print(*a, file=sys.stderr))
+    return {"speed": speed, "free_beats": free_beats, "converged": o.converged, "residual": o.residual,
+            "floor": o.floor, "iterations": o.iterations, "kinematics": o.kinematics.to_edge(),
+            "launch_state": o.launch_state.as_array().tolist(), "wall_time_s": time.perf_counter() - t0}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--sections", nargs="+", default=["smoothness"], choices=["smoothness", "averages", "orbit"])
+    ap.add_argument("--free-beats", type=float, nargs="+", default=[0.5, 1.0])
+    ap.add_argument("--speed", type=float, default=0.0, help="speed of the smoothness section [m/s]")
+    ap.add_argument("--speeds", type=float, nargs="+", default=[0.0, 1.0, 2.0])
+    ap.add_argument("--orbit-speed", type=float, default=0.0)
+    ap.add_argument("--out")
+    a = ap.parse_args(argv)
+    out = {"command": shlex.join(["python", "-m", "scripts.studies.hover_far_wake", *(argv or sys.argv[1:])]),
+           "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+           "loadavg": list(os.getloadavg())}
+    if "smoothness" in a.sections:
+        out["smoothness"] = [smoothness(a.speed, fb) for fb in [None, *a.free_beats]]
+    if "averages" in a.sections:
+        out["averages"] = [averages(v, fb) for v in a.speeds for fb in [None, *a.free_beats]]
+    if "orbit" in a.sections:
+        out["orbit"] = solve(a.orbit_speed, a.free_beats[0])
+    out["momentum_downwash"] = {f"{v:g}": momentum_downwash(v, __import__("hawksim.trim.tables", fromlist=["x"])
+                                                            .trim_kinematics(v, "uvlm")) for v in a.speeds}
+    emit(out, a.out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
