@@ -10,8 +10,12 @@ far wake's mean motion, not a measurement). Sections (prints ONE JSON object):
 * ``smoothness``: the finite-difference derivative of the orbit residual with respect to the relative frequency at
   steps 1e-5 .. 1e-2 (scripts/studies/uvlm_orbit_floor.py's measure) at the shipped hover iterate, for each
   ``--free-beats`` value; a smooth map gives the same derivative at the small steps.
+* ``scan``: the orbit residual at ``--scan-steps`` relative frequency changes in [-2e-3, 2e-3] about the same
+  iterate, and its RMS scatter about a straight line (a smooth map: small against the change along the line).
 * ``averages``: the held-body cycle averages (`hawksim aero`'s evaluation, the reference lattice) with the whole
   wake free and with the prescribed far wake, at ``--speeds``: what the definition costs in fidelity.
+* ``validate`` (with or without ``orbit``): the orbit below, then its Floquet multipliers against perturbed
+  nonlinear flights (every flight with the same far wake) and the averaged model, as for 1-2 m/s.
 * ``orbit``: Newton shooting (:func:`hawksim.flight.orbit.periodic_orbit`) at ``--orbit-speed`` with the prescribed
   far wake at the first ``--free-beats`` value; its residual, floor and iterations.
 
@@ -29,6 +33,8 @@ import os
 import shlex
 import sys
 import time
+
+import numpy as np
 
 
 import hawksim.flight.orbit as orbit_mod
@@ -84,6 +90,33 @@ def smoothness(speed: float, free_beats: float | None) -> dict:
     return {"free_beats": free_beats, **out, "d_u_periodicity_by_step": d, "wall_time_s": time.perf_counter() - t0}
 
 
+def scan(speed: float, free_beats: float | None, steps) -> dict:
+    """The orbit residual at relative frequency changes ``steps`` about the shipped hover iterate (the orbit
+    solver's unknowns otherwise fixed): a smooth map gives a smooth curve; an irregular one scatters."""
+    from hawksim.flight.orbit import OrbitFlight, orbit_residual, scales, shipped_orbit, unpack_unknowns
+
+    orb = shipped_orbit(speed, "uvlm")
+    fl = OrbitFlight("uvlm", symmetric=True)
+    base, w, x0 = orb.kinematics, orb.warm_beats, orb.launch_state.as_array()
+    U, T = scales(base)
+    z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
+    rows = []
+    t0 = time.perf_counter()
+    with prescribed_far_wake(free_beats, speed):
+        for s in steps:
+            zz = z.copy()
+            zz[4] += s
+            kin, x = unpack_unknowns(zz, base, base.f)
+            rows.append(orbit_residual(kin, speed, fl.fly(kin, x, w + 1, base.chi), w).tolist())
+    r = np.asarray(rows)
+    # scatter about the best straight line through the scan, per residual component (normalized units)
+    A = np.vstack([np.ones_like(steps), steps]).T
+    fit = np.linalg.lstsq(A, r, rcond=None)[0]
+    return {"free_beats": free_beats, "steps": list(map(float, steps)), "residuals": rows,
+            "slope": fit[1].tolist(), "rms_about_line": np.sqrt(((r - A @ fit) ** 2).mean(0)).tolist(),
+            "wall_time_s": time.perf_counter() - t0}
+
+
 def averages(speed: float, free_beats: float | None) -> dict:
     """The held-body cycle averages at the shipped UVLM trim of ``speed`` at the reference lattice."""
     from hawksim.backends import backend_for
@@ -100,18 +133,35 @@ def averages(speed: float, free_beats: float | None) -> dict:
     return {"speed": speed, "free_beats": free_beats, **r.averages.to_dict()}
 
 
-def solve(speed: float, free_beats: float) -> dict:
+def solve(speed: float, free_beats: float, validate: bool = False) -> dict:
+    """The UVLM orbit with the prescribed far wake; with ``validate``, its Floquet multipliers against perturbed
+    nonlinear flights and the averaged model (:func:`hawksim.stability.validation.validate_speed`, as
+    `hawksim reproduce --only validation_uvlm` does at 1-2 m/s), every flight with the same far wake."""
     t0 = time.perf_counter()
     with prescribed_far_wake(free_beats, speed):
         o = orbit_mod.periodic_orbit(speed, "uvlm", log=lambda *a: print(*a, file=sys.stderr))
-    return {"speed": speed, "free_beats": free_beats, "converged": o.converged, "residual": o.residual,
+        val = None
+        if validate and o.converged:
+            from hawksim.stability.floquet import monodromy
+            from hawksim.stability.validation import averaged_A_uvlm, validate_speed
+
+            fq = monodromy(o, lateral=True)
+            A, _ = averaged_A_uvlm(o)
+            val = validate_speed(o, fq, A, systems=("longitudinal", "lateral"),
+                                 log=lambda *a: print(*a, file=sys.stderr))
+            val["multipliers"] = {k: [[float(m.real), float(m.imag)] for m in getattr(fq, f"multipliers_{k}")]
+                                  for k in ("long", "lat")}
+    out = {"validation": val} if validate else {}
+    return {**out, "speed": speed, "free_beats": free_beats, "converged": o.converged, "residual": o.residual,
             "floor": o.floor, "iterations": o.iterations, "kinematics": o.kinematics.to_edge(),
             "launch_state": o.launch_state.as_array().tolist(), "wall_time_s": time.perf_counter() - t0}
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--sections", nargs="+", default=["smoothness"], choices=["smoothness", "averages", "orbit"])
+    ap.add_argument("--sections", nargs="+", default=["smoothness"],
+                    choices=["smoothness", "scan", "averages", "orbit", "validate"])
+    ap.add_argument("--scan-steps", type=int, default=21, help="relative frequency changes in [-2e-3, 2e-3]")
     ap.add_argument("--free-beats", type=float, nargs="+", default=[0.5, 1.0])
     ap.add_argument("--speed", type=float, default=0.0, help="speed of the smoothness section [m/s]")
     ap.add_argument("--speeds", type=float, nargs="+", default=[0.0, 1.0, 2.0])
@@ -123,10 +173,13 @@ def main(argv=None) -> int:
            "loadavg": list(os.getloadavg())}
     if "smoothness" in a.sections:
         out["smoothness"] = [smoothness(a.speed, fb) for fb in [None, *a.free_beats]]
+    if "scan" in a.sections:
+        steps = np.linspace(-2e-3, 2e-3, a.scan_steps)
+        out["scan"] = [scan(a.speed, fb, steps) for fb in [None, *a.free_beats]]
     if "averages" in a.sections:
         out["averages"] = [averages(v, fb) for v in a.speeds for fb in [None, *a.free_beats]]
-    if "orbit" in a.sections:
-        out["orbit"] = solve(a.orbit_speed, a.free_beats[0])
+    if "orbit" in a.sections or "validate" in a.sections:
+        out["orbit"] = solve(a.orbit_speed, a.free_beats[0], validate="validate" in a.sections)
     out["momentum_downwash"] = {f"{v:g}": momentum_downwash(v, __import__("hawksim.trim.tables", fromlist=["x"])
                                                             .trim_kinematics(v, "uvlm")) for v in a.speeds}
     emit(out, a.out)
