@@ -4,7 +4,7 @@ At hover the free wake stays under the wings and is met again by them: a 1e-5 ch
 within three beats (docs/free_flight.md, "Why 4 beats"), so the one-beat map the orbit solver differentiates is not
 smooth and Newton stalls at the map's irregularity. Here the wake is free only while younger than ``--free-beats``
 wingbeats (``aero.uvlm.UVLMConfig.free_wake_age``); older corners move with the air plus a uniform downwash, momentum
-theory's for an actuator disk of the stroke's swept area (:func:`momentum_downwash`; a model choice for the
+theory's for an actuator disk of the stroke's swept area (:mod:`hawksim.backends.far_wake`; a model choice for the
 far wake's mean motion, not a measurement). Sections (prints ONE JSON object):
 
 * ``smoothness``: the finite-difference derivative of the orbit residual with respect to the relative frequency at
@@ -25,10 +25,7 @@ far wake's mean motion, not a measurement). Sections (prints ONE JSON object):
 from __future__ import annotations
 
 import argparse
-import contextlib
-import dataclasses
 import datetime
-import math
 import os
 import shlex
 import sys
@@ -36,78 +33,63 @@ import time
 
 import numpy as np
 
-
-import hawksim.flight.orbit as orbit_mod
+from hawksim.backends.far_wake import FarWake, momentum_downwash
+from hawksim.flight.orbit import (OrbitFlight, orbit_residual, periodic_orbit, scales, shipped_orbit,
+                                  unpack_unknowns)
 from hawksim.insect.folder import default_insect
-from hawksim.insect.kinematics import Kinematics
-from hawksim.insect.morphology import RHO_AIR
 from hawksim.jsonout import emit
+from hawksim.trim.tables import trim_kinematics
 
 
-def momentum_downwash(speed: float, kin: Kinematics, insect=None) -> float:
-    """Momentum theory's induced velocity at an actuator disk [m/s] carrying the insect's weight in a climb at
-    ``speed`` [m/s]: w = -V/2 + sqrt(V^2/4 + W / (2 rho A)), A = 2 phi_a R^2 the area the two wings sweep (two
-    sectors of angle 2 phi_a and radius R). A model of the far wake's mean motion (Ellington 1984's actuator-disk
-    estimate for hovering insects), not a measurement."""
-    m = (insect or default_insect()).morphology
-    area = 2.0 * kin.phi_a * m.R**2
-    return -speed / 2.0 + math.sqrt(speed**2 / 4.0 + m.weight / (2.0 * RHO_AIR * area))
-
-
-@contextlib.contextmanager
-def prescribed_far_wake(free_beats: float | None, speed: float):
-    """Within the block, every orbit backend (:func:`hawksim.flight.orbit.make_orbit_backend`) keeps its wake free
-    for ``free_beats`` wingbeats of its kinematics and lets older corners drift down at the momentum downwash
-    (None: unchanged)."""
+def far_wake(speed: float, free_beats: float | None, kin) -> FarWake | None:
+    """The prescribed far wake after ``free_beats`` wingbeats with the momentum downwash (None: all free)."""
     if free_beats is None:
-        yield
-        return
-    make = orbit_mod.make_orbit_backend
+        return None
+    return FarWake(free_beats, momentum_downwash(speed, kin, default_insect().morphology))
 
-    def patched(aero, *, kinematics=None, **kw):
-        backend, every = make(aero, kinematics=kinematics, **kw)
-        kin = kinematics
-        w = momentum_downwash(speed, kin)
-        backend.config = dataclasses.replace(backend.config, free_wake_age=free_beats / kin.f,
-                                             far_wake_drift=(0.0, 0.0, -w))
-        return backend, every
 
-    orbit_mod.make_orbit_backend = patched
-    try:
-        yield
-    finally:
-        orbit_mod.make_orbit_backend = make
+def residual_map(speed: float, free_beats: float | None):
+    """(F, z0): the orbit solver's normalized residual as a function of its unknowns z (u/U, w/U, q T, theta,
+    f/f_ref, phi0) at the shipped UVLM iterate of ``speed`` (the free wake's), every flight with the far wake."""
+    orb = shipped_orbit(speed, "uvlm")
+    base, w, x0 = orb.kinematics, orb.warm_beats, orb.launch_state.as_array()
+    fl = OrbitFlight("uvlm", symmetric=True, far_wake=far_wake(speed, free_beats, base))
+    U, T = scales(base)
+    z0 = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
+
+    def F(zz):
+        kin, x = unpack_unknowns(zz, base, base.f)
+        return orbit_residual(kin, speed, fl.fly(kin, x, w + 1, base.chi), w)
+
+    return F, z0
 
 
 def smoothness(speed: float, free_beats: float | None) -> dict:
-    """uvlm_orbit_floor.py's smoothness measure with the prescribed far wake."""
-    from scripts.studies.uvlm_orbit_floor import smoothness as measure
-
+    """scripts/studies/uvlm_orbit_floor.py's measure: the derivative of the residual with respect to the relative
+    frequency by forward differences at steps 1e-5 .. 1e-2."""
     t0 = time.perf_counter()
-    with prescribed_far_wake(free_beats, speed):
-        out = measure(speed)
-    d = {k: v[0] for k, v in out["d_residual_d_f_rel_by_step"].items()}  # the u-periodicity row
-    return {"free_beats": free_beats, **out, "d_u_periodicity_by_step": d, "wall_time_s": time.perf_counter() - t0}
+    F, z = residual_map(speed, free_beats)
+    r0 = F(z)
+    rows = {}
+    for step in (1e-5, 1e-4, 1e-3, 1e-2):
+        zz = z.copy()
+        zz[4] += step
+        rows[f"{step:g}"] = ((F(zz) - r0) / step).tolist()
+    return {"free_beats": free_beats, "speed": speed, "residual": r0.tolist(), "d_residual_d_f_rel_by_step": rows,
+            "residual_order": "periodicity u, w, q, theta; mean velocity x, z (normalized)",
+            "d_u_periodicity_by_step": {k: v[0] for k, v in rows.items()}, "wall_time_s": time.perf_counter() - t0}
 
 
 def scan(speed: float, free_beats: float | None, steps) -> dict:
-    """The orbit residual at relative frequency changes ``steps`` about the shipped hover iterate (the orbit
-    solver's unknowns otherwise fixed): a smooth map gives a smooth curve; an irregular one scatters."""
-    from hawksim.flight.orbit import OrbitFlight, orbit_residual, scales, shipped_orbit, unpack_unknowns
-
-    orb = shipped_orbit(speed, "uvlm")
-    fl = OrbitFlight("uvlm", symmetric=True)
-    base, w, x0 = orb.kinematics, orb.warm_beats, orb.launch_state.as_array()
-    U, T = scales(base)
-    z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
-    rows = []
+    """The orbit residual at relative frequency changes ``steps`` about the shipped iterate (the solver's other
+    unknowns fixed): a smooth map gives a smooth curve; an irregular one scatters."""
     t0 = time.perf_counter()
-    with prescribed_far_wake(free_beats, speed):
-        for s in steps:
-            zz = z.copy()
-            zz[4] += s
-            kin, x = unpack_unknowns(zz, base, base.f)
-            rows.append(orbit_residual(kin, speed, fl.fly(kin, x, w + 1, base.chi), w).tolist())
+    F, z = residual_map(speed, free_beats)
+    rows = []
+    for step in steps:
+        zz = z.copy()
+        zz[4] += step
+        rows.append(F(zz).tolist())
     r = np.asarray(rows)
     # scatter about the best straight line through the scan, per residual component (normalized units)
     A = np.vstack([np.ones_like(steps), steps]).T
@@ -122,13 +104,11 @@ def averages(speed: float, free_beats: float | None) -> dict:
     from hawksim.backends import backend_for
     from hawksim.backends.held import held_flight
     from hawksim.backends.resolution import REFERENCE
-    from hawksim.trim.tables import trim_kinematics
-
     kin = trim_kinematics(speed, "uvlm")
     backend = backend_for(REFERENCE)
-    if free_beats is not None:
-        backend.config = dataclasses.replace(backend.config, free_wake_age=free_beats / kin.f,
-                                             far_wake_drift=(0.0, 0.0, -momentum_downwash(speed, kin)))
+    fw = far_wake(speed, free_beats, kin)
+    if fw is not None:
+        fw.apply(backend, kin)
     r = held_flight(kin, speed, backend, cycles=REFERENCE.cycles, steps_per_cycle=REFERENCE.steps_per_cycle)
     return {"speed": speed, "free_beats": free_beats, **r.averages.to_dict()}
 
@@ -138,19 +118,18 @@ def solve(speed: float, free_beats: float, validate: bool = False) -> dict:
     nonlinear flights and the averaged model (:func:`hawksim.stability.validation.validate_speed`, as
     `hawksim reproduce --only validation_uvlm` does at 1-2 m/s), every flight with the same far wake."""
     t0 = time.perf_counter()
-    with prescribed_far_wake(free_beats, speed):
-        o = orbit_mod.periodic_orbit(speed, "uvlm", log=lambda *a: print(*a, file=sys.stderr))
-        val = None
-        if validate and o.converged:
-            from hawksim.stability.floquet import monodromy
-            from hawksim.stability.validation import averaged_A_uvlm, validate_speed
+    fw = far_wake(speed, free_beats, trim_kinematics(speed, "uvlm"))
+    o = periodic_orbit(speed, "uvlm", far_wake=fw, log=lambda *a: print(*a, file=sys.stderr))
+    val = None
+    if validate and o.converged:
+        from hawksim.stability.floquet import monodromy
+        from hawksim.stability.validation import averaged_A_uvlm, validate_speed
 
-            fq = monodromy(o, lateral=True)
-            A, _ = averaged_A_uvlm(o)
-            val = validate_speed(o, fq, A, systems=("longitudinal", "lateral"),
-                                 log=lambda *a: print(*a, file=sys.stderr))
-            val["multipliers"] = {k: [[float(m.real), float(m.imag)] for m in getattr(fq, f"multipliers_{k}")]
-                                  for k in ("long", "lat")}
+        fq = monodromy(o, lateral=True)
+        A, _ = averaged_A_uvlm(o)
+        val = validate_speed(o, fq, A, systems=("longitudinal", "lateral"), log=lambda *a: print(*a, file=sys.stderr))
+        val["multipliers"] = {k: [[float(m.real), float(m.imag)] for m in getattr(fq, f"multipliers_{k}")]
+                              for k in ("long", "lat")}
     out = {"validation": val} if validate else {}
     return {**out, "speed": speed, "free_beats": free_beats, "converged": o.converged, "residual": o.residual,
             "floor": o.floor, "iterations": o.iterations, "kinematics": o.kinematics.to_edge(),
@@ -180,8 +159,8 @@ def main(argv=None) -> int:
         out["averages"] = [averages(v, fb) for v in a.speeds for fb in [None, *a.free_beats]]
     if "orbit" in a.sections or "validate" in a.sections:
         out["orbit"] = solve(a.orbit_speed, a.free_beats[0], validate="validate" in a.sections)
-    out["momentum_downwash"] = {f"{v:g}": momentum_downwash(v, __import__("hawksim.trim.tables", fromlist=["x"])
-                                                            .trim_kinematics(v, "uvlm")) for v in a.speeds}
+    out["momentum_downwash"] = {f"{v:g}": momentum_downwash(v, trim_kinematics(v, "uvlm"),
+                                                            default_insect().morphology) for v in a.speeds}
     emit(out, a.out)
     return 0
 
