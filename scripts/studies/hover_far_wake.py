@@ -12,6 +12,8 @@ far wake's mean motion, not a measurement). Sections (prints ONE JSON object):
   ``--free-beats`` value; a smooth map gives the same derivative at the small steps.
 * ``scan``: the orbit residual at ``--scan-steps`` relative frequency changes in [-2e-3, 2e-3] about the same
   iterate, and its RMS scatter about a straight line (a smooth map: small against the change along the line).
+* ``lateral_scan``: the same for the lateral map (both wings solved): the launch sideslip v moved over
+  [-2e-3, 2e-3] U, the lateral states at the end of the periodic beat and their scatter about a straight line.
 * ``averages``: the held-body cycle averages (`hawksim aero`'s evaluation, the reference lattice) with the whole
   wake free and with the prescribed far wake, at ``--speeds``: what the definition costs in fidelity.
 * ``validate`` (with or without ``orbit``): the orbit below, then its Floquet multipliers against perturbed
@@ -99,6 +101,34 @@ def scan(speed: float, free_beats: float | None, steps) -> dict:
             "wall_time_s": time.perf_counter() - t0}
 
 
+def lateral_scan(speed: float, free_beats: float | None, steps, state: str = "v") -> dict:
+    """The lateral map's smoothness: both wings solved, the launch state's ``state`` (v [U], p, r [1/T], phi [rad])
+    moved by ``steps`` (normalized) from the shipped iterate, and the lateral states (v/U, p T, r T, phi) at the end
+    of the periodic beat; their RMS scatter about a straight line (a smooth map: small against the change along it)."""
+    from hawksim.flight.orbit import STATE_NAMES
+
+    orb = shipped_orbit(speed, "uvlm")
+    base, w, x0 = orb.kinematics, orb.warm_beats, orb.launch_state.as_array()
+    fl = OrbitFlight("uvlm", symmetric=False, far_wake=far_wake(speed, free_beats, base))
+    U, T = scales(base)
+    unit = {"u": U, "v": U, "w": U, "p": 1 / T, "q": 1 / T, "r": 1 / T, "phi": 1.0, "theta": 1.0, "psi": 1.0}
+    j = STATE_NAMES.index(state)
+    lat = [STATE_NAMES.index(n) for n in ("v", "p", "r", "phi")]
+    scale = np.array([unit[STATE_NAMES[k]] for k in lat])
+    t0 = time.perf_counter()
+    rows = []
+    for step in steps:
+        x = x0.copy()
+        x[j] += step * unit[state]
+        rows.append((fl.fly(base, x, w + 1, base.chi).states[w + 1][lat] / scale).tolist())
+    r = np.asarray(rows)
+    A = np.vstack([np.ones_like(steps), steps]).T
+    fit = np.linalg.lstsq(A, r, rcond=None)[0]
+    return {"free_beats": free_beats, "state": state, "steps": list(map(float, steps)), "lateral_states": rows,
+            "slope": fit[1].tolist(), "rms_about_line": np.sqrt(((r - A @ fit) ** 2).mean(0)).tolist(),
+            "wall_time_s": time.perf_counter() - t0}
+
+
 def averages(speed: float, free_beats: float | None) -> dict:
     """The held-body cycle averages at the shipped UVLM trim of ``speed`` at the reference lattice."""
     from hawksim.backends import backend_for
@@ -139,7 +169,7 @@ def solve(speed: float, free_beats: float, validate: bool = False) -> dict:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--sections", nargs="+", default=["smoothness"],
-                    choices=["smoothness", "scan", "averages", "orbit", "validate"])
+                    choices=["smoothness", "scan", "lateral_scan", "averages", "orbit", "validate"])
     ap.add_argument("--scan-steps", type=int, default=21, help="relative frequency changes in [-2e-3, 2e-3]")
     ap.add_argument("--free-beats", type=float, nargs="+", default=[0.5, 1.0])
     ap.add_argument("--speed", type=float, default=0.0, help="speed of the smoothness section [m/s]")
@@ -155,6 +185,9 @@ def main(argv=None) -> int:
     if "scan" in a.sections:
         steps = np.linspace(-2e-3, 2e-3, a.scan_steps)
         out["scan"] = [scan(a.speed, fb, steps) for fb in [None, *a.free_beats]]
+    if "lateral_scan" in a.sections:
+        steps = np.linspace(-2e-3, 2e-3, a.scan_steps)
+        out["lateral_scan"] = [lateral_scan(a.speed, fb, steps) for fb in [None, *a.free_beats]]
     if "averages" in a.sections:
         out["averages"] = [averages(v, fb) for v in a.speeds for fb in [None, *a.free_beats]]
     if "orbit" in a.sections or "validate" in a.sections:
