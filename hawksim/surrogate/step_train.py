@@ -310,15 +310,17 @@ def flight_loads(fl: StoredFlight, y_left: np.ndarray, y_right: np.ndarray, geom
             "power_aero": -np.einsum("nki,nki->n", w_rel, Mb)}
 
 
-def cycle_means(fl: StoredFlight, loads: dict[str, np.ndarray], power_aero_uvlm: np.ndarray) -> np.ndarray:
-    """(beats, 4) L+, D+, M+, P+ of every complete wingbeat past the warm-up; P+ from the recorded joint power
-    with the UVLM's aerodynamic power replaced by ``loads['power_aero']``."""
+def cycle_means(fl: StoredFlight, loads: dict[str, np.ndarray], power_aero_uvlm: np.ndarray,
+                first: int = WARM_BEATS) -> np.ndarray:
+    """(beats, 4) L+, D+, M+, P+ of every complete wingbeat from beat ``first`` (0-based; default past the
+    warm-up); P+ from the recorded joint power with the UVLM's aerodynamic power replaced by
+    ``loads['power_aero']``."""
     insect = default_insect()
     W, c, P0 = insect.weight, insect.cbar, insect.P0
     n = fl.rows.shape[0]
     p = fl.rows[:, COLUMN_INDEX["power_joint"]] - power_aero_uvlm + loads["power_aero"]
     out = []
-    for k in range(WARM_BEATS, n // UPDATES_PER_BEAT):
+    for k in range(first, n // UPDATES_PER_BEAT):
         s = slice(k * UPDATES_PER_BEAT, (k + 1) * UPDATES_PER_BEAT)
         out.append((loads["lift"][s].mean() / W, loads["drag"][s].mean() / W, loads["moment"][s].mean() / (W * c),
                     np.maximum(p[s], 0.0).mean() / P0))
@@ -326,17 +328,27 @@ def cycle_means(fl: StoredFlight, loads: dict[str, np.ndarray], power_aero_uvlm:
 
 
 def flight_cycle_means(fl: StoredFlight, y_left: np.ndarray | None = None,
-                       y_right: np.ndarray | None = None) -> np.ndarray:
-    """(beats, 4) L+, D+, M+, P+ of every complete wingbeat of a recorded flight past the warm-up
-    (:func:`cycle_means`), from the flight's own UVLM wing loads or, where given, from other per-row wing loads
-    y_left, y_right (n, 6) in wing axes (force [N], moment about the hinge [N m]; a network's predictions)."""
+                       y_right: np.ndarray | None = None, first: int = WARM_BEATS) -> np.ndarray:
+    """(beats, 4) L+, D+, M+, P+ of every complete wingbeat of a recorded flight from beat ``first`` (default past
+    the warm-up; :func:`cycle_means`), from the flight's own UVLM wing loads or, where given, from other per-row
+    wing loads y_left, y_right (n, 6) in wing axes (force [N], moment about the hinge [N m]; a network's
+    predictions)."""
     r = fl.rows
     u_l = r[:, column_indices("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
     u_r = r[:, column_indices("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
     geom = wing_geometry(Kinematics.from_array(fl.kinematics), r[:, COLUMN_INDEX["t"]])
     yl = u_l if y_left is None else y_left
     yr = u_r if y_right is None else y_right
-    return cycle_means(fl, flight_loads(fl, yl, yr, geom), r[:, COLUMN_INDEX["power_aero"]])
+    return cycle_means(fl, flight_loads(fl, yl, yr, geom), r[:, COLUMN_INDEX["power_aero"]], first)
+
+
+def replay(net: StepNetwork, fl: StoredFlight) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The network's wing loads along a recorded flight (its inputs from the flight's rows, :func:`flight_inputs`,
+    the flight launched from no wake at t = 0): (left (n, 6), right (n, 6) in their own wing axes, mask (n,) of the
+    rows past the warm-up)."""
+    x, keep = flight_inputs(fl, net.lags, net.age_beats)
+    mirror = np.concatenate([MIRROR_F, MIRROR_M])
+    return net.predict(x), net.predict(mirror_inputs(x)) * mirror, keep
 
 
 def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
@@ -347,9 +359,7 @@ def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
     mirror = np.concatenate([MIRROR_F, MIRROR_M])
     wing_u, wing_p, body_u, body_p, uvlm, pred = [], [], [], [], [], []
     for fl in flights:
-        x, keep = flight_inputs(fl, net.lags, net.age_beats)
-        yl = net.predict(x)
-        yr = net.predict(mirror_inputs(x)) * mirror  # the right wing in its own axes
+        yl, yr, keep = replay(net, fl)
         r = fl.rows
         u_l = r[:, column_indices("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
         u_r = r[:, column_indices("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]

@@ -15,12 +15,19 @@ pitch (:meth:`~hawksim.flight.result.FlightResult.beats`), with the surrogate's 
 of W cbar: the error as a fraction of the moment scale, as L+'s is of the weight). The target (issue 49): within 2 %
 in L+ and M+ over the first 4 beats at 1 and 2 m/s, read as |dL_rel| <= 0.02 and |dM| <= 0.02.
 
+Beside the free flights, the network along recorded flights of a data set (``--data``, default the flights the
+networks were trained on; :func:`hawksim.surrogate.step_train.replay`): on its held-out flights (the split of seed 0,
+the one `hawksim train --kind step --seed 0` holds out), per wingbeat from the launch (beats 1-2: the wake's start
+from none; the kick at the start of beat 3), the mean and mean absolute difference of L+ and M+ (network - UVLM,
+:func:`hawksim.surrogate.step_train.flight_cycle_means`). There the states are the UVLM's own, so the differences
+are the network's alone, without the free flights' divergence along the orbit's unstable mode.
+
 The UVLM flights are kept in ``--out`` and reused by a rerun with the same speeds and beats, so scoring another
 network does not refly them:
 
     nice -n 5 env NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 python -m scripts.studies.step_surrogate_launch \\
         --out results/surrogate/step_launch.json [--network LABEL=FILE.safetensors ...] [--speeds 1 1.5 2] \\
-        [--beats 6]
+        [--beats 6] [--data data/uvlm_flights_0.2.0.sqlite]
 
 Without ``--network`` the shipped network is scored (label ``shipped``); a network scored again replaces its entry.
 """
@@ -94,6 +101,39 @@ def verdict(entry: dict) -> dict:
             "within_target": bool(set(have) == set(TARGET_SPEEDS) and max(worst.values()) <= TARGET)}
 
 
+def held_out(net, flights: list, beats: int = 8) -> list[dict]:
+    """Per wingbeat from the launch (1-based, up to ``beats``): the number of held-out flights with that beat
+    complete, and the mean and mean |.| of network - UVLM in L+ and M+ along them (module docstring)."""
+    import numpy as np
+
+    from hawksim.surrogate.step_train import flight_cycle_means, replay
+
+    diffs = [[] for _ in range(beats)]
+    for fl in flights:
+        yl, yr, _ = replay(net, fl)
+        d = flight_cycle_means(fl, yl, yr, first=0) - flight_cycle_means(fl, first=0)
+        for k in range(min(beats, len(d))):
+            diffs[k].append(d[k, [0, 2]])
+    out = []
+    for k, rows in enumerate(diffs):
+        if rows:
+            a = np.array(rows)
+            out.append({"beat": k + 1, "n_flights": len(a), "dL_mean": float(a[:, 0].mean()),
+                        "dL_abs": float(np.abs(a[:, 0]).mean()), "dM_mean": float(a[:, 1].mean()),
+                        "dM_abs": float(np.abs(a[:, 1]).mean())})
+    return out
+
+
+def test_flights(path: Path, seed: int = 0) -> list:
+    """The held-out flights of the data set at ``path`` (:func:`hawksim.surrogate.step_train.split_flights` of
+    ``seed``, as :func:`hawksim.surrogate.step_train.fit` splits them)."""
+    from hawksim.surrogate.flights import read_flights
+    from hawksim.surrogate.step_train import split_flights
+
+    flights = read_flights(path)
+    return [flights[i] for i in split_flights(len(flights), seed)[2]]
+
+
 def main(argv=None) -> dict:
     from hawksim.backends.step_network import load, shipped_path
     from hawksim.jsonout import host_info
@@ -103,6 +143,9 @@ def main(argv=None) -> dict:
     p.add_argument("--beats", type=int, default=6)
     p.add_argument("--network", action="append", metavar="[LABEL=]FILE",
                    help="a per-step network to score (repeatable; default: the shipped one, label 'shipped')")
+    p.add_argument("--data", type=Path, default=Path("data/uvlm_flights_0.2.0.sqlite"),
+                   help="flights data set whose held-out flights the networks are also scored on (the one they were "
+                        "trained on)")
     p.add_argument("--out", required=True, type=Path)
     args = p.parse_args(argv)
     data = json.loads(args.out.read_text()) if args.out.is_file() else {}
@@ -121,6 +164,7 @@ def main(argv=None) -> dict:
             args.out.parent.mkdir(parents=True, exist_ok=True)
             args.out.write_text(json.dumps(data, indent=1))
     specs = args.network or [f"shipped={shipped_path()}"]
+    held = test_flights(args.data) if args.data.is_file() else None
     for spec in specs:
         label, _, path = spec.rpartition("=")
         path = Path(path)
@@ -136,6 +180,8 @@ def main(argv=None) -> dict:
             s["relative"] = compare(s["beats"], data["uvlm"][key]["beats"])
             entry["speeds"][key] = s
         entry["verdict"] = verdict(entry)
+        if held is not None:
+            entry["held_out"] = {"data": str(args.data), "n_flights": len(held), "beats": held_out(net, held)}
         data["networks"][label] = entry
         args.out.write_text(json.dumps(data, indent=1))
     for label, e in data["networks"].items():
@@ -146,6 +192,9 @@ def main(argv=None) -> dict:
                       f"dL {100 * r['dL_rel']:+6.2f} %  M+ {a['M_plus']:+.4f} ({b['M_plus']:+.4f}) "
                       f"dM {r['dM']:+.4f}  pitch {a['pitch_deg']:6.2f} ({b['pitch_deg']:6.2f})")
         print(f"{label}: {e['verdict']}")
+        for r in e.get("held_out", {}).get("beats", []):
+            print(f"{label:>10} held-out beat {r['beat']}: L+ {r['dL_mean']:+.4f} (|.| {r['dL_abs']:.4f})  "
+                  f"M+ {r['dM_mean']:+.4f} (|.| {r['dM_abs']:.4f})  n={r['n_flights']}")
     return data
 
 
