@@ -16,11 +16,17 @@ of W cbar: the error as a fraction of the moment scale, as L+'s is of the weight
 in L+ and M+ over the first 4 beats at 1 and 2 m/s, read as |dL_rel| <= 0.02 and |dM| <= 0.02.
 
 Beside the free flights, the network along recorded flights of a data set (``--data``, default the flights the
-networks were trained on; :func:`hawksim.surrogate.step_train.replay`): on its held-out flights (the split of seed 0,
-the one `hawksim train --kind step --seed 0` holds out), per wingbeat from the launch (beats 1-2: the wake's start
+networks were trained on; :func:`hawksim.surrogate.step_train.replay`): on its held-out flights (those the network's
+metadata names, ``test_flights``, where it was trained on a file of that name; else the split of seed 0, the one
+`hawksim train --kind step --seed 0` holds out), per wingbeat from the launch (beats 1-2: the wake's start
 from none; the kick at the start of beat 3), the mean and mean absolute difference of L+ and M+ (network - UVLM,
 :func:`hawksim.surrogate.step_train.flight_cycle_means`). There the states are the UVLM's own, so the differences
 are the network's alone, without the free flights' divergence along the orbit's unstable mode.
+
+``--drift FILE``: the same flights (seed, idx) in another flights file, flown by another version of the UVLM (e.g.
+today's, where ``--data`` is an older data set's): per speed bin, the mean difference FILE - data of L+ and M+ in
+beats 1-2 (the same launch and kinematics, before the kick): how far the data the networks learnt is from the UVLM
+they are compared with.
 
 The UVLM flights are kept in ``--out`` and reused by a rerun with the same speeds and beats, so scoring another
 network does not refly them:
@@ -58,11 +64,12 @@ def beat_rows(result) -> list[dict]:
 
 
 def fly_uvlm(speed: float, beats: int) -> dict:
+    from hawksim import __version__
     from hawksim.cli.fly import fly_named
 
     t0 = time.perf_counter()
     r = fly_named(speed, beats, "uvlm", start="orbit")
-    return {"beats": beat_rows(r), "wall_s": time.perf_counter() - t0}
+    return {"beats": beat_rows(r), "wall_s": time.perf_counter() - t0, "hawksim": __version__}
 
 
 def fly_network(speed: float, beats: int, net) -> dict:
@@ -124,19 +131,54 @@ def held_out(net, flights: list, beats: int = 8) -> list[dict]:
     return out
 
 
-def test_flights(path: Path, seed: int = 0) -> list:
-    """The held-out flights of the data set at ``path`` (:func:`hawksim.surrogate.step_train.split_flights` of
-    ``seed``, as :func:`hawksim.surrogate.step_train.fit` splits them)."""
-    from hawksim.surrogate.flights import read_flights
+def test_flights(flights: list, path: Path, meta: dict) -> list:
+    """The held-out flights among ``flights`` (read from ``path``) of a network with metadata ``meta``: those it
+    names (``test_flights``) if it was trained on a file of this name, else the split of seed 0
+    (:func:`hawksim.surrogate.step_train.split_flights`, as :func:`hawksim.surrogate.step_train.fit` splits)."""
     from hawksim.surrogate.step_train import split_flights
 
-    flights = read_flights(path)
-    return [flights[i] for i in split_flights(len(flights), seed)[2]]
+    if Path(str(meta.get("data", ""))).name == path.name and "test_flights" in meta:
+        keep = set(meta["test_flights"])
+        return [f for f in flights if f.idx in keep]
+    return [flights[i] for i in split_flights(len(flights), 0)[2]]
+
+
+DRIFT_BINS = ((0.0, 0.5), (0.5, 1.25), (1.25, 1.75), (1.75, 2.01))
+"""Speed bins [m/s] of the drift between two flights files (about 0, 1, 1.5 and 2 m/s)."""
+
+
+def drift(data: Path, other: Path) -> dict:
+    """Per speed bin: mean of other - data in L+ and M+ of beats 1 and 2 over the flights (seed, idx) both files
+    hold with two complete beats (module docstring)."""
+    import numpy as np
+
+    from hawksim.surrogate.flights import read_flights
+    from hawksim.surrogate.step_train import flight_cycle_means
+
+    old = {(f.seed, f.idx): f for f in read_flights(data)}
+    rows = []
+    for f in read_flights(other):
+        g = old.get((f.seed, f.idx))
+        if g is None:
+            continue
+        a, b = flight_cycle_means(g, first=0), flight_cycle_means(f, first=0)
+        if len(a) >= 2 and len(b) >= 2:
+            rows.append((g.speed, *(b[:2, 0] - a[:2, 0]), *(b[:2, 2] - a[:2, 2]), *(b[:2, 0] / a[:2, 0] - 1)))
+    r = np.array(rows).reshape(-1, 7)
+    out = {"data": str(data), "other": str(other), "n_flights": len(r), "bins": []}
+    for lo, hi in DRIFT_BINS:
+        m = (r[:, 0] >= lo) & (r[:, 0] < hi)
+        if m.any():
+            out["bins"].append({"speed": [lo, hi], "n": int(m.sum()), **{
+                k: float(r[m, j].mean()) for j, k in enumerate(("dL_beat1", "dL_beat2", "dM_beat1", "dM_beat2",
+                                                                 "dL_rel_beat1", "dL_rel_beat2"), 1)}})
+    return out
 
 
 def main(argv=None) -> dict:
     from hawksim.backends.step_network import load, shipped_path
     from hawksim.jsonout import host_info
+    from hawksim.surrogate.flights import read_flights
 
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--speeds", type=float, nargs="+", default=[1.0, 1.5, 2.0])
@@ -146,13 +188,15 @@ def main(argv=None) -> dict:
     p.add_argument("--data", type=Path, default=Path("data/uvlm_flights_0.2.0.sqlite"),
                    help="flights data set whose held-out flights the networks are also scored on (the one they were "
                         "trained on)")
+    p.add_argument("--drift", type=Path, help="another flights file of the same flights (module docstring)")
     p.add_argument("--out", required=True, type=Path)
     args = p.parse_args(argv)
     data = json.loads(args.out.read_text()) if args.out.is_file() else {}
     data.setdefault("uvlm", {})
     data.setdefault("networks", {})
-    data["command"] = "python -m scripts.studies.step_surrogate_launch " + " ".join(sys.argv[1:] if argv is None
-                                                                                   else argv)
+    command = "python -m scripts.studies.step_surrogate_launch " + " ".join(sys.argv[1:] if argv is None else argv)
+    data.pop("command", None)
+    data["commands"] = [c for c in data.get("commands", []) if c != command] + [command]
     data["host"] = host_info()
     data["target"] = {"max_abs_rel": TARGET, "beats": TARGET_BEATS, "speeds": list(TARGET_SPEEDS)}
     for v in args.speeds:
@@ -163,14 +207,22 @@ def main(argv=None) -> dict:
             data["uvlm"][key] = fly_uvlm(v, args.beats)
             args.out.parent.mkdir(parents=True, exist_ok=True)
             args.out.write_text(json.dumps(data, indent=1))
+    if args.drift is not None:
+        data["drift"] = drift(args.data, args.drift)
+        for b in data["drift"]["bins"]:
+            print(f"drift {b['speed']} m/s (n={b['n']}): L+ {b['dL_beat1']:+.4f} {b['dL_beat2']:+.4f} "
+                  f"({100 * b['dL_rel_beat2']:+.1f} % in beat 2), M+ {b['dM_beat1']:+.4f} {b['dM_beat2']:+.4f}")
+        if not args.network:
+            args.out.write_text(json.dumps(data, indent=1))
+            return data
     specs = args.network or [f"shipped={shipped_path()}"]
-    held = test_flights(args.data) if args.data.is_file() else None
+    all_flights = read_flights(args.data) if args.data.is_file() else None
     for spec in specs:
         label, _, path = spec.rpartition("=")
         path = Path(path)
         label = label or path.stem
         net = load(path)
-        entry = {"file": str(path), "sha256": hashlib.sha256(path.read_bytes()).hexdigest(),
+        entry = {"scored_by": command, "file": str(path), "sha256": hashlib.sha256(path.read_bytes()).hexdigest(),
                  "age_beats": net.age_beats, "lags": list(net.lags), "command": net.meta.get("command"),
                  "speeds": {}}
         for v in args.speeds:
@@ -180,7 +232,8 @@ def main(argv=None) -> dict:
             s["relative"] = compare(s["beats"], data["uvlm"][key]["beats"])
             entry["speeds"][key] = s
         entry["verdict"] = verdict(entry)
-        if held is not None:
+        if all_flights is not None:
+            held = test_flights(all_flights, args.data, net.meta)
             entry["held_out"] = {"data": str(args.data), "n_flights": len(held), "beats": held_out(net, held)}
         data["networks"][label] = entry
         args.out.write_text(json.dumps(data, indent=1))

@@ -391,6 +391,32 @@ def test_extra_flights_leave_the_main_split_as_it_is(tmp_path):
     (ex,) = both.meta["extra"]
     assert set(ex["test_flights"]) <= set(range(8, 14)) and ex["test"]["n_flights"] == len(ex["test_flights"])
 
+def test_train_with_the_wake_age_writes_a_network_that_records_it(tmp_path, capsys):
+    """`hawksim train --kind step --wake-age`: the network file records the age input (saturating at WARM_BEATS)
+    and it trained on the warm-up rows too (more rows than without, on the same flights); --wake-age without
+    --kind step is refused."""
+    from hawksim.cli import main
+    from hawksim.surrogate.flights import WARM_BEATS, copy_flights
+
+    if not FLIGHTS.is_file():
+        pytest.skip("the flights data set is not in this checkout")
+    a = tmp_path / "a.sqlite"
+    copy_flights(FLIGHTS, a, [(0, i) for i in range(6)])
+    nets = {}
+    for age in (False, True):
+        out = tmp_path / f"n{int(age)}.safetensors"
+        argv = ["train", "--kind", "step", "--data", str(a), "--out", str(out), "--layers", "8", "--lags", "0.5",
+                "--max-iter", "1", "--no-progress", "--json"] + (["--wake-age"] if age else [])
+        assert main(argv) == 0
+        nets[age] = load(out)
+    capsys.readouterr()
+    assert nets[False].age_beats == 0.0 and nets[True].age_beats == float(WARM_BEATS)
+    assert nets[True].n_in == nets[False].n_in + 1 and "--wake-age" in nets[True].meta["command"]
+    assert nets[True].meta["n_train_rows"] > nets[False].meta["n_train_rows"]
+    assert main(["train", "--data", str(a), "--out", str(tmp_path / "m.safetensors"), "--wake-age"]) != 0
+    assert "--wake-age needs --kind step" in capsys.readouterr().err
+
+
 def test_an_ensemble_folds_exactly_into_one_network():
     from hawksim.surrogate.step_train import fold_ensemble
 
