@@ -202,6 +202,16 @@ def test_wake_age_network_in_the_callback_matches_the_python_network():
     assert np.abs(c["force"] - d["force"]).max() <= NETWORK_REL_TOL * np.abs(c["force"]).max()
     early = a["t"] < 0.5 / table3_kinematics(1.0).f
     assert np.abs(c["force"][early] - a["force"][early]).max() > 100 * NETWORK_REL_TOL * np.abs(a["force"]).max()
+    # a copied simulator (hawksim.control.derivatives.Snapshot) reads its own backend's launch time
+    import copy
+
+    from hawksim.flight.native import C_LAUNCH_ADDR
+
+    sim = Simulator(load_model(), table3_kinematics(1.0), backend, steps_per_cycle=100, aero_every=5)
+    sim.reset(velocity=(0.0, 0.0, 1.0))
+    sim.advance(10)
+    twin = copy.deepcopy(sim)
+    assert twin._native.ctx[C_LAUNCH_ADDR] == twin.backend.launch.ctypes.data != sim._native.ctx[C_LAUNCH_ADDR]
 
 
 def test_a_copied_simulator_flies_on_with_its_own_network_and_record():
