@@ -19,8 +19,10 @@ Stages (in the order of their dependencies; ``--stages`` names them, ``--list`` 
   into data/uvlm_training_<version>.sqlite;
 * the rest are single commands (:data:`COMMANDS`), each with the shipped file(s) it writes or the files it copies
   into hawksim/data (as insects/hawkmoth/data/surrogates/README.md and the tables' own ``command`` fields record them):
-  the cycle-mean networks, the trims, the orbits, the per-step surrogate's flights and network, its orbits, the
-  control models, and the paper's tables. Scripts run with PYTHONPATH set to the repository, so that its code is
+  the cycle-mean networks, the trims, the orbits, the per-step surrogate's flights and network (with the wake-age
+  input, ``--wake-age``: trained on the warm-up beats too, so that a flight launched from no wake is right from its
+  first beat; docs/surrogate.md, "Launch from no wake"), its orbits, the control models, and the paper's tables.
+  Scripts run with PYTHONPATH set to the repository, so that its code is
   the code that runs.
 """
 
@@ -71,7 +73,7 @@ COMMANDS = {
     "step_network": [[*_TRAIN, "--kind", "step", "--data", "data/uvlm_flights_{version}.sqlite", "--out",
                       DATA + "surrogates/uvlm_step.safetensors", "--layers", "192,192,192", "--lags", "0.5,1",
                       "--max-iter", "300", "--time-limit", "1500", "--weight-decay", "0", "--ensemble", "3",
-                      "--no-progress", "--json"]],
+                      "--wake-age", "--no-progress", "--json"]],
     "surrogate_orbits": [["python", "scripts/studies/step_surrogate_orbits.py", "--speeds", "0", "0.5", "1", "1.5",
                           "2", "--validate", "--out", "results/surrogate/step_orbits.json", "--table",
                           DATA + "orbit_table_surrogate.json"]],
