@@ -128,6 +128,20 @@ def run_stage(name: str, repo: Path, facts: dict, manifest: dict, save, nice: in
             print(f"{now()} {key} done", file=sys.stderr, flush=True)
 
 
+def restamp_written(repo: Path, since: float, env: dict, log: Path) -> None:
+    """Restamp (:func:`hawksim.insect.tables.restamp`, in the repository's own code) the hawkmoth's manifest entries
+    whose files were written at or after ``since`` (epoch seconds): they were computed on the repository's MJCF."""
+    code = ("import json, sys, time; from pathlib import Path; from hawksim.insect.folder import default_insect; "
+            "from hawksim.insect.tables import manifest, restamp; ins = default_insect(); "
+            "data = Path(ins.folder) / 'data'; since = float(sys.argv[1]); "
+            "names = [str(e.path.relative_to(data)) for e in manifest(ins) if e.path.is_file() "
+            "and e.path.stat().st_mtime >= since]; print(json.dumps(restamp(ins, names)))")
+    proc = subprocess.run([sys.executable, "-c", code, repr(since - 1.0)], cwd=repo, env=env, capture_output=True,
+                          text=True, check=True)
+    with log.open("a") as f:
+        f.write(f"{now()} restamped in the manifest: {proc.stdout.strip()}\n")
+
+
 def run_commands(name: str, repo: Path, facts: dict, manifest: dict, save, nice: int) -> None:
     """A command stage (:data:`COMMANDS`): each command once, in order, recorded in the manifest when it succeeds."""
     env = dict(os.environ, NUMBA_NUM_THREADS="1", OMP_NUM_THREADS="1", PYTHONPATH=str(repo))
@@ -145,13 +159,14 @@ def run_commands(name: str, repo: Path, facts: dict, manifest: dict, save, nice:
         else:
             cmd = argv
         start, load = now(), os.getloadavg()
-        t0 = time.perf_counter()
+        t0, wall0 = time.perf_counter(), time.time()
         proc = subprocess.run(cmd, cwd=repo, env=env, capture_output=True, text=True)
         with log.open("a") as f:
             f.write(f"{start} {' '.join(argv)} (load {load})\n{proc.stdout[-20000:]}{proc.stderr[-20000:]}\n")
         if proc.returncode != 0:
             print(f"regenerate: {key} ({' '.join(argv)}) failed (exit {proc.returncode}); see {log}", file=sys.stderr)
             sys.exit(proc.returncode)
+        restamp_written(repo, wall0, env, log)
         manifest["stages"][key] = {"command": " ".join(argv), "seed": 0, "start": start, "end": now(),
                                    "wall_time_s": time.perf_counter() - t0, "loadavg_start": load, **facts}
         save()
