@@ -57,8 +57,8 @@ def _refuse_ignored(args) -> None:
                                  "--aero's model, no surrogate network and no GA")
     elif args.aero is not None:
         if args.aero not in MODEL_SEARCH:
-            raise UsageError(f"--aero {args.aero} without --free-flight: the trim searches on the surrogate network "
-                             f"(no --aero) or on the {', '.join(MODEL_SEARCH)} model")
+            raise UsageError(f"--aero {args.aero} does not apply without --free-flight: the trim searches on the "
+                             f"surrogate network (no --aero) or on the {', '.join(MODEL_SEARCH)} model")
         for name in NETWORK_ONLY:
             if getattr(args, name, None) not in (None, False):
                 raise UsageError(f"--{name} does not apply to --aero {args.aero}: the search runs on that model "
