@@ -32,7 +32,7 @@ from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
 from hawksim.trim.balance import balance_on_uvlm
 from hawksim.trim.point import Trim
-from hawksim.trim.search import GAConfig, fitness, ga_nelder_mead
+from hawksim.trim.search import R_PENALTY, GAConfig, fitness, ga_nelder_mead
 
 SEARCH_RESOLUTION = Resolution(aero="quasi-steady", steps_per_cycle=100, cycles=2)
 """Resolution of the search's evaluations: 100 steps a beat, 2 beats, the last averaged (L+ within 0.4 % and P+
@@ -50,11 +50,13 @@ search then costs ~2-4 min per condition on one core)."""
 def trim_on_model(speed: float, *, forward_speed: float = 0.0, aero: str = "quasi-steady", seed: int = 0,
                   cfg: GAConfig = SEARCH_CONFIG, res: Resolution | None = None,
                   balance_res: Resolution | None = None, tol: float = 0.01, insect: Insect | None = None,
-                  progress=None) -> Trim:
+                  progress=None, penalty: float = R_PENALTY) -> Trim:
     """The minimum-power trim of ``insect`` (default :func:`hawksim.insect.folder.default_insect`; its
     ``bounds_deg`` are the search box and Eq. 3's zeta, P+ in its P0) at ascent ``speed`` and ``forward_speed``
     [m/s] on the held-body model ``aero`` (module docstring). ``res``/``balance_res``: the search's and the
-    balance's resolutions (default :data:`SEARCH_RESOLUTION`, :data:`BALANCE_RESOLUTION` with ``aero``). Returns
+    balance's resolutions (default :data:`SEARCH_RESOLUTION`, :data:`BALANCE_RESOLUTION` with ``aero``);
+    ``penalty``: Eq. 3's r (the paper's 2 by default; where the power saved by leaving the balance exceeds r per unit
+    residual, as in fast forward flight, the search's minimum is not balanced and a larger r keeps it so). Returns
     the balanced trim (``converged``: the balance met ``tol``; ``start``: the search's optimum with its averages;
     ``fitness``: Eq. 3 at that optimum; ``search``: the GA's result; ``evaluations``: the model runs of both)."""
     forward_speed = check_forward_speed(forward_speed)
@@ -77,7 +79,7 @@ def trim_on_model(speed: float, *, forward_speed: float = 0.0, aero: str = "quas
     def objective(u: np.ndarray) -> np.ndarray:
         x = lo + np.atleast_2d(u) * (hi - lo)
         y = np.array([averages(xi).as_tuple() for xi in x])
-        f = fitness(y, x, lo=lo, hi=hi)
+        f = fitness(y, x, r=penalty, lo=lo, hi=hi)
         return np.where(np.isfinite(f), f, np.inf)
 
     t0 = time.perf_counter()

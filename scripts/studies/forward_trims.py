@@ -24,14 +24,15 @@ from hawksim import __version__
 from hawksim.backends.held import body_averages
 from hawksim.flight.lift_coefficient import mean_lift_coefficient, mid_downstroke_incidence
 from hawksim.trim.model_search import BALANCE_RESOLUTION, SEARCH_CONFIG, SEARCH_RESOLUTION, trim_on_model
+from hawksim.trim.search import R_PENALTY
 
 SPEEDS = (0.0, 1.0, 2.0, 3.0, 4.0, 5.0)
 """Forward speeds [m/s] of the study (issue 51: hover to 5 m/s)."""
 
 
-def row(U: float, V: float, seed: int, population: int | None) -> dict:
+def row(U: float, V: float, seed: int, population: int | None, penalty: float = R_PENALTY) -> dict:
     cfg = SEARCH_CONFIG if population is None else replace(SEARCH_CONFIG, population=population)
-    t = trim_on_model(V, forward_speed=U, seed=seed, cfg=cfg)
+    t = trim_on_model(V, forward_speed=U, seed=seed, cfg=cfg, penalty=penalty)
     k = t.kinematics
     body = body_averages(k, V, U)
     a = t.averages
@@ -44,7 +45,7 @@ def row(U: float, V: float, seed: int, population: int | None) -> dict:
             "converged": t.converged, "tolerance": t.tolerance, "fitness": t.fitness,
             "search_optimum": {"kinematics": t.start.kinematics.to_edge(), **t.start.outputs},
             "generations": t.search.generations, "evaluations": t.evaluations, "wall_time_s": t.wall_time_s,
-            "seed": seed, "population": cfg.population}
+            "seed": seed, "population": cfg.population, "penalty": penalty}
 
 
 def plot(data: dict, path: Path) -> None:
@@ -80,6 +81,7 @@ def main() -> None:
     ap.add_argument("--vertical-speed", type=float, default=0.0, help="V [m/s] (0: level flight)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--population", type=int, default=None, help=f"GA population ({SEARCH_CONFIG.population})")
+    ap.add_argument("--penalty", type=float, default=R_PENALTY, help=f"Eq. 3's r ({R_PENALTY:g}, the paper's)")
     ap.add_argument("--out", type=Path, help="write the JSON here (after each speed)")
     ap.add_argument("--from", dest="source", type=Path, help="read the rows from this JSON instead of computing")
     ap.add_argument("--plot", type=Path, help="draw the figure to this PNG (and PDF)")
@@ -93,7 +95,7 @@ def main() -> None:
                 "search_config": {k: getattr(SEARCH_CONFIG, k) for k in SEARCH_CONFIG.__dataclass_fields__},
                 "rows": []}
         for U in a.speeds:
-            data["rows"].append(row(U, a.vertical_speed, a.seed, a.population))
+            data["rows"].append(row(U, a.vertical_speed, a.seed, a.population, a.penalty))
             print(json.dumps(data["rows"][-1]), file=sys.stderr, flush=True)
             if a.out is not None:
                 a.out.parent.mkdir(parents=True, exist_ok=True)
