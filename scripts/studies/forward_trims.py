@@ -6,8 +6,13 @@ Ellington (1997) define them (:mod:`hawksim.flight.lift_coefficient`), P+ (the p
 the force balance (:mod:`hawksim.insect.body_aero`). Deterministic for a seed. Prints one JSON object.
 
     python -m scripts.studies.forward_trims --out results/forward_flight/qs_trims.json      # ~3 min a speed
+    python -m scripts.studies.forward_trims --best-of A.json B.json --out results/forward_flight/qs_trims.json
     python -m scripts.studies.forward_trims --from results/forward_flight/qs_trims.json \\
         --plot docs/images/forward_flight_qs.png                                               # the figure only
+
+The GA's population is small (80: each evaluation is a model run), so one search may stop in a local minimum;
+``--best-of`` keeps, per speed, the balanced trim of lowest P+ among several searches' files (other seeds or Eq. 3
+penalties), each row naming the file it came from and listing every candidate's P+.
 """
 
 from __future__ import annotations
@@ -48,6 +53,30 @@ def row(U: float, V: float, seed: int, population: int | None, penalty: float = 
             "seed": seed, "population": cfg.population, "penalty": penalty}
 
 
+def _residual(r: dict) -> float:
+    return max(abs(r["L_plus"] - 1), abs(r["D_plus"]), abs(r["M_plus"]))
+
+
+def best_of(files: list[Path]) -> dict:
+    """Per forward speed, the converged row of lowest P+ among ``files`` (none converged: the smallest residual)."""
+    runs = [(f, json.loads(f.read_text())) for f in files]
+    by_speed: dict[float, list] = {}
+    for f, d in runs:
+        for r in d["rows"]:
+            by_speed.setdefault(r["forward_speed"], []).append((f, d["command"], r))
+    rows = []
+    for U in sorted(by_speed):
+        cands = by_speed[U]
+        f, command, best = min(cands, key=lambda c: (not c[2]["converged"], c[2]["P_plus"] if c[2]["converged"]
+                                                     else _residual(c[2])))
+        rows.append(best | {"chosen_from": command, "candidates": [
+            {"command": c, "converged": r["converged"], "P_plus": r["P_plus"], "penalty": r.get("penalty"),
+             "seed": r["seed"], "residual": _residual(r)} for _, c, r in cands]})
+    return {"command": " ".join(["python -m scripts.studies.forward_trims", *sys.argv[1:]]),
+            "hawksim_version": __version__, "created": time.strftime("%Y-%m-%d"),
+            "sources": [d["command"] for _, d in runs], "rows": rows}
+
+
 def plot(data: dict, path: Path) -> None:
     from hawksim import plotting
 
@@ -85,8 +114,14 @@ def main() -> None:
     ap.add_argument("--out", type=Path, help="write the JSON here (after each speed)")
     ap.add_argument("--from", dest="source", type=Path, help="read the rows from this JSON instead of computing")
     ap.add_argument("--plot", type=Path, help="draw the figure to this PNG (and PDF)")
+    ap.add_argument("--best-of", type=Path, nargs="+", help="merge these files: per speed the lowest-P+ balanced trim")
     a = ap.parse_args()
-    if a.source is not None:
+    if a.best_of:
+        data = best_of(a.best_of)
+        if a.out is not None:
+            a.out.parent.mkdir(parents=True, exist_ok=True)
+            a.out.write_text(json.dumps(data, indent=1))
+    elif a.source is not None:
         data = json.loads(a.source.read_text())
     else:
         data = {"command": " ".join(["python -m scripts.studies.forward_trims", *sys.argv[1:]]),
