@@ -1,4 +1,6 @@
-"""`hawksim aero`: one UVLM run with the body held at ascent speed V (cycle-averaged L+, D+, M+, P+)."""
+"""`hawksim aero`: one UVLM run with the body held at ascent speed V (cycle-averaged L+, D+, M+, P+); with
+``--forward-speed U`` in forward flight (the air at (-U, 0, -V), the body's own loads counted,
+:mod:`hawksim.condition`)."""
 
 from __future__ import annotations
 

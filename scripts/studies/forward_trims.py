@@ -77,6 +77,20 @@ def best_of(files: list[Path]) -> dict:
             "sources": [d["command"] for _, d in runs], "rows": rows}
 
 
+def markdown(data: dict) -> str:
+    """The table of docs/forward_flight.md."""
+    lines = ["| U [m/s] | f [Hz] | stroke amplitude [deg] | stroke plane beta [deg] | body angle chi [deg] | C_L | "
+             "mid-downstroke incidence [deg] | P+ | balanced | body D+, L+ [% W] |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(data["rows"], key=lambda r: r["forward_speed"]):
+        bal = "yes" if r["converged"] else f"no ({_residual(r):.3f})"
+        lines.append(f"| {r['forward_speed']:g} | {r['f_hz']:.1f} | {r['stroke_amplitude_deg']:.1f} | "
+                     f"{r['stroke_plane_deg']:.1f} | {r['body_angle_deg']:.1f} | {r['lift_coefficient']:.2f} | "
+                     f"{r['mid_downstroke_incidence_deg']:.1f} | {r['P_plus']:.3f} | {bal} | "
+                     f"{100 * r['body']['D_plus']:.2f}, {100 * r['body']['L_plus']:.2f} |")
+    return "\n".join(lines)
+
+
 def plot(data: dict, path: Path) -> None:
     from hawksim import plotting
 
@@ -85,18 +99,27 @@ def plot(data: dict, path: Path) -> None:
     with plotting.style():
         plt = plotting.pyplot()
         fig, ax = plt.subplots(1, 3, figsize=(plotting.WIDE, 3.0))
-        ax[0].plot(U, [r["P_plus"] for r in rows], "o-", color="k")
+        ok = [r["converged"] for r in rows]
+        ax[0].plot(U, [r["P_plus"] for r in rows], "-", color="k")
+        ax[0].plot([u for u, c in zip(U, ok) if c], [r["P_plus"] for r, c in zip(rows, ok) if c], "o", color="k",
+                   label="lowest balanced trim")
+        ax[0].plot([u for u, c in zip(U, ok) if not c], [r["P_plus"] for r, c in zip(rows, ok) if not c], "o",
+                   mfc="none", color="k", label="not balanced (Table 2's box)")
+        cand = [(r["forward_speed"], c["P_plus"]) for r in rows for c in r.get("candidates", []) if c["converged"]]
+        if cand:
+            ax[0].plot(*zip(*cand), ".", color="grey", label="other searches (balanced)")
+        ax[0].legend()
         ax[0].set(xlabel="forward speed U [m/s]", ylabel="P+ (required power / P0)", title="power curve")
         ax[1].plot(U, [r["lift_coefficient"] for r in rows], "o-", label="C_L (quasi-steady trims)")
         ax[1].axhline(0.71, ls=":", color="grey", label="steady-state maximum 0.71 (W&E 1997)")
         ax[1].set(xlabel="forward speed U [m/s]", ylabel="mean lift coefficient", title="mean lift coefficient")
-        ax[1].legend()
+        ax[1].legend(loc="upper right")
         ax[2].plot(U, [r["stroke_plane_deg"] for r in rows], "o-", label="stroke plane beta")
         ax[2].plot(U, [r["body_angle_deg"] for r in rows], "s-", label="body angle chi")
         ax[2].plot(U, [r["stroke_amplitude_deg"] for r in rows], "^-", label="stroke amplitude 2 phi_a")
         ax[2].plot(U, [r["mid_downstroke_incidence_deg"] for r in rows], "v-", label="mid-downstroke incidence")
         ax[2].set(xlabel="forward speed U [m/s]", ylabel="deg", title="kinematics")
-        ax[2].legend()
+        ax[2].legend(loc="center right")
         plotting.panel_letters(ax)
         plotting.save(fig, path, title="Quasi-steady minimum-power trims in level forward flight",
                       caption="GA + Nelder-Mead minimum of Eq. 3 on the quasi-steady model, balanced to 0.01 "
@@ -114,6 +137,7 @@ def main() -> None:
     ap.add_argument("--out", type=Path, help="write the JSON here (after each speed)")
     ap.add_argument("--from", dest="source", type=Path, help="read the rows from this JSON instead of computing")
     ap.add_argument("--plot", type=Path, help="draw the figure to this PNG (and PDF)")
+    ap.add_argument("--markdown", action="store_true", help="print the docs' table instead of the JSON")
     ap.add_argument("--best-of", type=Path, nargs="+", help="merge these files: per speed the lowest-P+ balanced trim")
     a = ap.parse_args()
     if a.best_of:
@@ -137,7 +161,7 @@ def main() -> None:
                 a.out.write_text(json.dumps(data, indent=1))
     if a.plot is not None:
         plot(data, a.plot)
-    print(json.dumps(data))
+    print(markdown(data) if a.markdown else json.dumps(data))
 
 
 if __name__ == "__main__":
