@@ -146,6 +146,15 @@ class UVLMConfig:
     scripts/benchmarks/bench_treecode.py --sections accuracy, docs/performance.md, "Treecode"). Needs
     wake_precision "float64".
     tree_theta: the treecode's opening angle (:class:`aero.treecode.TreeParams`; 0 gives the direct sum).
+    free_wake_age: opt-in (None: the whole wake is free): wake corners older than this [s] leave the free wake and
+    move with the free stream plus ``far_wake_drift`` instead of the velocity the wings and the wake induce there
+    (a prescribed far wake; they still induce velocity on the wings and on the free part). A model choice for the
+    hover orbit (issue 49, item 4; docs/free_flight.md "A periodic orbit at hover"): at hover the free wake stays
+    under the wings and amplifies any change of the flight ~300-fold within three beats, so the one-beat map has no
+    derivative a Newton solver can use; a wake free only while young keeps its roll-up near the wings and makes
+    the far wake a smooth function of the flight.
+    far_wake_drift: (3,) world-frame velocity [m/s] added to the free stream for the prescribed far wake (the
+    caller's model of the mean induced velocity there, e.g. momentum theory's downwash).
     """
 
     rho: float = 1.225
@@ -166,8 +175,17 @@ class UVLMConfig:
     wake_precision: str = "float64"
     wake_summation: str = "direct"
     tree_theta: float = TreeParams.theta
+    free_wake_age: float | None = None
+    far_wake_drift: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
+        if self.free_wake_age is not None and not (np.isfinite(self.free_wake_age) and self.free_wake_age >= 0.0):
+            raise ValueError(f"UVLMConfig.free_wake_age must be None or a finite age >= 0 s, "
+                             f"got {self.free_wake_age!r}")
+        drift = np.asarray(self.far_wake_drift, dtype=float)
+        if drift.shape != (3,) or not np.all(np.isfinite(drift)):
+            raise ValueError(f"UVLMConfig.far_wake_drift must be 3 finite velocities [m/s], "
+                             f"got {self.far_wake_drift!r}")
         if self.shed_rule not in SHED_RULES:
             raise ValueError(f"UVLMConfig.shed_rule must be one of {', '.join(SHED_RULES)}, got {self.shed_rule!r}")
         if int(self.near_wake_zones) != self.near_wake_zones or self.near_wake_zones < 0:
@@ -526,14 +544,14 @@ class UVLM:
             rcv = c.convection_core_chords * self.chord
             bound = [ring_lattice(G, g, rcv * rcv, rcv * rcv) for G, g in zip(rings, gammas)]
             wake_lat = self._wake_lattices(r_attached=rcv)
-            v_tree = self._tree_velocity(pts, wake_lat, mirror)
-            if v_tree is not None:  # wake on wake by the treecode, the wings' share direct
-                v = v + (self._induced(pts, bound, mirror) + v_tree)
-            elif c.wake_precision == "float64":
-                v = v + self._induced(pts, bound + wake_lat, mirror)
-            else:  # wake on wake in the given precision, the wings' share in float64
-                v = v + (self._induced(pts, bound, mirror)
-                         + self._induced(pts, wake_lat, mirror, c.wake_precision))
+            if c.free_wake_age is None:
+                v = v + self._free_velocity(pts, bound, wake_lat, mirror)
+            else:  # the young corners free, the old ones drift (a prescribed far wake)
+                age = np.concatenate([np.repeat(w.age[1:], w.vertices.shape[1]) for w in self.wakes])
+                young = age <= c.free_wake_age
+                v[~young] += np.asarray(c.far_wake_drift, dtype=float)
+                if np.any(young):
+                    v[young] += self._free_velocity(pts[young], bound, wake_lat, mirror)
         if not np.all(np.isfinite(v)):
             raise FloatingPointError(f"UVLM blow-up at step {self.step_count}: non-finite wake velocity")
         off = 0
@@ -543,6 +561,17 @@ class UVLM:
             w.age += dt
             w.age[0] = 0.0
             off += n
+
+    def _free_velocity(self, pts, bound, wake_lat, mirror) -> np.ndarray:
+        """The velocity the wings (``bound``) and the wake (``wake_lat``) induce at ``pts`` (n, 3) [m/s], the wake's
+        share summed as :attr:`UVLMConfig.wake_summation` and :attr:`UVLMConfig.wake_precision` say."""
+        v_tree = self._tree_velocity(pts, wake_lat, mirror)
+        if v_tree is not None:  # wake on wake by the treecode, the wings' share direct
+            return self._induced(pts, bound, mirror) + v_tree
+        if self.config.wake_precision == "float64":
+            return self._induced(pts, bound + wake_lat, mirror)
+        # wake on wake in the given precision, the wings' share in float64
+        return self._induced(pts, bound, mirror) + self._induced(pts, wake_lat, mirror, self.config.wake_precision)
 
     @property
     def wake(self) -> list[tuple[np.ndarray, np.ndarray]]:

@@ -87,5 +87,6 @@ _LAZY, __getattr__, __dir__ = lazy_exports(__name__, {
     ".registry": ("BackendDescriptor", "Support", "FiniteDifferenceSteps", "OrbitTolerance", "register",
                   "unregister", "descriptor", "descriptor_of", "find", "names"),
     ".memory": ("MEMORYLESS", "PREVIOUS_CALL", "RECORD", "WAKE", "PrimedMemory", "RecordMemory"),
+    ".far_wake": ("FarWake", "far_wake_for", "momentum_downwash"),
 })
 __all__ = ["FLIGHT_BACKENDS", "make_backend", "backend_for", "flight_backend", "Resolution", "DEFAULT", *_LAZY]

@@ -381,6 +381,8 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
                                      morphology=None if insect == default_insect() else insect.morphology)
             if is_orbit:
                 point.seed(backend)
+                if point.far_wake is not None:
+                    point.far_wake.apply(backend, kin)
         sim = Simulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity,
                         aero_every=aero_every_for(backend, steps_per_cycle))
     else:
@@ -390,6 +392,8 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
             sim = controlled_plant(model, kin, aero, steps_per_cycle=steps_per_cycle, insect=insect)
             if is_orbit:
                 point.seed(sim.backend)
+                if point.far_wake is not None:
+                    point.far_wake.apply(sim.backend, kin)
         else:
             sim = ControlledSimulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity,
                                       aero_every=aero_every_for(backend, steps_per_cycle))

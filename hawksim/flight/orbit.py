@@ -40,7 +40,8 @@ from hawksim.backends.base import AeroBackend
 from hawksim.backends.builtin import (FD_STEP, QUASI_STEADY, SURROGATE_FD_STEP,  # noqa: F401 (re-exported)
                                       SURROGATE_ORBIT_TOL, UVLM_FD_STEP, UVLM_TOL_RATE, UVLM_TOL_VELOCITY,
                                       UVLM_WARM_BEATS)
-from hawksim.backends.memory import RECORD
+from hawksim.backends.far_wake import FarWake, far_wake_for
+from hawksim.backends.memory import RECORD, WAKE
 from hawksim.backends.registry import descriptor, descriptor_of
 from hawksim.insect.folder import default_insect
 from hawksim.insect.insect import Insect
@@ -78,14 +79,20 @@ ORBIT_TOL = QUASI_STEADY.orbit_tolerance.residual
 
 
 def make_orbit_backend(aero: str, *, symmetric: bool = True, kinematics: Kinematics | None = None,
-                       insect: Insect | None = None) -> tuple[AeroBackend, int]:
+                       insect: Insect | None = None, far_wake: FarWake | None = None) -> tuple[AeroBackend, int]:
     """(backend, aero_every) of `hawksim fly --aero NAME` (:func:`hawksim.backends.flight_backend`) for
     ``STEPS_PER_CYCLE`` integrator steps per beat, at its descriptor's update interval (quasi-steady every step, the
     UVLM and the surrogate at ``FLY_UVLM``'s rate), with ``insect``'s wings (None: the default insect's).
+    ``far_wake``: the UVLM's prescribed far wake (:class:`hawksim.backends.far_wake.FarWake`, an orbit's
+    :attr:`Orbit.far_wake`; needs ``kinematics``); None: the whole wake free.
     ValueError for a backend without periodic orbits."""
     descriptor(aero).orbits.require("a periodic orbit", aero)
     backend = flight_backend(aero, symmetric=symmetric, kinematics=kinematics,
                              morphology=None if insect is None else insect.morphology)
+    if far_wake is not None:
+        if kinematics is None:
+            raise ValueError("a prescribed far wake (far_wake) needs the kinematics flown")
+        far_wake.apply(backend, kinematics)
     return backend, aero_every_for(backend, STEPS_PER_CYCLE)
 
 
@@ -119,12 +126,13 @@ class OrbitFlight:
     """Free flights of the orbit solver from phase 0: one reusable MjModel, a Simulator per kinematics (aero: the
     name of a registered backend that supports periodic orbits, :mod:`hawksim.backends.registry`) of ``insect``
     (default :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF unless ``model`` is
-    given, its P0 in :attr:`Beats.P_plus`."""
+    given, its P0 in :attr:`Beats.P_plus`; ``far_wake``: the UVLM's prescribed far wake (:func:`make_orbit_backend`)."""
 
     def __init__(self, aero: str, symmetric: bool = True, model: mujoco.MjModel | None = None,
-                 insect: Insect | None = None):
+                 insect: Insect | None = None, far_wake: FarWake | None = None):
         self.aero = aero
         self.symmetric = symmetric
+        self.far_wake = far_wake
         self.insect = default_insect() if insect is None else insect
         self.model = model if model is not None else load_model(morph=self.insect.morphology)
 
@@ -133,7 +141,8 @@ class OrbitFlight:
         """``beats`` beats from x0 at phase 0; ``record`` (n, 6): a history network's record of the calls before
         the start (:attr:`Orbit.record`; default none)."""
         if backend is None:
-            backend, _ = make_orbit_backend(self.aero, symmetric=self.symmetric, kinematics=kin, insect=self.insect)
+            backend, _ = make_orbit_backend(self.aero, symmetric=self.symmetric, kinematics=kin, insect=self.insect,
+                                            far_wake=self.far_wake)
         every = aero_every_for(backend, STEPS_PER_CYCLE)
         if record is not None:
             backend.seed(np.asarray(record, float), kin.period * every / STEPS_PER_CYCLE)
@@ -241,7 +250,8 @@ def initial_guess(kin: Kinematics, speed: float, flight: OrbitFlight, warm: int 
 def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kinematics | None = None,
                    tol: float | None = None, max_iter: int = 20, warm_beats: int | None = None,
                    model: mujoco.MjModel | None = None, x0: np.ndarray | None = None, log=None,
-                   fd_step: float | None = None, insect: Insect | None = None) -> Orbit:
+                   fd_step: float | None = None, insect: Insect | None = None,
+                   far_wake: FarWake | None | str = "auto") -> Orbit:
     """Newton shooting for the symmetric periodic orbit at ascent ``speed`` [m/s].
 
     SI throughout: u, w [m/s], q [rad/s], theta [rad], f [Hz], phi0 [rad].
@@ -260,6 +270,11 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     start is the default insect's held-body trim, or another insect's reference kinematics at ``speed``
     (:meth:`hawksim.insect.insect.Insect.reference_kinematics`; the default insect's trim if it has none: a variant
     of the default insect given by the fields that differ).
+
+    ``far_wake``: the UVLM's wake ("auto": :func:`hawksim.backends.far_wake.far_wake_for`, prescribed after half a
+    beat below 0.75 m/s, where the whole free wake's map is not smooth enough for Newton, docs/free_flight.md; a
+    :class:`~hawksim.backends.far_wake.FarWake`; or None: the whole wake free); the orbit keeps it
+    (:attr:`Orbit.far_wake`) and every flight from it flies it. Ignored (None) for a backend without a wake.
 
     A per-step surrogate with history inputs (and ``warm_beats`` not given) is a delay system: its state is the
     body state and the record of its last calls (:mod:`hawksim.stability.history_floquet`). Its orbit is solved on
@@ -287,7 +302,13 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     if warm_beats is None:  # beats before the measured one: the UVLM's wake (a history network's: its record)
         warm_beats = desc.warm_beats
     warm = warm_beats
-    fl = OrbitFlight(aero, symmetric=True, model=model, insect=insect)
+    if desc.memory != WAKE:
+        far_wake = None
+    elif isinstance(far_wake, str):
+        if far_wake != "auto":
+            raise ValueError(f"far_wake must be 'auto', a FarWake or None, got {far_wake!r}")
+        far_wake = far_wake_for(speed, base, insect.morphology)
+    fl = OrbitFlight(aero, symmetric=True, model=model, insect=insect, far_wake=far_wake)
     h_fd = fd_step if fd_step is not None else desc.fd.orbit
     f_ref = base.f
     if x0 is None:
@@ -374,7 +395,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
                  mean_velocity=b.mean_velocity[warm], mean_pitch=float(b.mean_pitch[warm]),
                  P_plus=float(b.P_plus[warm]), iterations=it, converged=met(r, z) and change <= RECORD_TOL,
                  floor=floor, history=tuple(hist), wall_time_s=time.perf_counter() - t_start, chi_ref=chi,
-                 insect=insect, **extra)
+                 insect=insect, far_wake=far_wake, **extra)
 
 
 def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = None,
@@ -396,7 +417,7 @@ def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = Non
         x = x + np.asarray(perturbation, float)
     if symmetric is None:
         symmetric = perturbation is None or not np.any(np.asarray(perturbation)[[1, 3, 5, 6, 8]])
-    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model, insect=orbit.insect)
+    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model, insect=orbit.insect, far_wake=orbit.far_wake)
     w = orbit.warm_beats
     if iterate_map:
         if orbit.has_memory:
@@ -417,6 +438,6 @@ def beat_map(orbit: Orbit, x: np.ndarray, *, model: mujoco.MjModel | None = None
     """The one-beat map at the orbit's kinematics: state (9,) at the launch -> state (9,) ``beats`` beats after
     the measured beat starts (for the UVLM the launch is ``warm_beats`` earlier, from an empty wake); the orbit's
     insect."""
-    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model, insect=orbit.insect)
+    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model, insect=orbit.insect, far_wake=orbit.far_wake)
     return fl.fly(orbit.kinematics, np.asarray(x, float), orbit.warm_beats + beats, orbit.chi_ref,
                   record=orbit.record).states[-1]

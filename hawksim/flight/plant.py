@@ -185,14 +185,15 @@ class ControlledSimulator(Simulator):
 
 
 def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int | None = None,
-                     insect: Insect | None = None) -> ControlledSimulator:
+                     insect: Insect | None = None, far_wake=None) -> ControlledSimulator:
     """The controlled plant of `hawksim fly --aero NAME` (``aero``: quasi-steady, uvlm or surrogate) at base
     kinematics ``kin``: the backend of :func:`hawksim.flight.orbit.make_orbit_backend` (both wings solved: the
     commands break the symmetry), updated at its flight rate; a backend whose descriptor has a
     ``controlled_factory`` (the per-step surrogate: :class:`hawksim.backends.controlled_step_surrogate.
     ControlledStepSurrogate`) built by it and bound to the plant, so that it reads the commanded kinematics
     (:meth:`ControlledSimulator.network_kinematics`). ``insect``: whose wings the backend flies (default
-    :func:`hawksim.insect.folder.default_insect`); ``model`` must be its MJCF."""
+    :func:`hawksim.insect.folder.default_insect`); ``model`` must be its MJCF. ``far_wake``: the UVLM's prescribed
+    far wake (an orbit's :attr:`~hawksim.trim.point.OperatingPoint.far_wake`; None: the whole wake free)."""
     from hawksim.backends.registry import descriptor
     from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend
     from hawksim.flight.simulator import aero_every_for
@@ -205,7 +206,8 @@ def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int 
                              "hawkmoth's morphology")
         backend = bound(kin)
     else:
-        backend, _ = make_orbit_backend(aero, symmetric=False, insect=insect)
+        backend, _ = make_orbit_backend(aero, symmetric=False, insect=insect,
+                                        kinematics=kin if far_wake is not None else None, far_wake=far_wake)
     sim = ControlledSimulator(model, kin, backend, steps_per_cycle=n, gravity=True,
                               aero_every=aero_every_for(backend, n))
     if bound is not None:

@@ -183,7 +183,8 @@ def _monodromy_matrix(orbit: Orbit, delta: float, model, lateral: bool) -> np.nd
     sc = state_scale(kin, orbit.insect.morphology)
     x0 = orbit.launch_state.as_array()
     w = orbit.warm_beats
-    fl = {s: OrbitFlight(orbit.aero, symmetric=s, model=model, insect=orbit.insect) for s in (True, False)}
+    fl = {s: OrbitFlight(orbit.aero, symmetric=s, model=model, insect=orbit.insect, far_wake=orbit.far_wake)
+          for s in (True, False)}
     cols = FLOQUET_STATES if lateral else LONG
     # states at the start (k = w) and end (k = w + 1) of the periodic beat, per perturbed launch
     A = np.zeros((8, 8))   # d x(w) / d x0, normalized (identity when w = 0)

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from hawksim.backends.averages import OUTPUTS, CycleAverages
+from hawksim.backends.far_wake import FarWake
 from hawksim.insect.folder import default_insect
 from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import PARAM_NAMES, Kinematics
@@ -91,6 +92,9 @@ class OperatingPoint:
     floor: float = 0.0
     history: tuple[float, ...] = field(default=(), repr=False)
     chi_ref: float = 0.0
+    far_wake: FarWake | None = None
+    """The UVLM's prescribed far wake its flights fly (:mod:`hawksim.backends.far_wake`; the hover and 0.5 m/s
+    orbits'), None: the whole wake free (and every other backend). Written to JSON only when set."""
     record: np.ndarray | None = field(default=None, repr=False, compare=False)
     """The orbit of a per-step surrogate with history inputs (a delay system): its record (n, 6) of the n calls
     before the periodic beat (body-axes velocity relative to the air [m/s] and angular velocity [rad/s], oldest
@@ -168,7 +172,8 @@ class OperatingPoint:
                 "mean_velocity": list(map(float, self.mean_velocity)), "mean_pitch": self.mean_pitch,
                 "P_plus": self.P_plus, "iterations": self.iterations, "converged": bool(self.converged),
                 "floor": self.floor, "history": list(self.history), "wall_time_s": self.wall_time_s,
-                "chi_ref": self.chi_ref} | ({} if self.record is None else {
+                "chi_ref": self.chi_ref} | ({} if self.far_wake is None else {
+                    "far_wake": self.far_wake.to_json()}) | ({} if self.record is None else {
                     "record": np.asarray(self.record).tolist(), "record_dt": self.record_dt,
                     "record_change": self.record_change}) | ins
 
@@ -198,7 +203,8 @@ class OperatingPoint:
                               wall_time_s=float(d["wall_time_s"]), chi_ref=float(d["chi_ref"]),
                               record=np.asarray(d["record"], float) if d.get("record") is not None else None,
                               record_dt=float(d.get("record_dt", 0.0)),
-                              record_change=float(d.get("record_change", 0.0)), insect=insect, forward_speed=u)
+                              record_change=float(d.get("record_change", 0.0)), insect=insect,
+                              far_wake=FarWake.from_json(d.get("far_wake")), forward_speed=u)
 
 
 _dataclass_init = OperatingPoint.__init__
