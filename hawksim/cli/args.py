@@ -85,6 +85,36 @@ def speed_arg(text: str) -> float:
     return v
 
 
+def forward_speed_arg(text: str) -> float:
+    """``--forward-speed U`` [m/s]: finite, in :data:`hawksim.condition.FORWARD_SPEED_RANGE` (hover to 5 m/s)."""
+    from hawksim.condition import FORWARD_SPEED_RANGE
+
+    v = _number("forward-speed", text, float, "a number")
+    lo, hi = FORWARD_SPEED_RANGE
+    if not math.isfinite(v) or v < lo:
+        raise argparse.ArgumentTypeError(f"--forward-speed {text} must be a finite forward speed >= {lo:g} m/s")
+    if v > hi:
+        raise argparse.ArgumentTypeError(f"--forward-speed {text} is outside the study's range [{lo:g}, {hi:g}] m/s")
+    return v
+
+
+FORWARD_SPEED_HELP = "forward speed U [m/s], 0 (default: vertical flight) to 5; flight along world +x"
+"""Help text of every --forward-speed option."""
+
+
+def add_forward_speed_arg(p, extra: str = "") -> None:
+    """The ``--forward-speed U`` option of a subcommand (default 0; ``extra`` appended to the help)."""
+    p.add_argument("--forward-speed", type=forward_speed_arg, default=0.0, metavar="U",
+                   help=FORWARD_SPEED_HELP + extra)
+
+
+def refuse_forward_speed(args, command: str, why: str) -> None:
+    """UsageError (exit 2) if ``args.forward_speed`` is nonzero: ``command`` does not fly forward yet (``why``)."""
+    if getattr(args, "forward_speed", 0.0):
+        raise UsageError(f"hawksim {command}: --forward-speed {args.forward_speed:g} is not supported {why} "
+                         "(docs/forward_flight.md, 'Not yet')")
+
+
 def _integer(text: str) -> int:
     """int of '100000', '1e5' or '1.0e5' (an integral number); ValueError otherwise."""
     try:
