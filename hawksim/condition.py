@@ -31,3 +31,16 @@ def air_velocity(speed: float, forward_speed: float = 0.0) -> np.ndarray:
     """The air's velocity (3,) [m/s], world axes, seen by a body held at vertical speed ``speed`` and forward speed
     ``forward_speed``: (-U, 0, -V); the x entry is +0.0 (not -0.0) at U = 0, as before U existed."""
     return np.array([-forward_speed if forward_speed else 0.0, 0.0, -speed])
+
+
+FORWARD_FLIGHT_BACKENDS = ("quasi-steady", "uvlm")
+"""The aerodynamic backends that fly forward (U > 0): the physical models. The networks (the per-step surrogate and
+the cycle-mean one) were trained on vertical flight only and refuse U > 0 (:func:`check_forward_backend`)."""
+
+
+def check_forward_backend(aero: str, forward_speed: float) -> None:
+    """ValueError naming ``forward_speed`` where it is > 0 and ``aero`` is not one of
+    :data:`FORWARD_FLIGHT_BACKENDS`."""
+    if forward_speed and aero not in FORWARD_FLIGHT_BACKENDS:
+        raise ValueError(f"forward_speed {forward_speed:g} m/s: the {aero} backend was trained on vertical flight only "
+                         f"(forward flight takes {' or '.join(FORWARD_FLIGHT_BACKENDS)}; forward_speed must be 0)")

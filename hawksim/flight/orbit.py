@@ -19,11 +19,19 @@ This is well defined (a smooth function of x0 and the kinematics) but only appro
 full system: the residual floor is the wake's beat-to-beat variation, measured by one more beat
 (:attr:`Orbit.floor`).
 
+Forward flight (issue 51; ``forward_speed`` U > 0, :mod:`hawksim.condition`): the air is still and the body's
+mean velocity over the periodic beat is (U, 0, V) (world); the state is the same chart (velocities in the level
+heading axes, so the orbit's u is about U), periodic in (u, w, q, theta) while the position drifts at (U, 0, V);
+the body's own loads (:class:`hawksim.insect.body_aero.BodyAero`) act on the free body
+(:attr:`hawksim.flight.simulator.Simulator.body_aero`) where U > 0, as they count in the held-body trims, and the
+UVLM's wake is free (no prescribed far wake: the forward stream carries it away). U = 0 is vertical flight, computed
+exactly as before.
+
 Newton shooting (:func:`periodic_orbit`), symmetric flight: unknowns (u, w, q, theta) at phase 0 plus the
 kinematic parameters f and phi0 (beta, alpha0 and the rest at the held-body trim): f sets the mean lift,
 phi0 (the mean sweep, i.e. where the centre of pressure sits along the body) the mean pitching moment, and the
 phase-0 pitch theta tilts the stroke plane and thereby the mean horizontal force. Equations: 4 periodicity
-residuals and 2 mean-velocity residuals (mean horizontal velocity 0, mean vertical velocity V). Normalized:
+residuals and 2 mean-velocity residuals (mean horizontal velocity U, mean vertical velocity V). Normalized:
 velocities by U = 2 phi_a f r2, the rate by 1/T (q T), angles in rad. Finite-difference Jacobian, Newton with
 backtracking line search.
 """
@@ -126,13 +134,18 @@ class OrbitFlight:
     """Free flights of the orbit solver from phase 0: one reusable MjModel, a Simulator per kinematics (aero: the
     name of a registered backend that supports periodic orbits, :mod:`hawksim.backends.registry`) of ``insect``
     (default :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF unless ``model`` is
-    given, its P0 in :attr:`Beats.P_plus`; ``far_wake``: the UVLM's prescribed far wake (:func:`make_orbit_backend`)."""
+    given, its P0 in :attr:`Beats.P_plus`; ``far_wake``: the UVLM's prescribed far wake (:func:`make_orbit_backend`);
+    ``forward_speed`` [m/s]: the flight condition's U (:mod:`hawksim.condition`): where > 0 the body's own loads act
+    on the free body (:attr:`hawksim.flight.simulator.Simulator.body_aero`)."""
 
     def __init__(self, aero: str, symmetric: bool = True, model: mujoco.MjModel | None = None,
-                 insect: Insect | None = None, far_wake: FarWake | None = None):
+                 insect: Insect | None = None, far_wake: FarWake | None = None, forward_speed: float = 0.0):
+        from hawksim.condition import check_forward_speed
+
         self.aero = aero
         self.symmetric = symmetric
         self.far_wake = far_wake
+        self.forward_speed = check_forward_speed(forward_speed)
         self.insect = default_insect() if insect is None else insect
         self.model = model if model is not None else load_model(morph=self.insect.morphology)
 
@@ -147,6 +160,10 @@ class OrbitFlight:
         if record is not None:
             backend.seed(np.asarray(record, float), kin.period * every / STEPS_PER_CYCLE)
         sim = Simulator(self.model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True, aero_every=every)
+        if self.forward_speed > 0:
+            from hawksim.insect.body_aero import BodyAero
+
+            sim.body_aero = BodyAero.of(self.insect.morphology)
         set_body_state(sim, x0, chi_ref)
         t0 = time.perf_counter()
         n = STEPS_PER_CYCLE
@@ -166,6 +183,12 @@ class OrbitFlight:
             pp.append(P_plus(pw, every, first=b.first, P0=self.insect.P0))
         return Beats(np.array(states), np.array(vel), np.array(pitch), np.array(pp), time.perf_counter() - t0,
                      backend_record(backend, every))
+
+
+def orbit_flight(orbit: OperatingPoint, symmetric: bool = True, model: mujoco.MjModel | None = None) -> OrbitFlight:
+    """The :class:`OrbitFlight` of ``orbit``'s flights: its backend, insect, far wake and forward speed."""
+    return OrbitFlight(orbit.aero, symmetric=symmetric, model=model, insect=orbit.insect, far_wake=orbit.far_wake,
+                       forward_speed=orbit.forward_speed)
 
 
 Orbit = OperatingPoint
@@ -206,14 +229,17 @@ def scales(kin: Kinematics, morph: Morphology | None = None) -> tuple[float, flo
     return reference_speed(kin, default_insect().morphology if morph is None else morph), kin.period
 
 
-def orbit_residual(kin: Kinematics, speed: float, b: Beats, warm: int, morph: Morphology | None = None) -> np.ndarray:
+def orbit_residual(kin: Kinematics, speed: float, b: Beats, warm: int, morph: Morphology | None = None,
+                   forward_speed: float = 0.0) -> np.ndarray:
     """Normalized 6-residual of a flight whose beat ``warm`` (0-based) is the candidate periodic beat (``morph``: the
-    insect's morphology of :func:`scales`)."""
+    insect's morphology of :func:`scales`): periodicity of (u, w, q, theta) and the beat's mean velocity less
+    (``forward_speed``, ``speed``) (world x and z)."""
     U, T = scales(kin, morph)
     xa, xb = b.states[warm], b.states[warm + 1]
     dx = xb - xa
     mv = b.mean_velocity[warm]
-    return np.array([dx[0] / U, dx[2] / U, dx[4] * T, dx[7], mv[0] / U, (mv[2] - speed) / U])
+    mx = mv[0] - forward_speed if forward_speed else mv[0]
+    return np.array([dx[0] / U, dx[2] / U, dx[4] * T, dx[7], mx / U, (mv[2] - speed) / U])
 
 
 def unpack_unknowns(z: np.ndarray, base: Kinematics, f_ref: float,
@@ -227,14 +253,18 @@ def unpack_unknowns(z: np.ndarray, base: Kinematics, f_ref: float,
     return kin, x
 
 
-def initial_guess(kin: Kinematics, speed: float, flight: OrbitFlight, warm: int = 0) -> np.ndarray:
+def initial_guess(kin: Kinematics, speed: float, flight: OrbitFlight, warm: int = 0,
+                  forward_speed: float = 0.0) -> np.ndarray:
     """Launch state (9,) from the held-body trim, by ``hawksim.flight.fly._start_on_orbit``'s logic: one calibration
     beat from (straight up at V, pitch chi, no rotation) measures the beat-mean pitch, pitch rate and velocity,
     and the start is corrected by them (removing a mean rate q also lowers the mean pitch by q T / 2). The
     Newton solve calibrates on the first beat (warm = 0) also for the UVLM: after warm-up beats from an
-    uncorrected start the body has drifted too far for a one-beat correction."""
+    uncorrected start the body has drifted too far for a one-beat correction. Forward flight: the start moves at
+    (``forward_speed``, 0, ``speed``) and the horizontal velocity is corrected toward ``forward_speed``."""
     x = np.zeros(9)
     x[2], x[7] = -speed, kin.chi
+    if forward_speed:
+        x[0] = forward_speed
     b = flight.fly(kin, x, warm + 1, kin.chi)
     # the calibration beat's means (the beat mean of q is (theta(T) - theta(0)) / T)
     q_mean = (b.states[warm + 1, 7] - b.states[warm, 7]) / kin.period
@@ -242,7 +272,7 @@ def initial_guess(kin: Kinematics, speed: float, flight: OrbitFlight, warm: int 
     x0 = x.copy()
     x0[7] = kin.chi - (b.mean_pitch[warm] - kin.chi) + q_mean * kin.period / 2
     x0[4] = -q_mean
-    x0[0] = -mv[0]
+    x0[0] = forward_speed - (mv[0] - forward_speed) if forward_speed else -mv[0]
     x0[2] = -speed - (-mv[2] + speed)
     return x0
 
@@ -251,8 +281,9 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
                    tol: float | None = None, max_iter: int = 20, warm_beats: int | None = None,
                    model: mujoco.MjModel | None = None, x0: np.ndarray | None = None, log=None,
                    fd_step: float | None = None, insect: Insect | None = None,
-                   far_wake: FarWake | None | str = "auto") -> Orbit:
-    """Newton shooting for the symmetric periodic orbit at ascent ``speed`` [m/s].
+                   far_wake: FarWake | None | str = "auto", forward_speed: float = 0.0) -> Orbit:
+    """Newton shooting for the symmetric periodic orbit at ascent ``speed`` [m/s] and ``forward_speed`` [m/s]
+    (:mod:`hawksim.condition`; default 0, vertical flight).
 
     SI throughout: u, w [m/s], q [rad/s], theta [rad], f [Hz], phi0 [rad].
 
@@ -283,13 +314,26 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     iteration: the record is a shift register whose every entry is overwritten in one beat, so it enters its own
     update only through the network's history inputs). The orbit keeps that record (:attr:`Orbit.record`) and
     every flight from it starts with it.
+
+    Forward flight (``forward_speed`` > 0, the module docstring): the mean-velocity residual is (U, 0, V), the body's
+    loads act, the wake is free (``far_wake`` "auto" gives None); ``kinematics`` is required (no forward trim is
+    shipped: start from a trim of :func:`hawksim.trim.model_search.trim_on_model`, ValueError naming
+    ``forward_speed`` otherwise), and a network backend (trained on vertical flight only) is refused
+    (:func:`hawksim.condition.check_forward_backend`). The orbit carries ``forward_speed``.
     """
+    from hawksim.condition import check_forward_backend, check_forward_speed
+
     t_start = time.perf_counter()
     desc = descriptor(aero)
     desc.orbits.require("a periodic orbit", aero)
+    forward_speed = check_forward_speed(forward_speed)
+    if forward_speed > 0 and kinematics is None:
+        raise ValueError(f"forward_speed {forward_speed:g} m/s needs kinematics (no forward-flight trim is shipped; "
+                         "search one with hawksim.trim.model_search.trim_on_model)")
+    check_forward_backend(aero, forward_speed)
     insect = default_insect() if insect is None else insect
     guess = (shipped_orbit(speed, desc.orbit_guess, insect=insect)  # the surrogate mimics the UVLM
-             if desc.orbit_guess else None)
+             if desc.orbit_guess and not forward_speed else None)
     if kinematics is None and guess is not None:
         kinematics = guess.kinematics
         x0 = guess.initial_state.as_array() if x0 is None else x0
@@ -307,12 +351,13 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     elif isinstance(far_wake, str):
         if far_wake != "auto":
             raise ValueError(f"far_wake must be 'auto', a FarWake or None, got {far_wake!r}")
-        far_wake = far_wake_for(speed, base, insect.morphology)
-    fl = OrbitFlight(aero, symmetric=True, model=model, insect=insect, far_wake=far_wake)
+        far_wake = None if forward_speed else far_wake_for(speed, base, insect.morphology)
+    fl = OrbitFlight(aero, symmetric=True, model=model, insect=insect, far_wake=far_wake,
+                     forward_speed=forward_speed)
     h_fd = fd_step if fd_step is not None else desc.fd.orbit
     f_ref = base.f
     if x0 is None:
-        x0 = initial_guess(base, speed, fl, 0)
+        x0 = initial_guess(base, speed, fl, 0, forward_speed)
     morph = insect.morphology  # the velocity unit is this insect's wing speed
     U, T = scales(base, morph)
     z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
@@ -321,7 +366,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     def F(zz):
         kin, x = unpack_unknowns(zz, base, f_ref, morph)
         b = fl.fly(kin, x, warm + 1, chi, record=rec)
-        return orbit_residual(kin, speed, b, warm, morph), b
+        return orbit_residual(kin, speed, b, warm, morph, forward_speed), b
 
     def met(rr, zz) -> bool:
         if tol is not None:
@@ -382,7 +427,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     if warm > 0:
         bf = fl.fly(kin, x_launch, warm + 2, chi)
         rf = orbit_residual(kin, speed, Beats(bf.states[1:], bf.mean_velocity[1:], bf.mean_pitch[1:], bf.P_plus[1:],
-                                         0.0), warm, morph)
+                                         0.0), warm, morph, forward_speed)
         floor = float(np.abs(rf[:4]).max())
     extra = {}
     if rec is not None:
@@ -395,7 +440,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
                  mean_velocity=b.mean_velocity[warm], mean_pitch=float(b.mean_pitch[warm]),
                  P_plus=float(b.P_plus[warm]), iterations=it, converged=met(r, z) and change <= RECORD_TOL,
                  floor=floor, history=tuple(hist), wall_time_s=time.perf_counter() - t_start, chi_ref=chi,
-                 insect=insect, far_wake=far_wake, **extra)
+                 insect=insect, far_wake=far_wake, forward_speed=forward_speed, **extra)
 
 
 def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = None,
@@ -417,7 +462,7 @@ def fly_orbit(orbit: Orbit, beats: int, *, perturbation: np.ndarray | None = Non
         x = x + np.asarray(perturbation, float)
     if symmetric is None:
         symmetric = perturbation is None or not np.any(np.asarray(perturbation)[[1, 3, 5, 6, 8]])
-    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model, insect=orbit.insect, far_wake=orbit.far_wake)
+    fl = orbit_flight(orbit, symmetric, model)
     w = orbit.warm_beats
     if iterate_map:
         if orbit.has_memory:
@@ -438,6 +483,6 @@ def beat_map(orbit: Orbit, x: np.ndarray, *, model: mujoco.MjModel | None = None
     """The one-beat map at the orbit's kinematics: state (9,) at the launch -> state (9,) ``beats`` beats after
     the measured beat starts (for the UVLM the launch is ``warm_beats`` earlier, from an empty wake); the orbit's
     insect."""
-    fl = OrbitFlight(orbit.aero, symmetric=symmetric, model=model, insect=orbit.insect, far_wake=orbit.far_wake)
+    fl = orbit_flight(orbit, symmetric, model)
     return fl.fly(orbit.kinematics, np.asarray(x, float), orbit.warm_beats + beats, orbit.chi_ref,
                   record=orbit.record).states[-1]
