@@ -31,7 +31,8 @@ def averaged_model(point: OperatingPoint, *, steps_per_cycle: int = 200) -> Line
     from hawksim.stability.floquet import quasi_steady_system
 
     t0 = time.perf_counter()
-    s = quasi_steady_system(point.kinematics, point.speed, steps_per_cycle=steps_per_cycle, insect=point.insect)
+    s = quasi_steady_system(point.kinematics, point.speed, steps_per_cycle=steps_per_cycle, insect=point.insect,
+                            forward_speed=point.forward_speed)
     A = np.zeros((8, 8))
     A[:4, :4], A[4:, 4:] = s.A_long, s.A_lat
     return LinearModel(point=point, map="averaged", states=AVERAGED_STATES, inputs=(), A=A, dt=None,

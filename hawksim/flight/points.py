@@ -23,9 +23,11 @@ def find_operating_point(speed: float, *, aero: str = "quasi-steady", body: str 
     """The operating point of ``insect`` (default :func:`hawksim.insect.folder.default_insect`) at ascent
     ``speed`` [m/s] (and ``forward_speed`` [m/s], :mod:`hawksim.condition`) on the aerodynamic model ``aero``.
 
-    Forward flight (forward_speed > 0) has held-body points only, from given ``kinematics`` (search one with
-    :func:`hawksim.trim.model_search.trim_on_model`); ValueError naming ``forward_speed`` otherwise (no shipped
-    forward trims, no free-body orbits yet: docs/forward_flight.md).
+    Forward flight (forward_speed > 0) starts from given ``kinematics`` (search a trim with
+    :func:`hawksim.trim.model_search.trim_on_model`; nothing is shipped): the held-body point at them, or the free
+    body's periodic orbit solved from them (:func:`hawksim.flight.orbit.periodic_orbit` with ``forward_speed``;
+    quasi-steady and UVLM backends only, :func:`hawksim.condition.check_forward_backend`); ValueError naming
+    ``forward_speed`` without kinematics (docs/forward_flight.md).
 
     ``body="free"``: the periodic orbit of the free body: the shipped one where the registry holds it
     (``shipped``, no ``kinematics``: :func:`shipped_point`), else solved by Newton shooting
@@ -37,10 +39,9 @@ def find_operating_point(speed: float, *, aero: str = "quasi-steady", body: str 
         raise ValueError(f"body must be one of {BODIES}, got {body!r}")
     ins = default_insect() if insect is None else insect
     forward_speed = check_forward_speed(forward_speed)
-    if forward_speed > 0 and (body != "held" or kinematics is None):
-        raise ValueError(f"forward_speed {forward_speed:g} m/s: only held-body points with given kinematics exist in "
-                         "forward flight (no shipped trims nor free-body orbits yet); search one with "
-                         "hawksim.trim.model_search.trim_on_model")
+    if forward_speed > 0 and kinematics is None:
+        raise ValueError(f"forward_speed {forward_speed:g} m/s needs kinematics (no forward-flight trim nor orbit is "
+                         "shipped); search a trim with hawksim.trim.model_search.trim_on_model")
     if body == "held":
         if solve:
             raise ValueError(f"body='held' takes no orbit-solve keywords (got {', '.join(sorted(solve))})")
@@ -59,4 +60,5 @@ def find_operating_point(speed: float, *, aero: str = "quasi-steady", body: str 
             return p
     from hawksim.flight.orbit import periodic_orbit
 
-    return periodic_orbit(speed, aero, kinematics=kinematics, model=model, insect=insect, log=log, **solve)
+    return periodic_orbit(speed, aero, kinematics=kinematics, model=model, insect=insect, log=log,
+                          **({"forward_speed": forward_speed} if forward_speed else {}), **solve)

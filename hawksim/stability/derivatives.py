@@ -85,11 +85,13 @@ def _air_field(v_d_s, w_d_s):
     return FreeStream(v0=-(S_WORLD @ v_d_s), omega=-(S_WORLD @ w_d_s), ref=np.zeros(3))
 
 
-def _loads_stability(kin, speed, res, v_d_s, w_d_s, symmetric, base=None) -> np.ndarray:
+def _loads_stability(kin, speed, res, v_d_s, w_d_s, symmetric, base=None, forward_speed=0.0) -> np.ndarray:
     """Cycle-mean (X, Y, Z, L, M, N) in stability axes for a disturbance (v_d_s, w_d_s) (stability axes).
 
     base: (backend, cycles already run) of an undisturbed run to continue from (a copy is disturbed), so that
     the + and - runs of a central difference share the wake they start from; else a run from rest.
+    forward_speed: U [m/s] of the condition; where > 0 the body's own loads in the disturbed stream are added (its
+    translation only, as :class:`hawksim.insect.body_aero.BodyAero` takes it).
     """
     if base is None:
         backend, start = backend_for(res, symmetric=symmetric, freestream=_air_field(v_d_s, w_d_s)), 0
@@ -98,23 +100,35 @@ def _loads_stability(kin, speed, res, v_d_s, w_d_s, symmetric, base=None) -> np.
         backend, start = copy.deepcopy(base[0]), base[1]
         backend.freestream = _air_field(v_d_s, w_d_s)
         cycles = res.cycles - start
+    fwd = {} if not forward_speed else {"forward_speed": forward_speed, "body_loads": False}
     r = held_flight(kin, speed, backend, cycles=cycles, average_cycles=res.average_cycles,
-                    steps_per_cycle=res.steps_per_cycle, start_cycle=start)
+                    steps_per_cycle=res.steps_per_cycle, start_cycle=start, **fwd)
     F, M = r.mean_loads(res.average_cycles)
+    if forward_speed:
+        from hawksim.backends.held import body_loads_world
+        from hawksim.condition import air_velocity
+        from hawksim.insect.folder import default_insect
+
+        fb, mb = body_loads_world(rot_y(-kin.chi), air_velocity(speed, forward_speed) - S_WORLD @ v_d_s,
+                                  default_insect())
+        F, M = F + fb, M + mb
     return np.concatenate([S_WORLD @ F, S_WORLD @ M])
 
 
-def _base_run(kin, speed, res, symmetric, cycles):
+def _base_run(kin, speed, res, symmetric, cycles, forward_speed=0.0):
     """An undisturbed run of ``cycles`` wingbeats whose backend state the disturbed runs continue."""
     backend = backend_for(res, symmetric=symmetric)
-    held_flight(kin, speed, backend, cycles=cycles, average_cycles=1, steps_per_cycle=res.steps_per_cycle)
+    held_flight(kin, speed, backend, cycles=cycles, average_cycles=1, steps_per_cycle=res.steps_per_cycle,
+                **({"forward_speed": forward_speed} if forward_speed else {}))
     return backend, cycles
 
 
 def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DERIVATIVE_RESOLUTION, *,
                             delta_velocity: float = DELTA_VELOCITY, delta_rate: float = DELTA_RATE,
-                            client=None, progress=None) -> DerivativeRuns:
-    """All 18 derivatives of the paper at a trim; progress(done, total) is called as the 12 disturbed runs finish.
+                            client=None, progress=None, forward_speed: float = 0.0) -> DerivativeRuns:
+    """All 18 derivatives of the paper at a trim (ascent ``speed``, forward speed ``forward_speed`` [m/s]:
+    :mod:`hawksim.condition`; the body's own loads count where U > 0); progress(done, total) is called as the 12
+    disturbed runs finish.
     With a dask.distributed ``client``
     (`hawksim.cluster.dask_client`) the 2 shared starts and the 12 disturbed runs go to its workers (the starts
     stay there as futures); without, they run in this process. The results do not depend on where the runs go."""
@@ -138,10 +152,10 @@ def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DER
     cases += [("v", -1, -dv * unit[1], np.zeros(3), False), ("p", -1, np.zeros(3), -dw * unit[0], False),
               ("r", -1, np.zeros(3), -dw * unit[2], False)]
     if client is not None:
-        bases = {s: client.submit(_base_run, kin, speed, res, s, warm, pure=False) if warm > 0 else None
-                 for s in (True, False)}
-        futures = [client.submit(_loads_stability, kin, speed, res, c[2], c[3], c[4], bases[c[4]], pure=False)
-                   for c in cases]
+        bases = {s: client.submit(_base_run, kin, speed, res, s, warm, forward_speed, pure=False) if warm > 0
+                 else None for s in (True, False)}
+        futures = [client.submit(_loads_stability, kin, speed, res, c[2], c[3], c[4], bases[c[4]], forward_speed,
+                                 pure=False) for c in cases]
         if progress is not None:
             from dask.distributed import as_completed
 
@@ -150,10 +164,10 @@ def dimensional_derivatives(kin: Kinematics, speed: float, res: Resolution = DER
                 progress(k, len(futures))
         loads = client.gather(futures)
     else:
-        bases = {s: _base_run(kin, speed, res, s, warm) if warm > 0 else None for s in (True, False)}
+        bases = {s: _base_run(kin, speed, res, s, warm, forward_speed) if warm > 0 else None for s in (True, False)}
         loads = []
         for c in cases:
-            loads.append(_loads_stability(kin, speed, res, c[2], c[3], c[4], bases[c[4]]))
+            loads.append(_loads_stability(kin, speed, res, c[2], c[3], c[4], bases[c[4]], forward_speed))
             if progress is not None:
                 progress(len(loads), len(cases))
     got = {(c[0], c[1]): y for c, y in zip(cases, loads)}

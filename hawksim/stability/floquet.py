@@ -36,7 +36,7 @@ from hawksim.insect.morphology import Morphology
 from hawksim.insect.kinematics import Kinematics
 from hawksim.backends.builtin import QUASI_STEADY
 from hawksim.backends.registry import descriptor
-from hawksim.flight.orbit import S, Orbit, OrbitFlight, scales
+from hawksim.flight.orbit import S, Orbit, orbit_flight, scales
 from hawksim.frames import cross
 from hawksim.stability.linear_model import LinearModel
 
@@ -183,8 +183,7 @@ def _monodromy_matrix(orbit: Orbit, delta: float, model, lateral: bool) -> np.nd
     sc = state_scale(kin, orbit.insect.morphology)
     x0 = orbit.launch_state.as_array()
     w = orbit.warm_beats
-    fl = {s: OrbitFlight(orbit.aero, symmetric=s, model=model, insect=orbit.insect, far_wake=orbit.far_wake)
-          for s in (True, False)}
+    fl = {s: orbit_flight(orbit, s, model) for s in (True, False)}
     cols = FLOQUET_STATES if lateral else LONG
     # states at the start (k = w) and end (k = w + 1) of the periodic beat, per perturbed launch
     A = np.zeros((8, 8))   # d x(w) / d x0, normalized (identity when w = 0)
@@ -279,19 +278,35 @@ class AveragedSystem:
     scalars: dict
 
 
-def _mean_loads_stability(kin, speed, v_d_s, w_d_s, steps_per_cycle, insect=None, model=None):
-    r = held_flight(kin, speed, _RelativeMotion(S @ v_d_s, S @ w_d_s, None if insect is None else insect.morphology),
-                    cycles=QS_HELD_CYCLES, steps_per_cycle=steps_per_cycle, insect=insect, model=model)
+def _mean_loads_stability(kin, speed, v_d_s, w_d_s, steps_per_cycle, insect=None, model=None, forward_speed=0.0):
+    if not forward_speed:  # vertical flight: as before the forward speed existed (bit for bit)
+        r = held_flight(kin, speed, _RelativeMotion(S @ v_d_s, S @ w_d_s, None if insect is None else
+                                                    insect.morphology),
+                        cycles=QS_HELD_CYCLES, steps_per_cycle=steps_per_cycle, insect=insect, model=model)
+        F, M = r.mean_loads(1)
+        return np.concatenate([S @ F, S @ M])
+    from hawksim.backends.held import body_loads_world
+    from hawksim.condition import air_velocity
+    from hawksim.frames import rot_y
+
+    insect = default_insect() if insect is None else insect
+    r = held_flight(kin, speed, _RelativeMotion(S @ v_d_s, S @ w_d_s, insect.morphology), cycles=QS_HELD_CYCLES,
+                    steps_per_cycle=steps_per_cycle, insect=insect, model=model, forward_speed=forward_speed,
+                    body_loads=False)
     F, M = r.mean_loads(1)
-    return np.concatenate([S @ F, S @ M])
+    # the body's own loads in the disturbed stream (its translation; the model takes no rotation, as in free flight)
+    fb, mb = body_loads_world(rot_y(-kin.chi), air_velocity(speed, forward_speed) - S @ v_d_s, insect)
+    return np.concatenate([S @ (F + fb), S @ (M + mb)])
 
 
 def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int = 200,
-                        insect: Insect | None = None) -> AveragedSystem:
+                        insect: Insect | None = None, forward_speed: float = 0.0) -> AveragedSystem:
     """Stability derivatives of the quasi-steady backend at ``kin`` on the held trim path (ascent ``speed``,
-    body at chi), and the nondimensional A matrices (hawksim.stability.system). ``insect`` (default
-    :func:`hawksim.insect.folder.default_insect`): its wings in the backend, its MJCF for the held flights and the
-    mass and inertia, its morphology for Eq. 8's scales."""
+    forward speed ``forward_speed`` [m/s], :mod:`hawksim.condition`; body at chi), and the nondimensional A matrices
+    (hawksim.stability.system). ``insect`` (default :func:`hawksim.insect.folder.default_insect`): its wings in the
+    backend, its MJCF for the held flights and the mass and inertia, its morphology for Eq. 8's scales. In forward
+    flight the body's own loads (:class:`hawksim.insect.body_aero.BodyAero`) count, in the disturbed stream, as on
+    the free body."""
     from hawksim.insect.kinematics import reference_speed
     from hawksim.insect.model import load_model
     from hawksim.stability.derivatives import mass_properties
@@ -311,13 +326,13 @@ def quasi_steady_system(kin: Kinematics, speed: float, *, steps_per_cycle: int =
         ys = []
         for s in (1, -1):
             vd, wd = (s * h * e[i], z) if trans else (z, s * h * e[i])
-            ys.append(_mean_loads_stability(kin, speed, vd, wd, steps_per_cycle, insect, model))
+            ys.append(_mean_loads_stability(kin, speed, vd, wd, steps_per_cycle, insect, model, forward_speed))
         diff = (ys[0] - ys[1]) / (2 * h)
         for f in forces:
             out[f + var] = float(diff[comp[f]])
     mp = mass_properties(kin, model)
     # moved to the system's centre of mass
-    d, Al, At, scalars = nondimensional_system(kin, speed, out, mp, insect.morphology)
+    d, Al, At, scalars = nondimensional_system(kin, speed, out, mp, insect.morphology, forward_speed=forward_speed)
 
     def ev(A):
         w = np.linalg.eigvals(A)

@@ -6,10 +6,14 @@ from __future__ import annotations
 import numpy as np
 
 
-def stability_report(speed: float, *, kinematics=None, client=None, progress=None) -> dict:
+def stability_report(speed: float, *, kinematics=None, client=None, progress=None, forward_speed: float = 0.0) -> dict:
     """The CLI contract's JSON for one ascent speed (also used by the studies of `hawksim reproduce`); client: a
     dask.distributed client whose workers run the UVLM cases
-    (:func:`hawksim.stability.derivatives.dimensional_derivatives`)."""
+    (:func:`hawksim.stability.derivatives.dimensional_derivatives`). ``forward_speed`` [m/s] > 0 (forward flight,
+    :mod:`hawksim.condition`) needs ``kinematics`` (no forward trim is shipped); the JSON then carries
+    ``forward_speed``."""
+    if forward_speed and kinematics is None:
+        raise ValueError(f"forward_speed {forward_speed:g} m/s needs kinematics (no forward-flight trim is shipped)")
     from hawksim.stability.derivatives import dimensional_derivatives, mass_properties
     from hawksim.stability.system import (LAT_DERIVATIVES, LONG_DERIVATIVES, about_centre_of_mass, modes_json,
                                           nondimensional_system)
@@ -17,11 +21,12 @@ def stability_report(speed: float, *, kinematics=None, client=None, progress=Non
 
     trim = shipped_trim(speed) if kinematics is None else None
     kin = kinematics if kinematics is not None else trim.kinematics
-    runs = dimensional_derivatives(kin, speed, client=client, progress=progress)
+    fwd = {"forward_speed": forward_speed} if forward_speed else {}
+    runs = dimensional_derivatives(kin, speed, client=client, progress=progress, **fwd)
     mp = mass_properties(kin)
-    d, A_long, A_lat, scalars = nondimensional_system(kin, speed, runs.derivatives, mp)
+    d, A_long, A_lat, scalars = nondimensional_system(kin, speed, runs.derivatives, mp, **fwd)
     return {
-        "speed": speed,
+        "speed": speed, **fwd,
         "trim": {"kinematics": kin.to_edge(), "source": trim.source if kinematics is None else "given"},
         "longitudinal": {"derivatives": {k: d[k] for k in LONG_DERIVATIVES}, **modes_json(A_long)},
         "lateral": {"derivatives": {k: d[k] for k in LAT_DERIVATIVES}, **modes_json(A_lat)},

@@ -1,7 +1,13 @@
 """Cycle-averaged flight dynamics: nondimensionalisation (paper Eq. 8), A matrices (Eqs. 11-12) and modes.
 
 Axes: stability axes (docs/conventions.md; Etkin 1972): x forward horizontal, y right, z down at equilibrium; the ascent
-at speed V has w_e = -V. Nondimensional variables follow Eq. 8 literally: U = 2 phi_a f r2 (r2 dimensional),
+at speed V has w_e = -V. Forward flight (issue 51, :mod:`hawksim.condition`): the same axes, x horizontal along the
+heading (for level flight, V = 0, x along the flight velocity: Etkin's stability axes); the equilibrium velocity is
+(u_e, 0, w_e) = (U, 0, -V), and the reference speed of Eq. 8 stays the wing's U_ref = 2 phi_a f r2 at every
+condition (the flight speed enters as u_e+ = U / U_ref and w_e+ = -V / U_ref; at U = 0 this is the paper's,
+unchanged). u_e adds the Coriolis terms of Etkin's body-axes equations: dw' += u_e dq (Z_q / m + u_e) and
+dv' -= u_e dr (Y_r / m - u_e); gravity's terms are those of Theta_e = 0 (level axes).
+Nondimensional variables follow Eq. 8 literally: U = 2 phi_a f r2 (r2 dimensional),
 T = 1/f, S_t = 2 S, cbar the mean chord, rho the air density:
 
     m+ = m / (0.5 rho U S_t T),   g+ = g T / U,   I+ = I / (0.5 rho U^2 S_t cbar T^2),   w_e+ = w_e / U,
@@ -115,23 +121,26 @@ def about_centre_of_mass(derivs: dict[str, float], body_cg) -> dict[str, float]:
     return d
 
 
-def a_long(d: dict[str, float], m: float, Iy: float, g: float, w_e: float) -> np.ndarray:
-    """A_long+ of Eq. 11 from nondimensional derivatives d, m+, Iy+, g+ and w_e+ (4, 4)."""
+def a_long(d: dict[str, float], m: float, Iy: float, g: float, w_e: float, u_e: float = 0.0) -> np.ndarray:
+    """A_long+ of Eq. 11 from nondimensional derivatives d, m+, Iy+, g+ and w_e+ (4, 4); ``u_e``: u_e+ = U / U_ref of
+    forward flight (the module docstring), which adds to the (w, q) entry (Etkin: Z_q / m + u_e)."""
     return np.array([
         [d["Xu"] / m, d["Xw"] / m, d["Xq"] / m - w_e, -g],
-        [d["Zu"] / m, d["Zw"] / m, d["Zq"] / m, 0.0],
+        [d["Zu"] / m, d["Zw"] / m, d["Zq"] / m + u_e if u_e else d["Zq"] / m, 0.0],
         [d["Mu"] / Iy, d["Mw"] / Iy, d["Mq"] / Iy, 0.0],
         [0.0, 0.0, 1.0, 0.0],
     ])
 
 
-def a_lat(d: dict[str, float], m: float, Ix: float, Iz: float, Ixz: float, g: float, w_e: float) -> np.ndarray:
-    """A_lat+ (Etkin's form, see the module docstring) from nondimensional quantities (4, 4)."""
+def a_lat(d: dict[str, float], m: float, Ix: float, Iz: float, Ixz: float, g: float, w_e: float,
+          u_e: float = 0.0) -> np.ndarray:
+    """A_lat+ (Etkin's form, see the module docstring) from nondimensional quantities (4, 4); ``u_e``: u_e+ of
+    forward flight, which subtracts from the (v, r) entry (Etkin: Y_r / m - u_e)."""
     den = Ix * Iz - Ixz**2
     L = np.array([d["Lv"], d["Lp"], d["Lr"]])
     N = np.array([d["Nv"], d["Np"], d["Nr"]])
     return np.array([
-        [d["Yv"] / m, d["Yp"] / m + w_e, d["Yr"] / m, g],
+        [d["Yv"] / m, d["Yp"] / m + w_e, d["Yr"] / m - u_e if u_e else d["Yr"] / m, g],
         [*((Iz * L + Ixz * N) / den), 0.0],
         [*((Ixz * L + Ix * N) / den), 0.0],
         [0.0, 1.0, 0.0, 0.0],
@@ -177,18 +186,21 @@ def modes_json(A: np.ndarray) -> dict:
 
 
 def nondimensional_system(kin: Kinematics, speed: float, derivs_dim: dict[str, float], mp: MassProperties,
-                          morph: Morphology | None = None, g: float = G) -> tuple[dict, np.ndarray, np.ndarray, dict]:
+                          morph: Morphology | None = None, g: float = G, forward_speed: float = 0.0
+                          ) -> tuple[dict, np.ndarray, np.ndarray, dict]:
     """(nondimensional derivatives, A_long+, A_lat+, scalars) from dimensional derivatives in stability axes about
     the body's centre of mass (what the derivative runs give), moved to the system's (:func:`about_centre_of_mass`,
     ``mp.body_cg``) where ``mp``'s inertia is (its mass and inertia are the insect's: :func:`hawksim.stability.
     derivatives.mass_properties` of its MJCF). ``morph``: the insect's morphology, the wing of Eq. 8's scales
-    (default the default insect's)."""
+    (default the default insect's). ``forward_speed`` U [m/s]: the equilibrium's u_e+ = U / U_ref (the scalars
+    carry ``u_e_plus`` where U > 0); the reference speed stays the wing's (module docstring)."""
     sc = Scales.of(kin, morph)
     d = {k: sc.derivative(k, v) for k, v in about_centre_of_mass(derivs_dim, mp.body_cg).items()}
     m = sc.mass(mp.m)
     Ix, Iy, Iz, Ixz = (sc.inertia(v) for v in (mp.Ix, mp.Iy, mp.Iz, mp.Ixz))
     g_p = g * sc.T / sc.U
     w_e = -speed / sc.U
+    u_e = forward_speed / sc.U if forward_speed else 0.0
     scalars = {"m_plus": m, "Ix_plus": Ix, "Iy_plus": Iy, "Iz_plus": Iz, "Ixz_plus": Ixz, "g_plus": g_p,
-               "w_e_plus": w_e, "U": sc.U, "T": sc.T}
-    return d, a_long(d, m, Iy, g_p, w_e), a_lat(d, m, Ix, Iz, Ixz, g_p, w_e), scalars
+               "w_e_plus": w_e, "U": sc.U, "T": sc.T} | ({"u_e_plus": u_e} if u_e else {})
+    return d, a_long(d, m, Iy, g_p, w_e, u_e), a_lat(d, m, Ix, Iz, Ixz, g_p, w_e, u_e), scalars

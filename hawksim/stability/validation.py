@@ -159,7 +159,7 @@ def _rel(a, b) -> float:
     return float(abs(complex(a) - complex(b)) / den) if den > 0 else float("inf")
 
 
-def chart_map(system: str, V_over_U: float) -> np.ndarray:
+def chart_map(system: str, V_over_U: float, u_e: float = 0.0) -> np.ndarray:
     """T (4, 4) with x_avg = T x_orbit: the averaged model's states (Etkin's BODY-fixed stability axes, velocity
     components that turn with the perturbed attitude) from the orbit chart's (velocities in the LEVEL heading
     axes, :mod:`hawksim.flight.orbit`). About the equilibrium velocity (0, 0, w_e) the body components are
@@ -167,9 +167,15 @@ def chart_map(system: str, V_over_U: float) -> np.ndarray:
     w_e+ = -V/U); rates and angles agree to first order (the averaged reference has no rotation). Eigenvalues
     do not depend on the chart; eigenvectors and per-state predictions do: expm(A k) is compared as
     T^-1 expm(A k) T. Checked: T^-1 A_long T has the (u, q) entry Xq/m (0.001 at 2 m/s) against logm of the
-    Floquet block's -0.014, where A_long's own entry is Xq/m - w_e = 1.3."""
+    Floquet block's -0.014, where A_long's own entry is Xq/m - w_e = 1.3.
+
+    Forward flight (``u_e`` = U / U_ref, the forward speed normalized; :mod:`hawksim.stability.system`): about the
+    equilibrium velocity (u_e, 0, w_e) also w_b = w + u_e theta; the heading axes turn with the yaw, so v has no
+    psi term."""
     T = np.eye(4)
     T[0, 3] = V_over_U if system == "longitudinal" else -V_over_U
+    if u_e and system == "longitudinal":
+        T[1, 3] = u_e
     return T
 
 
@@ -200,7 +206,8 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
     J = int(max(k for k in range(beats + 1) if k <= beats and np.all(dr[: k + 1] <= DRIFT_MAX)))
     J = max(J, MIN_WINDOW - 1)
     out = {"speed": orbit.speed, "aero": orbit.aero, "beats": beats, "fit_window_beats": J,
-           "reference_drift": dr.tolist(), "systems": {}, "_flights": {}}
+           "reference_drift": dr.tolist(), "systems": {}, "_flights": {}} | (
+               {"forward_speed": orbit.forward_speed} if orbit.forward_speed else {})
     for name in systems:
         idx, names = SYSTEMS[name]
         idx = list(idx)
@@ -303,7 +310,7 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
                 "halving_rel_change": [_rel(lmh[ph[i]], lm[pm[i]]) for i in range(4)],
                 "window_beats": n}
             M = block
-            Tc = chart_map(name, orbit.speed / sc[0])
+            Tc = chart_map(name, orbit.speed / sc[0], orbit.forward_speed / sc[0])
             Ad = np.linalg.solve(Tc, A[name] @ Tc)
             for s in range(4):
                 x0 = devs[s][0]
@@ -326,20 +333,24 @@ def averaged_A_uvlm(orbit: Orbit, client=None) -> tuple[dict, dict]:
     """(A by system, the stability report) of the UVLM's cycle-averaged derivatives at the orbit's kinematics."""
     from hawksim.stability.report import stability_report
 
-    rep = stability_report(orbit.speed, kinematics=orbit.kinematics, client=client)
+    rep = stability_report(orbit.speed, kinematics=orbit.kinematics, client=client,
+                           forward_speed=orbit.forward_speed)
     return ({"longitudinal": np.array(rep["longitudinal"]["matrix"]),
              "lateral": np.array(rep["lateral"]["matrix"])}, rep)
 
 
 def run_speed(speed: float, aero: str = "quasi-steady", *, client=None, log=None, lateral: bool = True,
-              **kw) -> dict:
-    """Orbit, Floquet matrix, averaged A and the perturbed flights at one speed; wall times of each."""
+              orbit: Orbit | None = None, **kw) -> dict:
+    """Orbit, Floquet matrix, averaged A and the perturbed flights at one speed; wall times of each. ``orbit``: the
+    periodic orbit to validate about (default: the shipped one at ``speed``, else solved; a forward-flight orbit,
+    ``orbit.forward_speed`` > 0, is given this way and its averaged model is taken at its condition)."""
     from hawksim.stability.floquet import quasi_steady_system
 
     from hawksim.flight.orbit import shipped_orbit
 
     t = time.perf_counter()
-    orbit = shipped_orbit(speed, aero) or periodic_orbit(speed, aero)
+    if orbit is None:
+        orbit = shipped_orbit(speed, aero) or periodic_orbit(speed, aero)
     t_orbit = time.perf_counter() - t if orbit.wall_time_s == 0 else orbit.wall_time_s
     if log is not None:
         log(f"{aero} {speed} m/s: orbit residual {orbit.residual:.2e} ({orbit.iterations} it, {t_orbit:.1f} s)")
@@ -350,7 +361,7 @@ def run_speed(speed: float, aero: str = "quasi-steady", *, client=None, log=None
     if aero == "uvlm":
         A, _ = averaged_A_uvlm(orbit, client)
     else:
-        av = quasi_steady_system(orbit.kinematics, speed)
+        av = quasi_steady_system(orbit.kinematics, speed, forward_speed=orbit.forward_speed)
         A = {"longitudinal": av.A_long, "lateral": av.A_lat}
     t_avg = time.perf_counter() - t
     res = validate_speed(orbit, fq, A, systems=("longitudinal", "lateral") if lateral else ("longitudinal",),
