@@ -107,6 +107,23 @@ def add_forward_speed_arg(p, extra: str = "") -> None:
                    help=FORWARD_SPEED_HELP + extra)
 
 
+def check_forward_condition(args) -> None:
+    """UsageError (exit 2, one line) where ``args.forward_speed`` > 0 cannot be had: a network backend (``--aero``
+    trained on vertical flight only, :data:`hawksim.condition.FORWARD_FLIGHT_BACKENDS`), no ``--kinematics`` (no
+    forward trim is shipped), or ``--insect`` (forward flight is the default hawkmoth's)."""
+    from hawksim.condition import FORWARD_FLIGHT_BACKENDS
+
+    u = args.forward_speed
+    if args.aero not in FORWARD_FLIGHT_BACKENDS:
+        raise UsageError(f"--forward-speed {u:g}: --aero {args.aero} was trained on vertical flight only; forward "
+                         f"flight takes --aero {' or '.join(FORWARD_FLIGHT_BACKENDS)}")
+    if args.kinematics is None:
+        raise UsageError(f"--forward-speed {u:g} needs --kinematics (no forward-flight trim is shipped; `hawksim trim "
+                         f"--aero quasi-steady --speed {args.speed:g} --forward-speed {u:g}` searches one)")
+    if getattr(args, "insect", None) is not None:
+        raise UsageError(f"--forward-speed {u:g} with --insect: not yet (forward flight is the default hawkmoth's)")
+
+
 def refuse_forward_speed(args, command: str, why: str) -> None:
     """UsageError (exit 2) if ``args.forward_speed`` is nonzero: ``command`` does not fly forward yet (``why``)."""
     if getattr(args, "forward_speed", 0.0):

@@ -8,7 +8,7 @@ from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE as STEPS_PER_CYCLE
 from hawksim.backends.resolution import FLY_WAKE_CYCLES
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli.args import (INSECT_HELP, KINEMATICS_HELP, MAX_FLY_STEPS, MAX_STEPS_PER_CYCLE, UsageError, cycles_arg,
-                              add_forward_speed_arg, insect_arg, refuse_forward_speed,
+                              add_forward_speed_arg, check_forward_condition, insect_arg,
                               parse_kinematics, perturbation_arg, positive_int_arg, speed_arg, wake_precision_arg,
                               writable_file)
 from hawksim.cli.progress import NoStage, progress_for
@@ -155,7 +155,8 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
 
 
 def cmd_fly(args) -> dict:
-    refuse_forward_speed(args, "fly", "by the free flights yet (their operating points are vertical ones)")
+    if args.forward_speed:
+        _check_forward_fly(args)
     if args.json_full:
         args.json = True
     if args.cycles * args.steps_per_cycle > MAX_FLY_STEPS:
@@ -171,7 +172,8 @@ def cmd_fly(args) -> dict:
                              f"{' or '.join(n for n in backend_names() if opt in descriptor(n).flight_options)} only")
     if getattr(args, "insect", None) is not None and getattr(args, "control", None) is None:
         args.control = "none"  # another insect flies open loop unless asked (its orbits are solved, not shipped)
-    control = _control_of(args)  # issue 20: --control lqr (default for quasi-steady from the orbit), --gust
+    # issue 20: --control lqr (default for quasi-steady from the orbit), --gust; forward flight: open loop
+    control = None if args.forward_speed else _control_of(args)
     if getattr(args, "insect", None) is not None and control is not None:
         if control == "clqr" or descriptor(args.aero).shipped_orbits_only:
             raise UsageError(f"--insect under control takes --control lqr with --aero {_insect_control()} (its own "
@@ -191,8 +193,11 @@ def cmd_fly(args) -> dict:
         guard = InterruptGuard().__enter__()
         progress = guard.progress(progress)
     try:
-        out = _fly_controlled(args, control, progress, guard) if control is not None else _fly_open_loop(
-            args, progress, guard)
+        if args.forward_speed:
+            out = _fly_forward(args, progress)
+        else:
+            out = _fly_controlled(args, control, progress, guard) if control is not None else _fly_open_loop(
+                args, progress, guard)
         if getattr(args, "insect", None) is not None:  # another insect than the default: say which
             out["insect"] = args.insect.name
         return out
@@ -208,6 +213,66 @@ def _note(text: str) -> None:
 
     close_all()  # a stage's bar ends its line first, on a terminal
     print(f"fly: {text}", file=sys.stderr)
+
+
+def _check_forward_fly(args) -> None:
+    """UsageError (exit 2, one line) for a forward flight that cannot be had (:func:`hawksim.cli.args.
+    check_forward_condition`), and a controller, gust, profile, recording, the trim start or another step count: the
+    forward flight starts on the free body's periodic orbit, solved here, and flies open loop."""
+    check_forward_condition(args)
+    u = args.forward_speed
+    asked = [f"--{k.replace('_', '-')}" for k in ("control", "gust", "ascent_profile", "control_rate", "sensing_delay",
+                                                 "rrd")
+             if getattr(args, k, None) not in (None, "none", [])]
+    if asked or args.start == "trim" or args.steps_per_cycle != STEPS_PER_CYCLE:
+        raise UsageError(f"--forward-speed {u:g} flies open loop from the periodic orbit only (not yet with "
+                         f"{', '.join(asked) or '--start trim or --steps-per-cycle'}; docs/forward_flight.md)")
+
+
+def _fly_forward(args, progress) -> dict:
+    """The open-loop forward flight: the free body's periodic orbit at (``--forward-speed``, ``--speed``) solved
+    from ``--kinematics`` (its f and phi0 solved, :func:`hawksim.flight.orbit.periodic_orbit`), then flown
+    (:func:`hawksim.flight.loop.fly`) with ``--perturb`` added to its launch state."""
+    import sys
+
+    from hawksim.cli.fly_report import report
+    from hawksim.cli.progress import stage_for
+    from hawksim.flight.loop import fly
+    from hawksim.flight.orbit import periodic_orbit
+    from hawksim.flight.start import parse_perturbations
+    from hawksim.insect.model import load_model
+
+    perturb = parse_perturbations(dict(args.perturb or []))
+    model = load_model(args.model) if args.model is not None else None
+    with stage_for(args, "fly: solving the forward-flight periodic orbit") as st:
+        orbit = periodic_orbit(args.speed, args.aero, kinematics=args.kinematics, forward_speed=args.forward_speed,
+                               log=st.note, model=model)
+    if not orbit.converged:
+        raise FloatingPointError(f"the periodic orbit at {args.forward_speed:g} m/s forward did not converge "
+                                 f"(residual {orbit.residual:.2e}); no flight")
+    steps = None
+    if progress is not None:
+        def steps(k, n):
+            progress(k * args.steps_per_cycle, n * args.steps_per_cycle)
+
+    result = fly(orbit, cycles=args.cycles, perturb=perturb, model=model, progress=steps,
+                 keep_extras_every=0)
+    out = result.summary()
+    g, o = args.kinematics.to_edge(), orbit.kinematics.to_edge()
+    note = (f"periodic orbit of the free body solved from the given kinematics ({orbit.iterations} Newton iterations, "
+            f"residual {orbit.residual:.1e}): f {g['f']:.4g} -> {o['f']:.4g} Hz, phi0 {g['phi0']:.4g} -> "
+            f"{o['phi0']:.4g} deg")
+    out["forward_speed"] = args.forward_speed
+    out["start"] = {"from": "orbit", "source": result.trim_source, "note": note}
+    if out["departed_at_beat"] is not None:
+        b = out["beats"][out["departed_at_beat"] - 1]
+        print(f"fly: departed at beat {out['departed_at_beat']} of {args.cycles} (horizontal speed "
+              f"{b['horizontal_speed']:.3f} m/s against {args.forward_speed:g}, vertical {b['mean_vertical_speed']:.3f}"
+              f" against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): an open-loop flight of this unstable model "
+              "leaves its periodic orbit", file=sys.stderr)
+    out["rrd"] = None
+    return report(args, out, result, None, {"flight_s": result.wall_time_s, "orbit_s": orbit.wall_time_s,
+                                            "recording_s": 0.0})
 
 
 def _fly_open_loop(args, progress, guard) -> dict:
@@ -420,7 +485,8 @@ def _delay(text: str) -> int:
 def register(sub) -> None:
     f = sub.add_parser("fly", help="fly the insect from its trim at an ascent speed (MuJoCo, 6-DOF)")
     f.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 (hover) to 2")
-    add_forward_speed_arg(f, " (not yet: nonzero is refused)")
+    add_forward_speed_arg(f, "; > 0: open loop from the free body's periodic orbit solved from --kinematics "
+                             "(--aero quasi-steady or uvlm)")
     f.add_argument("--cycles", type=cycles_arg, required=True, help="number of wingbeats N")
     f.add_argument("--aero", choices=backend_names(), default="quasi-steady",
                    help="aerodynamic model (default quasi-steady): uvlm, the extended UVLM in the loop; surrogate, the "

@@ -8,8 +8,8 @@ import math
 import sys
 
 from hawksim.backends.registry import descriptor, names
-from hawksim.cli.args import (INSECT_HELP, UsageError, add_forward_speed_arg, insect_arg, parse_kinematics,
-                              positive_int_arg, refuse_forward_speed, speed_arg)
+from hawksim.cli.args import (INSECT_HELP, UsageError, add_forward_speed_arg, check_forward_condition, insect_arg,
+                              parse_kinematics, positive_int_arg, speed_arg)
 
 
 def _averaged(args, kin, client=None) -> dict:
@@ -19,10 +19,11 @@ def _averaged(args, kin, client=None) -> dict:
         from hawksim.trim.point import OperatingPoint
 
         insect = getattr(args, "insect", None)
+        fwd = {"forward_speed": args.forward_speed} if args.forward_speed else {}
         point = OperatingPoint(float(args.speed), kin, aero="quasi-steady", body="held", source=args.trim_source or "",
-                               **({} if insect is None else {"insect": insect}))
+                               **({} if insect is None else {"insect": insect}), **fwd)
         if insect is None:
-            return {"speed": args.speed, "aero": args.aero, "trim": {"kinematics": kin.to_edge()},
+            return {"speed": args.speed, **fwd, "aero": args.aero, "trim": {"kinematics": kin.to_edge()},
                     **averaged_json(averaged_model(point))}
         return {"speed": args.speed, "aero": args.aero, "insect": insect.name,
                 "trim": {"kinematics": kin.to_edge(), "source": args.trim_source},
@@ -31,7 +32,8 @@ def _averaged(args, kin, client=None) -> dict:
     from hawksim.stability.report import stability_report
 
     bar = progress_for(args, f"stability V={args.speed:g} (disturbed UVLM runs)", "run", mininterval=0.1)
-    out = stability_report(args.speed, kinematics=kin, client=client, progress=bar)
+    out = stability_report(args.speed, kinematics=kin, client=client, progress=bar,
+                           **({"forward_speed": args.forward_speed} if args.forward_speed else {}))
     return {"speed": out.pop("speed", args.speed), "aero": args.aero, **out}
 
 
@@ -39,8 +41,8 @@ def cmd_stability(args) -> dict:
     from hawksim.cli.stability_report import render
 
     args.human = render
-    refuse_forward_speed(args, "stability", "by the stability analysis yet (averaged derivatives and Floquet "
-                         "multipliers are of vertical flight)")
+    if args.forward_speed:  # forward flight: quasi-steady or UVLM, from given kinematics (issue 51)
+        check_forward_condition(args)
     from hawksim.cluster import dask_client
     from hawksim.trim.tables import shipped_trim
 
@@ -64,7 +66,8 @@ def cmd_stability(args) -> dict:
         orbit = shipped_orbit(args.speed, args.aero) if kin is None and insect is None else None
         if orbit is None:
             with stage_for(args, "stability: solving the periodic orbit") as st:
-                orbit = periodic_orbit(args.speed, args.aero, kinematics=kin, log=st.note, insect=insect)
+                orbit = periodic_orbit(args.speed, args.aero, kinematics=kin, log=st.note, insect=insect,
+                                       **({"forward_speed": args.forward_speed} if args.forward_speed else {}))
         if not orbit.converged:
             print(f"hawksim stability: the periodic orbit did not converge (residual {orbit.residual:.2e}); "
                   "the multipliers are of the nearest state found", file=sys.stderr)
@@ -83,11 +86,12 @@ def cmd_stability(args) -> dict:
         if desc.control_model_table is not None and args.kinematics is None and insect is None:
             lin = shipped_control_model(args.speed, args.aero)
             source = f"shipped: hawksim/insects/hawkmoth/data/{desc.control_model_table}"
-        if lin is None and desc.linearize_cost == "seconds":
+        if lin is None and desc.linearize_cost == "seconds" and not args.forward_speed:  # (forward: item 5)
             lin, source = linearize(orbit, map="beat"), "differenced here (hawksim.control.derivatives.linearize)"
         control = None if lin is None else {**lin.to_json(), "source": source}
         chart = ("level heading axes (u, v horizontal; the averaged A's eigenvectors are in body-fixed stability "
-                 "axes: u_b = u - w_e theta, v_b = v + w_e phi)")
+                 "axes: u_b = u - w_e theta, v_b = v + w_e phi" + (", w_b = w + u_e theta)" if args.forward_speed
+                                                                   else ")"))
         out_orbit = {"orbit": orbit_json(orbit, given=args.kinematics), "control_derivatives": control,
                      "floquet": {**floquet_json(fl), "chart": chart}}
         if orbit.record is not None:  # a history network: the flight's modes are the augmented map's
@@ -153,7 +157,8 @@ def orbit_json(orbit, given=None) -> dict:
             "floor": orbit.floor, "warm_beats": orbit.warm_beats, "wall_time_s": orbit.wall_time_s} | (
                 {} if orbit.record is None else {"record_calls": int(len(orbit.record)),
                                                  "record_change": orbit.record_change}) | (
-                {} if given is None else {"kinematics_solved": solved_note(orbit, given)})
+                {} if given is None else {"kinematics_solved": solved_note(orbit, given)}) | (
+                {"forward_speed": orbit.forward_speed} if orbit.forward_speed else {})
 
 
 def _preload(args) -> tuple[str, ...]:
@@ -171,7 +176,8 @@ def register(sub) -> None:
     p = sub.add_parser("stability", help="stability derivatives, A matrices and modes at the trim; --floquet: "
                                          "free-flight orbit and Floquet multipliers")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
-    add_forward_speed_arg(p, " (not yet: nonzero is refused)")
+    add_forward_speed_arg(p, "; > 0: --aero quasi-steady or uvlm with --kinematics (axes and reference speed: "
+                             "docs/forward_flight.md)")
     p.add_argument("--kinematics", type=parse_kinematics, help="use these kinematics instead of the trim table")
     p.add_argument("--aero", choices=names(having="orbits"), default="uvlm", help="aerodynamic model (default uvlm)")
     p.add_argument("--floquet", action="store_true",

@@ -163,7 +163,7 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
         gusts: Sequence[Gust] = (), sensing_delay: int = 0, keep_extras_every: int = 0,
         progress: Callable[[int, int], None] | None = None, partial_on_interrupt: bool = False,
         insect: Insect | None = None, t_start: float | None = None,
-        state0: np.ndarray | None = None) -> FlightResult:
+        state0: np.ndarray | None = None, forward_speed: float = 0.0) -> FlightResult:
     """The loop body (module docstring): ``cycles`` wingbeats of ``sim`` (its body and backend already placed at the
     start) open loop (``controller`` None: ``sim`` a Simulator) or under ``controller`` (``sim`` a
     :class:`hawksim.flight.plant.ControlledSimulator` whose wings start on ``kinematics``). ``chi_ref`` [rad]: the
@@ -174,7 +174,7 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
     flown it propagates. ``kinematics``, ``speed``, ``aero``, ``source``, ``insect``: the result's record of what was
     flown; ``t_start``: the wall clock the result's ``wall_time_s`` counts from (default the loop's start);
     ``state0`` (9,): the start's body state as the controller senses it before the first update (default read from
-    the plant)."""
+    the plant); ``forward_speed`` [m/s]: the condition's U, the result's forward target (:mod:`hawksim.condition`)."""
     insect = default_insect() if insect is None else insect
     t_loop = time.perf_counter()
     t_start = t_loop if t_start is None else t_start
@@ -293,7 +293,7 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
         wall_time_s=wall,
         extras=extras, trim_source=source, end_t=end_t, end_pos=end_pos, aero_every=sim.aero_every, insect=insect,
         beat_log=rows if controller is not None else None,
-        speed_references=np.array(refs) if controller is not None else None)
+        speed_references=np.array(refs) if controller is not None else None, forward_speed_target=float(forward_speed))
 
 
 def fly(point, backend=None, cycles: int | None = None, *, controller: Controller | None = None,
@@ -348,12 +348,16 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
     t_start = time.perf_counter()
     is_orbit = point.body == "free"  # one OperatingPoint type: a free-body point (orbit) or a held-body one (trim)
     speed, kin = point.speed, point.kinematics
+    forward_speed = point.forward_speed
     aero = point.aero if is_orbit else getattr(point, "model", None)
     if not (np.isfinite(speed) and speed >= 0):
         raise ValueError(f"point: speed must be a finite ascent speed >= 0 m/s, got {speed}")
     if cycles is None or int(cycles) != cycles or cycles < 1:
         raise ValueError(f"cycles must be a positive integer, got {cycles}")
-    if speed == 0:
+    if forward_speed and start_state is None and not is_orbit:
+        raise ValueError(f"point: forward_speed {forward_speed:g} m/s flies from a periodic orbit of the free body or "
+                         "a start_state (the calibration start is vertical flight's)")
+    if speed == 0 and not forward_speed:
         from hawksim.backends.registry import descriptor, descriptor_of
 
         desc = descriptor(aero) if backend is None else descriptor_of(backend)
@@ -400,6 +404,12 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
             if hasattr(backend, "bind"):
                 backend.bind(sim)
         sim.set_wings(kin, kin)
+    if forward_speed:  # the body's own loads act in forward flight, as in the orbit's flights (hawksim.flight.orbit)
+        from hawksim.condition import check_forward_backend
+        from hawksim.insect.body_aero import BodyAero
+
+        check_forward_backend(aero if aero is not None else getattr(sim.backend, "name", ""), forward_speed)
+        sim.body_aero = BodyAero.of(insect.morphology)
     name = getattr(sim.backend, "name", aero)
     deg = np.pi / 180
     if start_state is None and is_orbit:
@@ -430,6 +440,9 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
             sim.advance(sim.steps_per_cycle)
     if is_orbit:
         source = f"periodic orbit of the free body at {speed:g} m/s ({point.aero})"
+        if forward_speed:
+            source = (f"periodic orbit of the free body at {speed:g} m/s vertical, {forward_speed:g} m/s forward "
+                      f"({point.aero})")
     else:
         source = point.source
     if controller is not None:
@@ -437,4 +450,5 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
     return run(sim, int(cycles), kinematics=kin, speed=speed, aero=name, source=source, controller=controller,
                point=point, chi_ref=chi_ref, gusts=gusts, sensing_delay=sensing_delay,
                keep_extras_every=keep_extras_every, progress=progress, partial_on_interrupt=partial_on_interrupt,
-               insect=insect, t_start=None if controller is None else t_start)
+               insect=insect, t_start=None if controller is None else t_start,
+               **({"forward_speed": forward_speed} if forward_speed else {}))

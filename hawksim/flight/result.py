@@ -15,7 +15,8 @@ from hawksim.insect.insect import Insect
 
 DEPARTURE_SPEED = 0.1
 """A flight has departed when a wingbeat's mean vertical speed leaves the target, or its horizontal speed leaves
-zero, by more than this [m/s] (issue 19's definition)."""
+zero (in forward flight: the forward target, :attr:`FlightResult.forward_speed_target`), by more than this [m/s]
+(issue 19's definition)."""
 DEPARTURE_ANGLE_DEG = 10.0
 """... or when its mean pitch, roll or yaw leaves the first wingbeat's by more than this [deg]."""
 
@@ -75,6 +76,9 @@ class FlightResult:
     speed_references: np.ndarray | None = None
     """A flight under a controller: the speed each beat was flown to (beats,) [m/s] (a scheduled controller's
     rate-limited reference; else the target), which :meth:`departed_at_beat` tests against; None open loop."""
+    forward_speed_target: float = 0.0
+    """The forward speed U [m/s] flown to (:mod:`hawksim.condition`; 0: vertical flight), which the horizontal speed
+    of :meth:`departed_at_beat` is tested against; in the summary only where nonzero."""
 
     @property
     def body_R(self) -> np.ndarray:
@@ -152,7 +156,9 @@ class FlightResult:
             else:
                 a, c = r[min(k - 1, len(r) - 1)], r[max(0, min(k - 2, len(r) - 1))]
                 off = max(min(a, c) - vz, vz - max(a, c), 0.0)
-            if (off > DEPARTURE_SPEED or b["horizontal_speed"] > DEPARTURE_SPEED
+            vh = b["horizontal_speed"] - self.forward_speed_target if self.forward_speed_target else \
+                b["horizontal_speed"]
+            if (off > DEPARTURE_SPEED or abs(vh) > DEPARTURE_SPEED
                     or any(abs(b[a] - ref[a]) > DEPARTURE_ANGLE_DEG for a in ("pitch_deg", "roll_deg", "yaw_deg"))):
                 return k
         return None
@@ -181,7 +187,7 @@ class FlightResult:
             "trim_source": self.trim_source,
             "steps_per_cycle": n,
             "last_cycle": self.coefficients(last.start, last.stop),
-        }
+        } | ({"forward_speed_target": self.forward_speed_target} if self.forward_speed_target else {})
 
     def coefficients(self, a: int, b: int) -> dict[str, float]:
         """L+, D+, M+, P+ of steps a..b-1 (one wingbeat: the cycle means of the paper's Eq. 2): the mean lift and
