@@ -40,6 +40,16 @@ QS_TRIMS = RESULTS / "qs_trims.json"
 UVLM_BALANCE = RESULTS / "uvlm_balance.json"
 OUT = RESULTS / "orbits.json"
 
+UVLM_TOL = 1e-3
+"""The UVLM orbit's tolerance here (max abs normalized residual: velocities / U_ref, q T, rad). The UVLM's own
+(:data:`hawksim.backends.builtin.UVLM_TOL_VELOCITY`, ``UVLM_TOL_RATE``: 1e-3 m/s, 1e-2 rad/s) sits at the wake's
+beat-to-beat floor in forward flight: at 2 m/s Newton went 8.1e-2, 4.2e-2, 2.3e-3, 4.9e-4, 4.2e-4 and then stalled
+(line search down to 5e-4 of a step) at 4.2e-4, just outside the rate tolerance (4.2e-4 / T = 0.011 rad/s). The orbit's
+``floor`` (the next beat's residual) is reported beside it."""
+
+UVLM_MAX_ITER = 8
+"""Newton iterations of a UVLM orbit here (each 7 flights of 3 beats, minutes on the shared host)."""
+
 HOLD_REL = 0.10
 """The averaged model holds in a system where it has as many unstable modes as Floquet and each unstable Floquet
 exponent ln(mu) is matched within this relative error (the criterion docs/free_flight.md applied to vertical ascent:
@@ -91,8 +101,9 @@ def run(aero: str, forward_speed: float, *, validate: bool = True, averaged: boo
 
     kin0, src = start_kinematics(aero, forward_speed)
     t0 = time.perf_counter()
+    solve = {"tol": UVLM_TOL, "max_iter": UVLM_MAX_ITER} if aero == "uvlm" else {}
     orbit = periodic_orbit(0.0, aero, kinematics=kin0, forward_speed=forward_speed,
-                           log=lambda m: log(f"{aero} U={forward_speed:g}: {m}"))
+                           log=lambda m: log(f"{aero} U={forward_speed:g}: {m}"), **solve)
     log(f"{aero} U={forward_speed:g}: orbit residual {orbit.residual:.2e} converged {orbit.converged} "
         f"({orbit.wall_time_s:.0f} s)")
     t = time.perf_counter()
@@ -102,7 +113,7 @@ def run(aero: str, forward_speed: float, *, validate: bool = True, averaged: boo
         f"lat {np.round(np.abs(fq.multipliers_lat), 3)} ({t_mono:.0f} s)")
     row = {"aero": aero, "forward_speed": forward_speed, "speed": 0.0, "start": {"from": src,
                                                                                 "kinematics": kin0.to_edge()},
-           "orbit": orbit.to_json(), "f_hz": orbit.kinematics.f,
+           "orbit": orbit.to_json(), "orbit_tolerance": solve.get("tol", "the backend's"), "f_hz": orbit.kinematics.f,
            "phi0_deg": float(np.degrees(orbit.kinematics.phi0)), "floquet_coupling": float(fq.coupling),
            "wall_times_s": {"orbit": orbit.wall_time_s, "monodromy": t_mono}}
     A = None
