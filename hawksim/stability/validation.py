@@ -142,7 +142,7 @@ def fit_map(devs: list[np.ndarray], n: int) -> np.ndarray:
     return np.linalg.lstsq(X.T, Y.T, rcond=None)[0].T
 
 
-def _pair(floq: np.ndarray, avg: np.ndarray) -> list[int]:
+def pair_exponents(floq: np.ndarray, avg: np.ndarray) -> list[int]:
     """For each Floquet exponent the index of the averaged eigenvalue (assignment of least total distance)."""
     best = min(itertools.permutations(range(len(avg))),
                key=lambda p: sum(abs(floq[i] - avg[p[i]]) for i in range(len(floq))))
@@ -222,7 +222,7 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
         fq_reach = floquet.reach_long if name == "longitudinal" else floquet.reach_lat
         near = [int(np.argmin(np.abs(fq_ex - z))) for z in lam_f]
         lam_a = np.linalg.eigvals(A[name])
-        pairing = _pair(lam_f, lam_a)
+        pairing = pair_exponents(lam_f, lam_a)
         sym = (name == "longitudinal") if uvlm else None
         ref = refs[sym if uvlm else None][:, :8] / sc
         mu_max = max(1.0, float(np.abs(mu).max()))
@@ -301,8 +301,8 @@ def validate_speed(orbit: Orbit, floquet, A: dict[str, np.ndarray], *, beats: in
             n = J + 1
             lm = np.log(np.linalg.eigvals(fit_map(devs, n)).astype(complex))
             lmh = np.log(np.linalg.eigvals(fit_map(devs_h, n)).astype(complex))
-            pm = _pair(lam_f, lm)
-            ph = _pair(lam_f, lmh)
+            pm = pair_exponents(lam_f, lm)
+            ph = pair_exponents(lam_f, lmh)
             sysout["nonlinear_map"] = {
                 "exponents_paired_to_floquet": [_c(lm[pm[i]]) for i in range(4)],
                 "half_amplitude": [_c(lmh[ph[i]]) for i in range(4)],

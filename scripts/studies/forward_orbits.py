@@ -75,11 +75,11 @@ def _c(z) -> list[float]:
 def _system(fq_mu, fq_reach, A) -> dict:
     """One system's Floquet multipliers and averaged eigenvalues, paired, with the verdict of :data:`HOLD_REL`."""
     from hawksim.stability.floquet import REACH_MIN
-    from hawksim.stability.validation import _pair
+    from hawksim.stability.validation import pair_exponents
 
     lam_f = np.log(np.asarray(fq_mu).astype(complex))
     lam_a = np.linalg.eigvals(np.asarray(A, float))
-    pair = _pair(lam_f, lam_a)
+    pair = pair_exponents(lam_f, lam_a)
     rel = [float(abs(lam_a[pair[i]] - lam_f[i]) / abs(lam_f[i])) for i in range(4)]
     resolved = [r >= REACH_MIN for r in fq_reach]
     unst_f = [i for i in range(4) if abs(fq_mu[i]) > 1 and resolved[i]]
