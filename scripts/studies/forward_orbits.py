@@ -14,7 +14,9 @@ Per forward speed U (V = 0):
   the nonlinear deviation against the Floquet exponents and the averaged eigenvalues).
 
 Where the averaged model holds (:data:`HOLD_REL`): per system, it predicts the same number of unstable modes as
-Floquet and every unstable Floquet exponent within HOLD_REL (relative); the verdict is in each row.
+Floquet and every unstable Floquet exponent within HOLD_REL (relative), counting the resolved Floquet modes only
+(:data:`hawksim.stability.floquet.REACH_MIN`: a UVLM mode the launches do not reach is the launch family's
+extrapolation); the verdict is in each row (null where no mode of the system is resolved).
 
 Results: one row per (aero, U) in ``--out`` (default results/forward_flight/orbits.json), written as each speed
 finishes; a row already there is kept (resumable) unless ``--force``. ``--plot`` draws the largest |mu| per system
@@ -84,14 +86,26 @@ def _system(fq_mu, fq_reach, A) -> dict:
     resolved = [r >= REACH_MIN for r in fq_reach]
     unst_f = [i for i in range(4) if abs(fq_mu[i]) > 1 and resolved[i]]
     n_unst_a = int(sum(abs(np.exp(z)) > 1 for z in lam_a))
-    holds = len(unst_f) == n_unst_a and all(rel[i] <= HOLD_REL for i in unst_f)
+    holds = (len(unst_f) == n_unst_a and all(rel[i] <= HOLD_REL for i in unst_f)) if any(resolved) else None
     return {"floquet_multipliers": [_c(m) for m in fq_mu], "abs_floquet": [float(abs(m)) for m in fq_mu],
             "floquet_exponents": [_c(z) for z in lam_f], "reach": [float(r) for r in fq_reach],
             "averaged_eigenvalues": [_c(lam_a[pair[i]]) for i in range(4)],
             "averaged_multipliers": [_c(np.exp(lam_a[pair[i]])) for i in range(4)],
             "abs_averaged": [float(abs(np.exp(lam_a[pair[i]]))) for i in range(4)],
             "rel_error_averaged_vs_floquet": rel, "unstable_floquet": len(unst_f), "unstable_averaged": n_unst_a,
-            "averaged_holds": bool(holds)}
+            "max_abs_resolved_floquet": max((float(abs(fq_mu[i])) for i in range(4) if resolved[i]), default=None),
+            "averaged_holds": None if holds is None else bool(holds)}
+
+
+def rejudge(doc: dict) -> None:
+    """Recompute every row's per-system comparison (:func:`_system`) from its stored multipliers, reaches and A (the
+    verdict's rule may have changed since the row was written; the inputs are the row's own)."""
+    for r in doc["rows"]:
+        if "A" not in r:
+            continue
+        for name, s in r["systems"].items():
+            mu = [complex(*m) for m in s["floquet_multipliers"]]
+            r["systems"][name] = _system(mu, s["reach"], r["A"][name])
 
 
 def run(aero: str, forward_speed: float, *, validate: bool = True, averaged: bool = True, log=print) -> dict:
@@ -157,6 +171,28 @@ def run(aero: str, forward_speed: float, *, validate: bool = True, averaged: boo
     return row
 
 
+def flights_of_row(row: dict, *, log=print) -> dict:
+    """The perturbed flights of a stored row (the UVLM's, run apart: minutes per mode): its orbit rebuilt from the
+    row's JSON, its monodromy again (the eigenvectors the modal fits project on), the unstable modes only and no
+    per-state flights (:func:`hawksim.stability.validation.validate_speed` with ``modes="unstable"``,
+    ``state_flights=False``), against the row's averaged A."""
+    from hawksim.stability.floquet import monodromy
+    from hawksim.stability.validation import validate_speed
+    from hawksim.trim.point import OperatingPoint
+
+    orbit = OperatingPoint.from_json(row["orbit"])
+    t = time.perf_counter()
+    fq = monodromy(orbit)
+    res = validate_speed(orbit, fq, {k: np.array(v) for k, v in row["A"].items()}, modes="unstable",
+                         state_flights=False, log=log)
+    modes = [m for s in res["systems"].values() for m in s["modes"]]
+    resolved = [m["rel_error_nonlinear_vs_floquet"] for m in modes if m["resolved"]]
+    return {"fit_window_beats": res["fit_window_beats"], "beats": res["beats"], "modes": "unstable",
+            "systems": {k: {"amplitude": v["amplitude"], "modes": v["modes"]} for k, v in res["systems"].items()},
+            "max_rel_error_nonlinear_vs_floquet": max(resolved) if resolved else None,
+            "wall_time_s": time.perf_counter() - t}
+
+
 def load(path: Path) -> dict:
     return json.loads(path.read_text()) if path.is_file() else {"rows": []}
 
@@ -189,6 +225,11 @@ def _modes(zs) -> str:
     return ", ".join(out)
 
 
+def _verdict(system: dict) -> str:
+    h = system["averaged_holds"]
+    return "unresolved" if h is None else "yes" if h else "no"
+
+
 def markdown(doc: dict) -> str:
     lines = ["| aero | U [m/s] | orbit residual | f [Hz] (trim) | phi0 [deg] | P+ | longitudinal ln mu | "
              "longitudinal eig(A) | lateral ln mu | lateral eig(A) | max abs mu (Floquet / averaged) | averaged holds "
@@ -198,7 +239,8 @@ def markdown(doc: dict) -> str:
         s = r["systems"]
         lo, la = s["longitudinal"], s["lateral"]
         has_avg = "averaged_eigenvalues" in lo
-        mx_f = max(max(lo["abs_floquet"]), max(la["abs_floquet"]))
+        mx_f = max((v for v in (lo.get("max_abs_resolved_floquet"), la.get("max_abs_resolved_floquet"))
+                    if v is not None), default=float("nan"))
         mx_a = max(max(lo["abs_averaged"]), max(la["abs_averaged"])) if has_avg else float("nan")
         fl = r.get("flights", {}).get("max_rel_error_nonlinear_vs_floquet")
         lines.append(
@@ -208,8 +250,7 @@ def markdown(doc: dict) -> str:
             f"{_modes(lo['averaged_eigenvalues']) if has_avg else '-'} | "
             f"{_modes(la['floquet_exponents'])} | "
             f"{_modes(la['averaged_eigenvalues']) if has_avg else '-'} | {mx_f:.3f} / {mx_a:.3f} | "
-            f"{('yes' if lo['averaged_holds'] else 'no') if has_avg else '-'}, "
-            f"{('yes' if la['averaged_holds'] else 'no') if has_avg else '-'} | "
+            f"{_verdict(lo) if has_avg else '-'}, {_verdict(la) if has_avg else '-'} | "
             f"{'-' if fl is None else f'{fl:.1%}'} |")
     return "\n".join(lines)
 
@@ -225,8 +266,8 @@ def plot(doc: dict, path: Path) -> None:
             if not rows:
                 continue
             U = [r["forward_speed"] for r in rows]
-            ax.plot(U, [max(r["systems"][name]["abs_floquet"]) for r in rows], "o-", color=col,
-                    label=f"{aero}: Floquet")
+            ax.plot(U, [r["systems"][name].get("max_abs_resolved_floquet") or np.nan for r in rows], "o-", color=col,
+                    label=f"{aero}: Floquet (resolved modes)")
             if all("abs_averaged" in r["systems"][name] for r in rows):
                 ax.plot(U, [max(r["systems"][name]["abs_averaged"]) for r in rows], "s--", color=col, mfc="none",
                         label=f"{aero}: averaged exp(lambda+)")
@@ -254,6 +295,9 @@ def main(argv=None) -> int:
     ap.add_argument("--force", action="store_true", help="recompute rows already in --out")
     ap.add_argument("--no-flights", action="store_true", help="skip the perturbed flights (quasi-steady)")
     ap.add_argument("--no-averaged", action="store_true", help="skip the averaged model (UVLM: 14 held runs)")
+    ap.add_argument("--flights-of", type=float, nargs="+", default=[], metavar="U",
+                    help="the perturbed flights of the stored --aero rows at these speeds (the UVLM's: run apart)")
+    ap.add_argument("--rejudge", action="store_true", help="recompute the rows' verdicts from their stored data")
     ap.add_argument("--plot", type=Path)
     ap.add_argument("--markdown", action="store_true")
     a = ap.parse_args(argv)
@@ -273,7 +317,19 @@ def main(argv=None) -> int:
         doc = load(a.out)  # another process may have written meanwhile
         doc["rows"] = [r for r in doc["rows"] if not (r["aero"] == a.aero and r["forward_speed"] == U)] + [row]
         save(a.out, doc)
+    for U in a.flights_of:
+        row = next(r for r in load(a.out)["rows"] if r["aero"] == a.aero and r["forward_speed"] == U)
+        if "flights" in row and not a.force:
+            log(f"{a.aero} U={U:g}: flights in {a.out}, skipped")
+            continue
+        fl = flights_of_row(row, log=log)
+        doc = load(a.out)
+        next(r for r in doc["rows"] if r["aero"] == a.aero and r["forward_speed"] == U)["flights"] = fl
+        save(a.out, doc)
     doc = load(a.out)
+    if a.rejudge:
+        rejudge(doc)
+        save(a.out, doc)
     if a.plot:
         plot(doc, a.plot)
     if a.markdown:

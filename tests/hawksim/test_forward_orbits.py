@@ -158,4 +158,4 @@ def test_uvlm_forward_orbit_at_2_m_s_reproduces_the_study():
     assert abs(o.mean_velocity[0] - U) < 2e-3 and abs(o.mean_velocity[2]) < 2e-3
     fq = monodromy(o, lateral=False)
     mu = max(abs(m) for m, ok in zip(fq.multipliers_long, fq.resolved_long) if ok)
-    assert mu == pytest.approx(max(row["systems"]["longitudinal"]["abs_floquet"]), rel=1e-6)
+    assert mu == pytest.approx(row["systems"]["longitudinal"]["max_abs_resolved_floquet"], rel=1e-6)
