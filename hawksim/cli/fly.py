@@ -217,22 +217,33 @@ def _note(text: str) -> None:
 
 def _check_forward_fly(args) -> None:
     """UsageError (exit 2, one line) for a forward flight that cannot be had (:func:`hawksim.cli.args.
-    check_forward_condition`), and a controller, gust, profile, recording, the trim start or another step count: the
-    forward flight starts on the free body's periodic orbit, solved here, and flies open loop."""
+    check_forward_condition`), and the constrained LQR, half-stroke rate, gust, profile, recording, the trim start or
+    another step count: the forward flight starts on the free body's periodic orbit, solved here, and flies open loop
+    or under the per-beat LQR about that orbit (``--control lqr``, quasi-steady)."""
     check_forward_condition(args)
     u = args.forward_speed
-    asked = [f"--{k.replace('_', '-')}" for k in ("control", "gust", "ascent_profile", "control_rate", "sensing_delay",
-                                                 "rrd")
-             if getattr(args, k, None) not in (None, "none", [])]
+    asked = [f"--{k.replace('_', '-')}" for k in ("gust", "ascent_profile", "rrd") if getattr(args, k, None)]
+    if args.control == "clqr":
+        asked.append("--control clqr")
+    if args.control_rate == "half-stroke":
+        asked.append("--control-rate half-stroke")
+    if args.control == "lqr" and args.aero != "quasi-steady":
+        asked.append(f"--control lqr --aero {args.aero}")
+    if args.sensing_delay is not None and args.control != "lqr":
+        raise UsageError(f"--sensing-delay applies to a controlled flight only (--control lqr); this forward flight is "
+                         f"open loop (--control {args.control or 'none'})")
     if asked or args.start == "trim" or args.steps_per_cycle != STEPS_PER_CYCLE:
-        raise UsageError(f"--forward-speed {u:g} flies open loop from the periodic orbit only (not yet with "
-                         f"{', '.join(asked) or '--start trim or --steps-per-cycle'}; docs/forward_flight.md)")
+        what = ", ".join(asked) or "--start trim or --steps-per-cycle"
+        raise UsageError(f"--forward-speed {u:g} flies open loop or under --control lqr (quasi-steady, per beat) from "
+                         f"the periodic orbit only (not yet with {what}; docs/forward_flight.md)")
 
 
 def _fly_forward(args, progress) -> dict:
-    """The open-loop forward flight: the free body's periodic orbit at (``--forward-speed``, ``--speed``) solved
-    from ``--kinematics`` (its f and phi0 solved, :func:`hawksim.flight.orbit.periodic_orbit`), then flown
-    (:func:`hawksim.flight.loop.fly`) with ``--perturb`` added to its launch state."""
+    """The forward flight: the free body's periodic orbit at (``--forward-speed``, ``--speed``) solved from
+    ``--kinematics`` (its f and phi0 solved, :func:`hawksim.flight.orbit.periodic_orbit`), then flown
+    (:func:`hawksim.flight.loop.fly`) with ``--perturb`` added to its launch state, open loop or under the per-beat
+    LQR about the orbit (``--control lqr``: :meth:`hawksim.control.schedule.Schedule.of_orbit`, the hold point moving
+    forward at U)."""
     import sys
 
     from hawksim.cli.fly_report import report
@@ -255,9 +266,23 @@ def _fly_forward(args, progress) -> dict:
         def steps(k, n):
             progress(k * args.steps_per_cycle, n * args.steps_per_cycle)
 
-    result = fly(orbit, cycles=args.cycles, perturb=perturb, model=model, progress=steps,
-                 keep_extras_every=0)
+    control = None
+    if args.control == "lqr":  # the per-beat LQR about this orbit (a one-point schedule, differenced here)
+        from hawksim.control.controller import LQR
+        from hawksim.control.schedule import Schedule
+
+        delay = args.sensing_delay or 0
+        with stage_for(args, "fly: linearizing the forward-flight orbit (the LQR's model)"):
+            schedule = Schedule.of_orbit(orbit, delay=delay, model=model)
+        result = fly(orbit, cycles=args.cycles, perturb=perturb, model=model, progress=steps,
+                     controller=LQR(schedule, args.speed), sensing_delay=delay)
+        control = {"kind": "lqr", "rate": "beat", "delay": delay,
+                   "schedule": [p.to_json() for p in schedule.points]}
+    else:
+        result = fly(orbit, cycles=args.cycles, perturb=perturb, model=model, progress=steps, keep_extras_every=0)
     out = result.summary()
+    if control is not None:
+        out["control"] = control
     g, o = args.kinematics.to_edge(), orbit.kinematics.to_edge()
     note = (f"periodic orbit of the free body solved from the given kinematics ({orbit.iterations} Newton iterations, "
             f"residual {orbit.residual:.1e}): f {g['f']:.4g} -> {o['f']:.4g} Hz, phi0 {g['phi0']:.4g} -> "
@@ -268,8 +293,9 @@ def _fly_forward(args, progress) -> dict:
         b = out["beats"][out["departed_at_beat"] - 1]
         print(f"fly: departed at beat {out['departed_at_beat']} of {args.cycles} (horizontal speed "
               f"{b['horizontal_speed']:.3f} m/s against {args.forward_speed:g}, vertical {b['mean_vertical_speed']:.3f}"
-              f" against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): an open-loop flight of this unstable model "
-              "leaves its periodic orbit", file=sys.stderr)
+              f" against {args.speed:g}; pitch {b['pitch_deg']:.1f} deg): "
+              + ("the LQR did not hold it" if control is not None else
+                 "an open-loop flight of this unstable model leaves its periodic orbit"), file=sys.stderr)
     out["rrd"] = None
     return report(args, out, result, None, {"flight_s": result.wall_time_s, "orbit_s": orbit.wall_time_s,
                                             "recording_s": 0.0})

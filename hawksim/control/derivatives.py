@@ -113,7 +113,8 @@ class Snapshot:
         self.sat = (lambda p: saturate(p, orbit.insect)) if clip else (lambda p: p)
         if sim is None:
             kin = orbit.kinematics
-            sim = controlled_plant(model, kin, orbit.aero, insect=orbit.insect, far_wake=orbit.far_wake)
+            sim = controlled_plant(model, kin, orbit.aero, insect=orbit.insect, far_wake=orbit.far_wake,
+                                   forward_speed=orbit.forward_speed)
             orbit.seed(sim.backend)
             sim.set_wings(kin, kin)
             set_body_state(sim, orbit.launch_state.as_array(), orbit.chi_ref)
@@ -196,7 +197,8 @@ def one_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray, 
     :func:`hawksim.control.constrained.wing_params` for the per-wing channels)."""
     model = model if model is not None else load_model(morph=orbit.insect.morphology)
     kin = orbit.kinematics
-    sim = controlled_plant(model, kin, orbit.aero, insect=orbit.insect, far_wake=orbit.far_wake)
+    sim = controlled_plant(model, kin, orbit.aero, insect=orbit.insect, far_wake=orbit.far_wake,
+                           forward_speed=orbit.forward_speed)
     sat = (lambda p: saturate(p, orbit.insect)) if clip else (lambda p: p)
     lp, rp = (Kinematics.from_array(sat(p)) for p in wings(kin, du_prev))
     sim.set_wings(lp, rp)

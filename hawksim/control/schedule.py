@@ -337,6 +337,21 @@ class Schedule:
                        for v in sp if lo - 1e-12 <= v <= hi + 1e-12]
         self.speeds = np.array([p.speed for p in self.points])
 
+    @classmethod
+    def of_orbit(cls, orbit: Orbit, *, delay: int = 0, model=None, x_max=None, u_max=None) -> Schedule:
+        """A one-point per-beat schedule about a given periodic orbit (a forward-flight one, issue 51: no grid of
+        shipped or solved forward orbits exists): its linear model (:func:`hawksim.control.derivatives.linearize`,
+        differenced here) and LQR gains as :func:`schedule_point` makes them; every speed reference is that orbit's.
+        The orbit's insect must be the default one or the model its MJCF (``model``)."""
+        lin = linearize(orbit, model=model)
+        sym = symmetric_inputs(orbit) if descriptor(orbit.aero).drop_bound_channels else None
+        long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
+        self = cls.__new__(cls)
+        self.delay, self.rate, self.insect, self.per_beat = int(delay), "beat", orbit.insect, 1
+        self.points = [SchedulePoint(float(orbit.speed), orbit, lin, long, lat)]
+        self.speeds = np.array([float(orbit.speed)])
+        return self
+
     def weights(self, v: float) -> list[tuple[float, SchedulePoint]]:
         """[(weight, point)] of the linear interpolation at v (clamped to the schedule's range)."""
         sp = self.speeds

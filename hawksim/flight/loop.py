@@ -203,11 +203,16 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
             return float(c if c is not None else chi_ref if chi_ref is not None else kinematics.chi)
 
         def sense():
-            return (read_body_state(sim, frame()), stability_position(sim.d.qpos[:3]) - hold,
+            return (read_body_state(sim, frame()), stability_position(sim.d.qpos[:3]) - held(),
                     backend_record(sim.backend, sim.aero_every) if feeds else None)
 
         controller.reset(point)
-        hold = stability_position(sim.d.qpos[:3])
+        hold, t_hold = stability_position(sim.d.qpos[:3]), float(sim.d.time)
+
+        def held():  # the hold point; in forward flight it moves forward at U (stability X is world x)
+            if not forward_speed:
+                return hold
+            return hold + np.array([forward_speed * (float(sim.d.time) - t_hold), 0.0])
         p0 = kinematics.as_array()
         flown = sent = [(p0, p0)] * keep
         now = (read_body_state(sim, frame()) if state0 is None else np.asarray(state0, float), np.zeros(2),

@@ -185,7 +185,7 @@ class ControlledSimulator(Simulator):
 
 
 def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int | None = None,
-                     insect: Insect | None = None, far_wake=None) -> ControlledSimulator:
+                     insect: Insect | None = None, far_wake=None, forward_speed: float = 0.0) -> ControlledSimulator:
     """The controlled plant of `hawksim fly --aero NAME` (``aero``: quasi-steady, uvlm or surrogate) at base
     kinematics ``kin``: the backend of :func:`hawksim.flight.orbit.make_orbit_backend` (both wings solved: the
     commands break the symmetry), updated at its flight rate; a backend whose descriptor has a
@@ -193,7 +193,9 @@ def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int 
     ControlledStepSurrogate`) built by it and bound to the plant, so that it reads the commanded kinematics
     (:meth:`ControlledSimulator.network_kinematics`). ``insect``: whose wings the backend flies (default
     :func:`hawksim.insect.folder.default_insect`); ``model`` must be its MJCF. ``far_wake``: the UVLM's prescribed
-    far wake (an orbit's :attr:`~hawksim.trim.point.OperatingPoint.far_wake`; None: the whole wake free)."""
+    far wake (an orbit's :attr:`~hawksim.trim.point.OperatingPoint.far_wake`; None: the whole wake free).
+    ``forward_speed`` [m/s] > 0: the body's own loads act (:attr:`hawksim.flight.simulator.Simulator.body_aero`), as
+    on the forward orbit's flights."""
     from hawksim.backends.registry import descriptor
     from hawksim.flight.orbit import STEPS_PER_CYCLE, make_orbit_backend
     from hawksim.flight.simulator import aero_every_for
@@ -212,4 +214,8 @@ def controlled_plant(model, kin: Kinematics, aero: str, *, steps_per_cycle: int 
                               aero_every=aero_every_for(backend, n))
     if bound is not None:
         backend.bind(sim)
+    if forward_speed:
+        from hawksim.insect.body_aero import BodyAero
+
+        sim.body_aero = BodyAero.of((default_insect() if insect is None else insect).morphology)
     return sim

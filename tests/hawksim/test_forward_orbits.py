@@ -121,8 +121,10 @@ KIN = _edge(_trim())
     (["stability", "--speed", "0", "--forward-speed", "2", "--aero", "surrogate", "--floquet", "--kinematics", KIN],
      "--aero surrogate"),
     (["stability", "--speed", "0", "--forward-speed", "2", "--aero", "uvlm"], "--kinematics"),
-    (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "2", "--kinematics", KIN, "--control", "lqr"],
-     "--control"),
+    (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "2", "--kinematics", KIN, "--control", "clqr"],
+     "--control clqr"),
+    (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "2", "--kinematics", KIN, "--control", "lqr",
+      "--aero", "uvlm"], "--control lqr --aero uvlm"),
 ])
 def test_cli_refuses_unsupported_forward_flights_exit_2_one_line(argv, needle, capsys):
     assert main([*argv, "--json", "--no-progress"]) == 2
@@ -133,7 +135,7 @@ def test_cli_refuses_unsupported_forward_flights_exit_2_one_line(argv, needle, c
 
 
 def test_cli_fly_and_stability_at_forward_speed(capsys):
-    assert main(["fly", "--speed", "0", "--forward-speed", "2", "--cycles", "3", "--kinematics", KIN, "--json",
+    assert main(["fly", "--speed", "0", "--forward-speed", "2", "--cycles", "2", "--kinematics", KIN, "--json",
                  "--no-progress"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["forward_speed"] == 2.0 and out["forward_speed_target"] == 2.0 and out["departed_at_beat"] is None
@@ -145,6 +147,20 @@ def test_cli_fly_and_stability_at_forward_speed(capsys):
     assert st["nondimensional"]["u_e_plus"] > 1.0  # U above the wing's reference speed 2 phi_a f r2 at 2 m/s
     mu = max(abs(complex(*m)) for m in st["floquet"]["longitudinal"]["multipliers"])
     assert mu == pytest.approx(1.146, abs=0.01)  # |0.986 +- 0.586i|
+
+
+def test_lqr_holds_2_m_s_forward_for_100_beats(capsys):
+    # issue 51, item 5 (quasi-steady, per beat): the LQR about the forward orbit from a pitch and roll perturbation.
+    # Measured: the last beat within 3e-5 m/s of (2, 0) and 0.002 deg of the orbit's pitch; closed-loop spectral
+    # radius 0.969 (open loop 1.163)
+    assert main(["fly", "--speed", "0", "--forward-speed", "2", "--cycles", "100", "--kinematics", KIN, "--control",
+                 "lqr", "--perturb", "theta=2", "--perturb", "phi=2", "--json", "--no-progress"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["departed_at_beat"] is None and len(out["beats"]) == 100
+    last = out["beats"][-1]
+    assert abs(last["horizontal_speed"] - 2.0) < 1e-3 and abs(last["mean_vertical_speed"]) < 1e-3
+    assert abs(last["pitch_error_deg"]) < 0.05 and abs(last["roll_deg"]) < 0.05
+    assert out["floquet"]["closed_loop_max"] < 1.0 < out["floquet"]["open_loop_max"]
 
 
 @pytest.mark.slow
