@@ -193,6 +193,40 @@ def flights_of_row(row: dict, *, log=print) -> dict:
             "wall_time_s": time.perf_counter() - t}
 
 
+LQR_BEATS = 100
+"""Beats of the LQR check (issue 51, item 5: each forward speed held for 100 beats)."""
+
+LQR_PERTURBATION = {"theta": 2.0, "phi": 2.0}
+"""The LQR check's start: the orbit's launch state pitched and banked by 2 deg (the CLI's units, deg)."""
+
+
+def lqr_of_row(row: dict, *, log=print) -> dict:
+    """The per-beat LQR about a stored quasi-steady row's orbit (:meth:`hawksim.control.schedule.Schedule.of_orbit`)
+    flown :data:`LQR_BEATS` beats from :data:`LQR_PERTURBATION`: held or not, the last beat's errors, the gains'
+    closed-loop spectral radii."""
+    from hawksim.control.controller import LQR
+    from hawksim.control.schedule import Schedule
+    from hawksim.flight.loop import fly
+    from hawksim.trim.point import OperatingPoint
+
+    orbit = OperatingPoint.from_json(row["orbit"])
+    t = time.perf_counter()
+    sch = Schedule.of_orbit(orbit)
+    r = fly(orbit, cycles=LQR_BEATS, controller=LQR(sch, orbit.speed), perturb=LQR_PERTURBATION)
+    beats = r.beat_table()
+    last = beats[-1]
+    pt = sch.points[0]
+    out = {"beats": LQR_BEATS, "perturbation_deg": LQR_PERTURBATION, "departed_at_beat": r.departed_at_beat(),
+           "last_beat": {k: last[k] for k in ("horizontal_speed", "mean_vertical_speed", "pitch_error_deg", "roll_deg",
+                                              "yaw_deg", "horizontal_drift_m") if k in last},
+           "max_abs_pitch_error_deg": float(max(abs(b["pitch_error_deg"]) for b in beats)),
+           "closed_loop_spectral_radius_long": pt.long.spectral_radius,
+           "closed_loop_spectral_radius_lat": pt.lat.spectral_radius, "wall_time_s": time.perf_counter() - t}
+    log(f"{row['aero']} U={row['forward_speed']:g}: LQR departed at {out['departed_at_beat']}, last beat "
+        f"{out['last_beat']}")
+    return out
+
+
 def load(path: Path) -> dict:
     return json.loads(path.read_text()) if path.is_file() else {"rows": []}
 
@@ -297,6 +331,8 @@ def main(argv=None) -> int:
     ap.add_argument("--no-averaged", action="store_true", help="skip the averaged model (UVLM: 14 held runs)")
     ap.add_argument("--flights-of", type=float, nargs="+", default=[], metavar="U",
                     help="the perturbed flights of the stored --aero rows at these speeds (the UVLM's: run apart)")
+    ap.add_argument("--lqr-of", type=float, nargs="+", default=[], metavar="U",
+                    help="fly the per-beat LQR about the stored quasi-steady rows' orbits at these speeds (item 5)")
     ap.add_argument("--rejudge", action="store_true", help="recompute the rows' verdicts from their stored data")
     ap.add_argument("--plot", type=Path)
     ap.add_argument("--markdown", action="store_true")
@@ -325,6 +361,11 @@ def main(argv=None) -> int:
         fl = flights_of_row(row, log=log)
         doc = load(a.out)
         next(r for r in doc["rows"] if r["aero"] == a.aero and r["forward_speed"] == U)["flights"] = fl
+        save(a.out, doc)
+    for U in a.lqr_of:
+        doc = load(a.out)
+        row = next(r for r in doc["rows"] if r["aero"] == "quasi-steady" and r["forward_speed"] == U)
+        row["lqr"] = lqr_of_row(row, log=log)
         save(a.out, doc)
     doc = load(a.out)
     if a.rejudge:
