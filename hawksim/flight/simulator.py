@@ -11,8 +11,6 @@ tau = ([M^-1]_ww)^-1 (a_des - a0), a0 = (M^-1 f0)_w, without solving with M). Th
 responds to the wings' inertia exactly, momentum is conserved (tested); wing qpos/qvel are never overwritten.
 Aerodynamic loads come from an :class:`hawksim.backends.base.AeroBackend` once per update (held in between) and
 enter through ``data.xfrc_applied`` of the wing bodies (world-frame force and torque at their ``xipos``).
-In forward flight the body's own loads (:attr:`Simulator.body_aero`, :mod:`hawksim.insect.body_aero`; off by
-default, as at U = 0) enter through the body's row, computed and held at the same updates.
 """
 
 from __future__ import annotations
@@ -293,11 +291,8 @@ class Simulator:
     """A subclass whose :meth:`desired` the native callback reproduces (its mode 1) sets this True."""
 
     body_aero = None
-    """The body's own load model (:class:`hawksim.insect.body_aero.BodyAero`), or None (default: the body has no
-    aerodynamic loads, the paper's setting and vertical flight's). Set, its loads for the body's centre-of-mass
-    velocity relative to the air (still, or a subclass's ``air_v``; the body's rotation left out, as the model
-    does) are computed at every backend update, held in between as the wings' loads are, and applied to the
-    body through ``xfrc_applied`` (issue 51: counted in forward flight, U > 0, as the held-body trims count them)."""
+    """None (the paper's setting), or a :class:`hawksim.insect.body_aero.BodyAero` whose loads act on the body in
+    forward flight, updated with the backend's (:meth:`~hawksim.insect.body_aero.BodyAero.apply`)."""
 
     def __init__(self, model: mujoco.MjModel, kin: Kinematics, backend: AeroBackend, *,
                  steps_per_cycle: int = FLY_STEPS_PER_CYCLE, gravity: bool = True, aero_every: int = 1,
@@ -390,14 +385,12 @@ class Simulator:
         """Within the block the flight has no aerodynamic loads and no gravity (the wings' inertia alone); the
         backend and gravity are restored after it. Call :meth:`reset` inside before stepping."""
         backend, gravity, body_aero = self.backend, self.m.opt.gravity.copy(), self.body_aero
-        self.backend = NoAero()
-        self.body_aero = None
+        self.backend, self.body_aero = NoAero(), None
         self.m.opt.gravity[:] = 0.0
         try:
             yield self
         finally:
-            self.backend = backend
-            self.body_aero = body_aero
+            self.backend, self.body_aero = backend, body_aero
             self.m.opt.gravity[:] = gravity
 
     # ---- state ---------------------------------------------------------------------------------------
@@ -447,9 +440,7 @@ class Simulator:
             # vectors (below, the moment is carried to the wing's centre of mass from the hinge's current
             # position); holding them in the wing frame would turn them with the wing and bias the mean force by
             # about (aero_every - 1) dt / 2 mean(omega x F) (tests/hawksim/test_heavy_body.py)
-            self._held = self.backend.loads(st)
-            if self.body_aero is not None:
-                self._apply_body_loads()
+            self._held = self._loads(st)
         loads = self._held
         com = d.xipos[self.wing_ids]
         d.xfrc_applied[self.wing_ids, :3] = loads.force
@@ -516,8 +507,7 @@ class Simulator:
         while i < n:
             if net is not None:  # the whole chunk in one call: the callback evaluates the network
                 if self.body_aero is not None:
-                    raise ValueError("the body's loads (body_aero) are not applied on a network backend's native "
-                                     "chunks (the per-step surrogate flies vertical flight only)")
+                    raise ValueError("body_aero: a network backend flies vertical flight only")
                 native.set_air(getattr(self, "air_v", np.zeros(3)))
                 native.start_network_chunk(rec, self._i)
                 k = n
@@ -525,9 +515,7 @@ class Simulator:
             else:
                 st = self.state()
                 if self._i % self.aero_every == 0:
-                    self._held = self.backend.loads(st)
-                    if self.body_aero is not None:
-                        self._apply_body_loads()
+                    self._held = self._loads(st)
                 loads = self._held
                 k = min(n - i, self.aero_every - self._i % self.aero_every)
                 if extras_every and loads.extras:
@@ -543,15 +531,11 @@ class Simulator:
                 raise RuntimeError(f"the native callback recorded {rows} of {k} steps (a stage count off)")
             i += k
 
-    def _apply_body_loads(self) -> None:
-        """The body's own loads (:attr:`body_aero`) at the current state into the body's ``xfrc_applied`` row (world
-        force at its centre of mass and moment about it), held until the next backend update."""
-        d = self.d
-        R = d.xmat[self.body_id].reshape(3, 3)
-        air = np.asarray(getattr(self, "air_v", np.zeros(3)), float)
-        f, mo = self.body_aero.loads(R.T @ (air - d.qvel[:3]))
-        d.xfrc_applied[self.body_id, :3] = R @ f
-        d.xfrc_applied[self.body_id, 3:] = R @ mo
+    def _loads(self, st: FlightState) -> WingLoads:
+        """The backend's loads at ``st``; with :attr:`body_aero` also the body's, into its ``xfrc_applied`` row."""
+        if self.body_aero is not None:
+            self.body_aero.apply(self.d, self.body_id, getattr(self, "air_v", None))
+        return self.backend.loads(st)
 
     def _native_network(self):
         """The backend's network for the callback (:meth:`StepSurrogateBackend.native`), or None: a backend

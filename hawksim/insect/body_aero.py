@@ -98,6 +98,17 @@ class BodyAero:
         f = self.force(w_body)
         return f, np.cross(np.asarray(self.centre), f)
 
+    def apply(self, d, body_id: int, air=None) -> None:
+        """Write the loads on the free body of MuJoCo data ``d`` (body ``body_id``, whose frame's origin is its centre
+        of mass: the free joint's linear qvel is its velocity) into its ``xfrc_applied`` row: world force and moment
+        about the centre of mass for its velocity relative to the air ``air`` (3,) [m/s], world (None: still air;
+        the body's rotation left out, as the model does). :class:`hawksim.flight.simulator.Simulator` calls it at each
+        backend update (the row is held in between, as the wings' loads are)."""
+        R = d.xmat[body_id].reshape(3, 3)
+        rel = (np.zeros(3) if air is None else np.asarray(air, float)) - d.qvel[:3]
+        f, m = self.loads(R.T @ rel)
+        d.xfrc_applied[body_id, :3], d.xfrc_applied[body_id, 3:] = R @ f, R @ m
+
 
 def angle_of_attack(w_body: np.ndarray) -> float:
     """The body's angle of attack [rad] in its symmetry plane: atan2(w_z, -w_x) for ``w_body`` (3,) the air's
