@@ -13,6 +13,11 @@ meets its tolerance. The body angle is chi = 60 deg - beta (the stroke plane is 
 :data:`hawksim.insect.morphology.STROKE_PLANE_TO_BODY`): beta sets both.
 
 Everything random comes from ``numpy.random.default_rng(seed)``: same model, condition and seed, same trim.
+
+Where a population search is too dear (the UVLM: ~1.5-4 s a run, hours per condition at population 80),
+:func:`refine_on_model` is the local route: a constrained minimum-power search from a given trim (SLSQP: P+ minimised
+with L+ = 1, D+ = 0, M+ = 0 as equality constraints in Table 2's box, forward-difference gradients), then a balance
+where it ends outside the tolerance. It finds the minimum of the basin it starts in, not the global one.
 """
 
 from __future__ import annotations
@@ -21,16 +26,18 @@ import time
 from dataclasses import replace
 
 import numpy as np
+from scipy.optimize import minimize
 
 from hawksim.backends import backend_for
-from hawksim.backends.held import held_flight
+from hawksim.backends.averages import CycleAverages
+from hawksim.backends.held import held_flight, run
 from hawksim.backends.resolution import Resolution
 from hawksim.condition import check_forward_speed
 from hawksim.insect.folder import default_insect
 from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
-from hawksim.trim.balance import balance_on_uvlm
+from hawksim.trim.balance import TRIM_RESOLUTION, balance_on_uvlm
 from hawksim.trim.point import Trim
 from hawksim.trim.search import R_PENALTY, GAConfig, fitness, ga_nelder_mead
 
@@ -93,3 +100,107 @@ def trim_on_model(speed: float, *, forward_speed: float = 0.0, aero: str = "quas
     return replace(b, source=f"{found.source}, balanced on it ({b.source})", start=found, fitness=found.fitness,
                    search=ga, search_seed=int(seed), evaluations=count[0] + b.evaluations,
                    wall_time_s=time.perf_counter() - t0)
+
+
+REFINE_DIFF_STEP = 0.01
+"""Forward-difference step of :func:`refine_on_model`'s gradients, as a fraction of each parameter's Table 2 range
+(half the balance's :data:`hawksim.trim.balance.DIFF_STEP`: the gradient of P+ is wanted, not only a Newton
+direction)."""
+
+
+class _Budget(Exception):
+    """Raised inside SLSQP's callbacks when the evaluation budget is spent."""
+
+
+def refine_on_model(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOLUTION, *, forward_speed: float = 0.0,
+                    tol: float = 0.01, max_evals: int = 120, max_iter: int = 15, diff_step: float = REFINE_DIFF_STEP,
+                    balance_evals: int = 30, penalty: float = R_PENALTY, insect: Insect | None = None,
+                    progress=None) -> Trim:
+    """The local minimum-power trim near ``kin0`` on the held-body model of ``res`` (default the UVLM at
+    :data:`hawksim.trim.balance.TRIM_RESOLUTION`, the paper's trims' balance) at ascent ``speed`` and
+    ``forward_speed`` [m/s]: SLSQP (scipy) on the seven parameters scaled to [0, 1] by the insect's ``bounds_deg``
+    (default :func:`hawksim.insect.folder.default_insect`), minimising P+ subject to L+ - 1 = D+ = M+ = 0, every
+    gradient by forward differences of ``diff_step`` of each range (7 runs, shared by the objective and the
+    constraints), at most ``max_iter`` SLSQP iterations and ``max_evals`` model runs (the search stops where either
+    is spent).
+
+    The answer is the run of lowest Eq. 3 fitness (P+ + ``penalty`` times the residuals: the tolerance's slack is
+    not spent on power) among those that balance within ``tol`` (max of |L+ - 1|, |D+|, |M+|); if no run does, the
+    run of smallest residual is balanced (:func:`hawksim.trim.balance.balance_on_uvlm`, ``balance_evals`` runs, its
+    four parameters) and that is the answer. ``source`` ends with SLSQP's outcome (its status 0: its optimality test
+    met; 9: ``max_iter`` reached) or the spent budget. ``converged``: the answer meets ``tol``; ``start``: the trim
+    at kin0 (clipped to the box) with its averages; ``evaluations``: every run (the search's and the balance's).
+    ``progress(n, averages)`` is called after each new run."""
+    forward_speed = check_forward_speed(forward_speed)
+    ins = default_insect() if insect is None else insect
+    lo, hi = ins.bounds_si()
+    cache: dict[tuple, CycleAverages] = {}
+    jacobians: dict[tuple, np.ndarray] = {}
+
+    def kin_of(key):
+        return Kinematics.from_array(lo + np.array(key) * (hi - lo))
+
+    def key_of(z):
+        return tuple(np.round(np.clip(z, 0.0, 1.0), 12))
+
+    def values(z):  # (P+, L+ - 1, D+, M+)
+        key = key_of(z)
+        if key not in cache:
+            if len(cache) >= max_evals:
+                raise _Budget
+            cache[key] = run(kin_of(key), speed, res, insect=insect, forward_speed=forward_speed).averages
+            if progress is not None:
+                progress(len(cache), cache[key])
+        a = cache[key]
+        return np.array([a.P_plus, a.L_plus - 1.0, a.D_plus, a.M_plus])
+
+    def jacobian(z):
+        key = key_of(z)
+        if key not in jacobians:
+            v = values(z)
+            J = np.empty((4, len(z)))
+            for j in range(len(z)):
+                h = diff_step if key[j] + diff_step <= 1.0 else -diff_step
+                zj = np.array(key)
+                zj[j] += h
+                J[:, j] = (values(zj) - v) / h
+            jacobians[key] = J
+        return jacobians[key]
+
+    t0 = time.perf_counter()
+    z0 = key_of((kin0.as_array() - lo) / (hi - lo))
+    values(z0)
+    start = Trim(float(speed), kin_of(z0), model=res.aero, source="start of the refinement", averages=cache[z0],
+                 forward_speed=forward_speed, insect=ins)
+    iterations = [0]
+
+    def count(_):
+        iterations[0] += 1
+
+    try:
+        sol = minimize(lambda z: values(z)[0], np.array(z0), jac=lambda z: jacobian(z)[0], method="SLSQP",
+                 bounds=[(0.0, 1.0)] * len(z0),
+                 constraints=[{"type": "eq", "fun": lambda z: values(z)[1:], "jac": lambda z: jacobian(z)[1:]}],
+                 options={"maxiter": max_iter, "ftol": 1e-5}, callback=count)
+        outcome = f"SLSQP status {sol.status}: {sol.message} ({sol.nit} iterations)"
+    except _Budget:
+        outcome = f"evaluation budget ({max_evals} runs) spent after {iterations[0]} SLSQP iterations"
+    keys = list(cache)
+    err = np.array([_residual(cache[k]) for k in keys])
+    ok = [k for k, e in zip(keys, err) if e <= tol]
+    source = f"{res.aero} SLSQP minimum of P+ with L+ = 1, D+ = M+ = 0 from the start; {outcome}"
+    if ok:
+        best = min(ok, key=lambda k: fitness(np.array(cache[k].as_tuple()), kin_of(k).as_array(), penalty,
+                                                        lo=lo, hi=hi)[0])
+        return Trim(float(speed), kin_of(best), model=res.aero, source=source, averages=cache[best], converged=True,
+                    tolerance=tol, evaluations=len(cache), wall_time_s=time.perf_counter() - t0, start=start,
+                    forward_speed=forward_speed, insect=ins)
+    b = balance_on_uvlm(kin_of(keys[int(np.argmin(err))]), speed, res, tol=tol, max_evals=balance_evals,
+                        insect=insect, forward_speed=forward_speed)
+    return replace(b, source=f"{source}, then balanced ({b.source})", start=start,
+                   evaluations=len(cache) + b.evaluations, wall_time_s=time.perf_counter() - t0)
+
+
+def _residual(a: CycleAverages) -> float:
+    """The balance's residual max(|L+ - 1|, |D+|, |M+|)."""
+    return max(abs(a.L_plus - 1.0), abs(a.D_plus), abs(a.M_plus))

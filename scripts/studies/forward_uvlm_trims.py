@@ -1,0 +1,146 @@
+"""Minimum-power trims on the UVLM in level forward flight (issue 51, item 3, UVLM part).
+
+A population search on the UVLM (the quasi-steady trims' GA + Nelder-Mead, population 80) costs hours per speed
+here (1.5-4 s a UVLM run on the shared host), so this is the local route: at each forward speed U,
+:func:`hawksim.trim.model_search.refine_on_model` (SLSQP: P+ minimised subject to L+ = 1, D+ = M+ = 0 in Table 2's
+box, forward-difference gradients, then the UVLM balance where it ends outside 0.01) at
+:data:`hawksim.trim.balance.TRIM_RESOLUTION` (the UVLM balance's resolution, as for the paper's trims: ``hawksim
+aero``'s lattice and 40 steps a beat, 4 beats with the last 3 averaged), from each of these starts:
+
+- ``qs``: the quasi-steady minimum-power trim at U (results/forward_flight/qs_trims.json);
+- ``balance``: the UVLM balance of that trim (results/forward_flight/uvlm_balance.json), where it exists;
+- ``previous``: the UVLM trim found at the next lower speed in the output file, where it exists.
+
+Per speed the row is the start's answer of lowest P+ among the balanced ones (none balanced: the smallest residual),
+with the table's quantities (``scripts.studies.forward_trims.trim_row``: f, stroke amplitude, beta, chi, the mean
+lift coefficient and mid-downstroke incidence of :mod:`hawksim.flight.lift_coefficient`, P+, the body's share) and
+every start's outcome. Resumable: speeds already in ``--out`` are skipped; the file is rewritten (all or nothing,
+under a lock, so that processes running other speeds can share it) after every speed.
+
+    python -m scripts.studies.forward_uvlm_trims --out results/forward_flight/uvlm_trims.json   # 5-15 min a speed
+    python -m scripts.studies.forward_uvlm_trims --from results/forward_flight/uvlm_trims.json --markdown
+"""
+
+from __future__ import annotations
+
+import argparse
+import fcntl
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+from hawksim import __version__
+from hawksim.atomic import write_text
+from hawksim.insect.kinematics import Kinematics
+from hawksim.trim.balance import TRIM_RESOLUTION
+from hawksim.trim.model_search import REFINE_DIFF_STEP, refine_on_model
+from scripts.studies.forward_trims import markdown, trim_row
+
+SPEEDS = (1.0, 2.0, 3.0, 4.0, 5.0)
+"""Forward speeds [m/s] (level flight); hover's UVLM trim is the shipped table's."""
+QS_TRIMS = Path("results/forward_flight/qs_trims.json")
+UVLM_BALANCE = Path("results/forward_flight/uvlm_balance.json")
+STARTS = ("qs", "balance", "previous")
+MAX_EVALS = 70
+"""UVLM runs of one start's SLSQP (about 8 iterations: 8 runs a gradient, a few line-search runs; model choice)."""
+MAX_ITER = 12
+
+
+def _rows(path: Path) -> dict[float, dict]:
+    return {r["forward_speed"]: r for r in json.loads(path.read_text())["rows"]} if path.exists() else {}
+
+
+def _residual(r: dict) -> float:
+    return max(abs(r["L_plus"] - 1), abs(r["D_plus"]), abs(r["M_plus"]))
+
+
+def starts(U: float, names, out: Path | None) -> dict[str, Kinematics]:
+    """The start kinematics at U by name (those that exist)."""
+    found = {}
+    for name in names:
+        if name == "qs":
+            r = _rows(QS_TRIMS).get(U)
+        elif name == "balance":
+            r = _rows(UVLM_BALANCE).get(U)
+        else:
+            lower = [u for u in (_rows(out) if out is not None else {}) if u < U]
+            r = _rows(out)[max(lower)] if lower else None
+        if r is not None:
+            found[name] = Kinematics.from_edge(r["kinematics"])
+    return found
+
+
+def _progress(label: str):
+    def show(n, a):
+        print(f"{label} run {n}: L+ {a.L_plus:.4f} D+ {a.D_plus:.4f} M+ {a.M_plus:.4f} P+ {a.P_plus:.4f}",
+              file=sys.stderr, flush=True)
+    return show
+
+
+def speed_row(U: float, V: float, kins: dict[str, Kinematics], max_evals: int, max_iter: int) -> dict:
+    """Refine from every start; the best balanced answer (else the smallest residual) with every start's outcome."""
+    tried = []
+    for name, kin in kins.items():
+        t = refine_on_model(kin, V, TRIM_RESOLUTION, forward_speed=U, max_evals=max_evals, max_iter=max_iter,
+                            progress=_progress(f"U={U:g} {name}"))
+        r = trim_row(t, U, V) | {"residual": _residual(t.outputs), "evaluations": t.evaluations,
+                                 "wall_time_s": t.wall_time_s, "outcome": t.source, "start_name": name,
+                                 "start": {"kinematics": t.start.kinematics.to_edge(), **t.start.outputs}}
+        tried.append(r)
+        print(json.dumps(r), file=sys.stderr, flush=True)
+    best = min(tried, key=lambda r: (not r["converged"], r["P_plus"] if r["converged"] else r["residual"]))
+    return best | {"candidates": [{k: r[k] for k in ("start_name", "converged", "P_plus", "residual", "evaluations",
+                                                      "wall_time_s", "outcome")} | {"start_P_plus":
+                                                                                    r["start"]["P_plus"]}
+                                  for r in tried]}
+
+
+def save(out: Path, row: dict, header: dict) -> None:
+    """Add ``row`` to ``out`` (re-read under a lock: other processes may have added speeds), all or nothing."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fd = os.open(out.parent, os.O_RDONLY)  # the folder is the lock (no lock file left behind)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        data = json.loads(out.read_text()) if out.exists() else header
+        data["rows"] = sorted([r for r in data["rows"] if r["forward_speed"] != row["forward_speed"]] + [row],
+                              key=lambda r: r["forward_speed"])
+        write_text(out, json.dumps(data, indent=1))
+    finally:
+        os.close(fd)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--speeds", type=float, nargs="+", default=list(SPEEDS), help="forward speeds U [m/s]")
+    ap.add_argument("--vertical-speed", type=float, default=0.0, help="V [m/s] (0: level flight)")
+    ap.add_argument("--starts", nargs="+", choices=STARTS, default=["qs", "balance"])
+    ap.add_argument("--max-evals", type=int, default=MAX_EVALS, help="UVLM runs of one start's SLSQP")
+    ap.add_argument("--max-iter", type=int, default=MAX_ITER, help="SLSQP iterations of one start")
+    ap.add_argument("--out", type=Path, help="the JSON (resumed: its speeds are skipped; rewritten after each speed)")
+    ap.add_argument("--from", dest="source", type=Path, help="read the rows from this JSON instead of computing")
+    ap.add_argument("--markdown", action="store_true", help="print the docs' table instead of the JSON")
+    a = ap.parse_args()
+    if a.source is not None:
+        data = json.loads(a.source.read_text())
+    else:
+        header = {"command": " ".join(["python -m scripts.studies.forward_uvlm_trims", *sys.argv[1:]]),
+                  "hawksim_version": __version__, "created": time.strftime("%Y-%m-%d"),
+                  "resolution": TRIM_RESOLUTION.to_dict(), "method": "refine_on_model (SLSQP, P+ with L+ = 1, "
+                  "D+ = M+ = 0 as constraints; then balance_on_uvlm where outside the tolerance)",
+                  "diff_step": REFINE_DIFF_STEP, "max_evals": a.max_evals, "max_iter": a.max_iter, "rows": []}
+        for U in a.speeds:
+            if a.out is not None and U in _rows(a.out):
+                print(f"U={U:g}: in {a.out}, skipped", file=sys.stderr)
+                continue
+            row = speed_row(U, a.vertical_speed, starts(U, a.starts, a.out), a.max_evals, a.max_iter)
+            if a.out is not None:
+                save(a.out, row, header)
+            header["rows"].append(row)
+        data = json.loads(a.out.read_text()) if a.out is not None else header
+    print(markdown(data) if a.markdown else json.dumps(data))
+
+
+if __name__ == "__main__":
+    main()
