@@ -2,8 +2,8 @@
 
 A population search on the UVLM (the quasi-steady trims' GA + Nelder-Mead, population 80) costs hours per speed
 here (1.5-4 s a UVLM run on the shared host), so this is the local route: at each forward speed U,
-:func:`hawksim.trim.model_search.refine_on_model` (SLSQP: P+ minimised subject to L+ = 1, D+ = M+ = 0 in Table 2's
-box, forward-difference gradients, then the UVLM balance where it ends outside 0.01) at
+:func:`hawksim.trim.model_search.refine_on_model` (trust-region sequential linear programming on P+ + 10 (|L+ - 1| +
+|D+| + |M+|) in Table 2's box, forward-difference gradients; then the UVLM balance where it ends outside 0.01) at
 :data:`hawksim.trim.balance.TRIM_RESOLUTION` (the UVLM balance's resolution, as for the paper's trims: ``hawksim
 aero``'s lattice and 40 steps a beat, 4 beats with the last 3 averaged), from each of these starts:
 
@@ -35,7 +35,7 @@ from hawksim import __version__
 from hawksim.atomic import write_text
 from hawksim.insect.kinematics import Kinematics
 from hawksim.trim.balance import TRIM_RESOLUTION
-from hawksim.trim.model_search import REFINE_DIFF_STEP, refine_on_model
+from hawksim.trim.model_search import REFINE_DIFF_STEP, REFINE_PENALTY, REFINE_RADIUS, refine_on_model
 from scripts.studies.forward_trims import markdown, trim_row
 
 SPEEDS = (1.0, 2.0, 3.0, 4.0, 5.0)
@@ -43,9 +43,9 @@ SPEEDS = (1.0, 2.0, 3.0, 4.0, 5.0)
 QS_TRIMS = Path("results/forward_flight/qs_trims.json")
 UVLM_BALANCE = Path("results/forward_flight/uvlm_balance.json")
 STARTS = ("qs", "balance", "previous")
-MAX_EVALS = 70
-"""UVLM runs of one start's SLSQP (about 8 iterations: 8 runs a gradient, a few line-search runs; model choice)."""
-MAX_ITER = 12
+MAX_EVALS = 80
+"""UVLM runs of one start's search (about 9 steps of 8 runs and the rejected steps; model choice: on the
+quasi-steady model the search from these starts ends within 50-80 runs)."""
 
 
 def _rows(path: Path) -> dict[float, dict]:
@@ -79,11 +79,11 @@ def _progress(label: str):
     return show
 
 
-def speed_row(U: float, V: float, kins: dict[str, Kinematics], max_evals: int, max_iter: int) -> dict:
+def speed_row(U: float, V: float, kins: dict[str, Kinematics], max_evals: int) -> dict:
     """Refine from every start; the best balanced answer (else the smallest residual) with every start's outcome."""
     tried = []
     for name, kin in kins.items():
-        t = refine_on_model(kin, V, TRIM_RESOLUTION, forward_speed=U, max_evals=max_evals, max_iter=max_iter,
+        t = refine_on_model(kin, V, TRIM_RESOLUTION, forward_speed=U, max_evals=max_evals,
                             progress=_progress(f"U={U:g} {name}"))
         r = trim_row(t, U, V) | {"residual": _residual(t.outputs), "evaluations": t.evaluations,
                                  "wall_time_s": t.wall_time_s, "outcome": t.source, "start_name": name,
@@ -117,7 +117,6 @@ def main() -> None:
     ap.add_argument("--vertical-speed", type=float, default=0.0, help="V [m/s] (0: level flight)")
     ap.add_argument("--starts", nargs="+", choices=STARTS, default=["qs", "balance"])
     ap.add_argument("--max-evals", type=int, default=MAX_EVALS, help="UVLM runs of one start's SLSQP")
-    ap.add_argument("--max-iter", type=int, default=MAX_ITER, help="SLSQP iterations of one start")
     ap.add_argument("--out", type=Path, help="the JSON (resumed: its speeds are skipped; rewritten after each speed)")
     ap.add_argument("--from", dest="source", type=Path, help="read the rows from this JSON instead of computing")
     ap.add_argument("--markdown", action="store_true", help="print the docs' table instead of the JSON")
@@ -127,14 +126,14 @@ def main() -> None:
     else:
         header = {"command": " ".join(["python -m scripts.studies.forward_uvlm_trims", *sys.argv[1:]]),
                   "hawksim_version": __version__, "created": time.strftime("%Y-%m-%d"),
-                  "resolution": TRIM_RESOLUTION.to_dict(), "method": "refine_on_model (SLSQP, P+ with L+ = 1, "
-                  "D+ = M+ = 0 as constraints; then balance_on_uvlm where outside the tolerance)",
-                  "diff_step": REFINE_DIFF_STEP, "max_evals": a.max_evals, "max_iter": a.max_iter, "rows": []}
+                  "resolution": TRIM_RESOLUTION.to_dict(), "method": "refine_on_model (trust-region SLP on P+ + mu "
+                  "x residuals; then balance_on_uvlm where outside the tolerance)", "diff_step": REFINE_DIFF_STEP,
+                  "mu": REFINE_PENALTY, "radius": list(REFINE_RADIUS), "max_evals": a.max_evals, "rows": []}
         for U in a.speeds:
             if a.out is not None and U in _rows(a.out):
                 print(f"U={U:g}: in {a.out}, skipped", file=sys.stderr)
                 continue
-            row = speed_row(U, a.vertical_speed, starts(U, a.starts, a.out), a.max_evals, a.max_iter)
+            row = speed_row(U, a.vertical_speed, starts(U, a.starts, a.out), a.max_evals)
             if a.out is not None:
                 save(a.out, row, header)
             header["rows"].append(row)
