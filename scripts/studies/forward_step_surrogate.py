@@ -105,14 +105,23 @@ def compare(case: dict, net) -> dict:
 
 
 def markdown(data: dict) -> str:
-    lines = ["| flight | V, U [m/s] | beats | L+ UVLM, surrogate | M+ UVLM, surrogate | D+ UVLM, surrogate | "
-             "P+ UVLM, surrogate | within 2 % (L+, M+) |", "|---|---|---|---|---|---|---|---|"]
+    """The docs' table: per flight the beats compared (of BEATS after the warm-up; fewer where the flight left the
+    family's range), the beat means of L+ and M+ (UVLM, surrogate, difference) and the differences in D+ and P+;
+    beat 1 (after the start-up, before any departure) beside them for the flights cut early."""
+    lines = ["| flight | V, U [m/s] | beats compared | L+ UVLM, surrogate (diff.) | M+ UVLM, surrogate (diff.) | "
+             "D+, P+ diff. | L+, M+ diff. in beat 1 | within 2 % |", "|---|---|---|---|---|---|---|---|"]
     for r in data["rows"]:
-        a, b = r["mean_uvlm"], r["mean_surrogate"]
-        cells = " | ".join(f"{a[k]:.3f}, {b[k]:.3f}" if a else "-" for k in ("L_plus", "M_plus", "D_plus",
-                                                                              "P_plus"))
-        lines.append(f"| {r['label']} | {r['speed']:g}, {r['forward_speed']:g} | {r['beats_compared']} | {cells} | "
-                     f"{'yes' if r['within_target'] else 'no'} |")
+        a, b, e = r["mean_uvlm"], r["mean_surrogate"], r["mean_error"]
+        u1, s1 = r["uvlm_by_beat"], r["surrogate_by_beat"]
+        beat1 = f"{s1['L_plus'][1] - u1['L_plus'][1]:+.3f}, {s1['M_plus'][1] - u1['M_plus'][1]:+.3f}"
+        cut = "" if r["cut"] is None else f" ({r['cut'].split(' at ')[0]})"
+        if a:
+            means = (f"{a['L_plus']:.3f}, {b['L_plus']:.3f} ({e['L_plus']:+.3f}) | {a['M_plus']:.3f}, "
+                     f"{b['M_plus']:.3f} ({e['M_plus']:+.3f}) | {e['D_plus']:+.3f}, {e['P_plus']:+.3f}")
+        else:
+            means = "- | - | -"
+        lines.append(f"| {r['label']} | {r['speed']:g}, {r['forward_speed']:g} | {r['beats_compared']}{cut} | "
+                     f"{means} | {beat1} | {'yes' if r['within_target'] else 'no'} |")
     return "\n".join(lines)
 
 
