@@ -102,10 +102,10 @@ def trim_on_model(speed: float, *, forward_speed: float = 0.0, aero: str = "quas
                    wall_time_s=time.perf_counter() - t0)
 
 
-REFINE_DIFF_STEP = 0.01
+REFINE_DIFF_STEP = 0.02
 """Forward-difference step of :func:`refine_on_model`'s gradients, as a fraction of each parameter's Table 2 range
-(half the balance's :data:`hawksim.trim.balance.DIFF_STEP`: the gradient of P+ is wanted, not only a Newton
-direction)."""
+(the balance's :data:`hawksim.trim.balance.DIFF_STEP`: the UVLM's averages are not smooth below it at low advance
+ratio, where 1 % steps gave Jacobians whose steps the runs then contradicted)."""
 
 REFINE_PENALTY = 10.0
 """The weight mu of the residuals in :func:`refine_on_model`'s merit P+ + mu (|L+ - 1| + |D+| + |M+|) (Eq. 3's form
@@ -132,7 +132,8 @@ def refine_on_model(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOL
     forward-difference Jacobian of (P+, L+ - 1, D+, M+) (``diff_step`` of each range: 7 runs), solves the linear
     program min g.d + mu |c + A d|_1 over the box and |d|_inf <= the radius (scipy's HiGHS), runs the step and
     accepts it where phi falls by at least a tenth of the predicted fall (the radius doubling, up to ``radius[1]``,
-    where the step reached it and the model predicted well; else quartered, the Jacobian kept). It stops at
+    where the step reached it and the model predicted well; else halved, the Jacobian corrected along the step by
+    Broyden's update). It stops at
     ``max_evals`` runs or a radius below ``radius[2]``. A run that fails (a non-finite or blown-up UVLM) is a
     rejected step. (scipy's SLSQP, tried first, took box-wide first steps from an unbalanced start and wandered to
     L+ ~ 0.2.)
@@ -225,7 +226,10 @@ def refine_on_model(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOL
                 if rho >= 0.75 and np.abs(d).max() >= 0.99 * delta:
                     delta = min(2 * delta, delta_max)
             else:
-                delta /= 4
+                if v_new is not None:  # Broyden: the model made right along the step it got wrong
+                    step = np.asarray(z_new) - np.asarray(z)
+                    J = J + np.outer(v_new - v - J @ step, step) / (step @ step)
+                delta /= 2
         else:
             outcome = f"trust region below {delta_min:g}"
     except _Budget:

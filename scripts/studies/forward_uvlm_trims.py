@@ -9,7 +9,8 @@ aero``'s lattice and 40 steps a beat, 4 beats with the last 3 averaged), from ea
 
 - ``qs``: the quasi-steady minimum-power trim at U (results/forward_flight/qs_trims.json);
 - ``balance``: the UVLM balance of that trim (results/forward_flight/uvlm_balance.json), where it exists;
-- ``previous``: the UVLM trim found at the next lower speed in the output file, where it exists.
+- ``previous``, ``next``: the UVLM trim found at the nearest lower (higher) speed in the output file, where it
+  exists (a continuation in speed; the row records which start it came from).
 
 Per speed the row is the start's answer of lowest P+ among the balanced ones (none balanced: the smallest residual),
 with the table's quantities (``scripts.studies.forward_trims.trim_row``: f, stroke amplitude, beta, chi, the mean
@@ -42,10 +43,11 @@ SPEEDS = (1.0, 2.0, 3.0, 4.0, 5.0)
 """Forward speeds [m/s] (level flight); hover's UVLM trim is the shipped table's."""
 QS_TRIMS = Path("results/forward_flight/qs_trims.json")
 UVLM_BALANCE = Path("results/forward_flight/uvlm_balance.json")
-STARTS = ("qs", "balance", "previous")
-MAX_EVALS = 80
-"""UVLM runs of one start's search (about 9 steps of 8 runs and the rejected steps; model choice: on the
-quasi-steady model the search from these starts ends within 50-80 runs)."""
+STARTS = ("qs", "balance", "previous", "next")
+MAX_EVALS = 60
+"""UVLM runs of one start's search (about 6 steps of 8 runs and the rejected steps; model choice, sized to the
+shared host: 4-8 s a run under load; on the quasi-steady model the search from these starts ends within 40-80
+runs)."""
 
 
 def _rows(path: Path) -> dict[float, dict]:
@@ -64,9 +66,10 @@ def starts(U: float, names, out: Path | None) -> dict[str, Kinematics]:
             r = _rows(QS_TRIMS).get(U)
         elif name == "balance":
             r = _rows(UVLM_BALANCE).get(U)
-        else:
-            lower = [u for u in (_rows(out) if out is not None else {}) if u < U]
-            r = _rows(out)[max(lower)] if lower else None
+        else:  # the UVLM trim found at the nearest lower ("previous") or higher ("next") speed
+            done = _rows(out) if out is not None else {}
+            near = [u for u in done if (u < U if name == "previous" else u > U)]
+            r = done[(max if name == "previous" else min)(near)] if near else None
         if r is not None:
             found[name] = Kinematics.from_edge(r["kinematics"])
     return found
@@ -116,7 +119,7 @@ def main() -> None:
     ap.add_argument("--speeds", type=float, nargs="+", default=list(SPEEDS), help="forward speeds U [m/s]")
     ap.add_argument("--vertical-speed", type=float, default=0.0, help="V [m/s] (0: level flight)")
     ap.add_argument("--starts", nargs="+", choices=STARTS, default=["qs", "balance"])
-    ap.add_argument("--max-evals", type=int, default=MAX_EVALS, help="UVLM runs of one start's SLSQP")
+    ap.add_argument("--max-evals", type=int, default=MAX_EVALS, help="UVLM runs of one start's search")
     ap.add_argument("--out", type=Path, help="the JSON (resumed: its speeds are skipped; rewritten after each speed)")
     ap.add_argument("--from", dest="source", type=Path, help="read the rows from this JSON instead of computing")
     ap.add_argument("--markdown", action="store_true", help="print the docs' table instead of the JSON")
