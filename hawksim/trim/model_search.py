@@ -127,19 +127,18 @@ def refine_on_model(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOL
     ``forward_speed`` [m/s], all seven parameters free (scaled to [0, 1] by the insect's ``bounds_deg``, default
     :func:`hawksim.insect.folder.default_insect`), at most ``max_evals`` model runs.
 
-    Method: sequential linear programming in a trust region on the exact penalty phi = P+ + ``mu`` (|L+ - 1| + |D+| +
-    |M+|) (the Sl1LP method; Fletcher 1987, Practical Methods of Optimization, ch. 14). Each iteration takes the
-    forward-difference Jacobian of (P+, L+ - 1, D+, M+) (``diff_step`` of each range: 7 runs), solves the linear
-    program min g.d + mu |c + A d|_1 over the box and |d|_inf <= the radius (scipy's HiGHS), runs the step and
-    accepts it where phi falls by at least a tenth of the predicted fall (the radius doubling, up to ``radius[1]``,
-    where the step reached it and the model predicted well; else halved, the Jacobian corrected along the step by
-    Broyden's update). It stops at
-    ``max_evals`` runs or a radius below ``radius[2]``. A run that fails (a non-finite or blown-up UVLM) is a
-    rejected step. (scipy's SLSQP, tried first, took box-wide first steps from an unbalanced start and wandered to
-    L+ ~ 0.2.)
+    Method: sequential linear programming in a trust region on the l1 exact penalty phi = ``P+ + mu (|L+ - 1| +
+    |D+| + |M+|)`` (after Fletcher & Sainz de la Maza 1989, Math. Program. 43:235; recalled, not re-read here).
+    Each iteration takes the forward-difference Jacobian of (P+, L+ - 1, D+, M+) (``diff_step`` of each range: 7
+    runs), solves the linear program ``min g.d + mu |c + A d|_1`` over the box and ``|d|_inf <=`` the radius
+    (scipy's HiGHS), runs the step and accepts it where phi falls by at least a tenth of the predicted fall (the
+    radius doubling, up to ``radius[1]``, where the step reached it and the model predicted well; else halved, the
+    Jacobian corrected along the step by Broyden's update). It stops at ``max_evals`` runs or a radius below
+    ``radius[2]``. A run that fails (a non-finite or blown-up UVLM) is a rejected step. (scipy's SLSQP, tried first,
+    took box-wide first steps from an unbalanced start and wandered to L+ ~ 0.2.)
 
     The answer is the run of lowest Eq. 3 fitness with r = ``penalty`` (P+ + r times the residuals: the tolerance's
-    slack is not spent on power) among those that balance within ``tol`` (max of |L+ - 1|, |D+|, |M+|); if no run
+    slack is not spent on power) among those that balance within ``tol`` (``max(|L+ - 1|, |D+|, |M+|)``); if no run
     does, the run of lowest phi is balanced (:func:`hawksim.trim.balance.balance_on_uvlm`, ``balance_evals`` runs,
     its four parameters) and that is the answer. ``source`` ends with how the search stopped. ``converged``: the
     answer meets ``tol``; ``start``: the trim at kin0 (clipped to the box) with its averages; ``evaluations``: every
