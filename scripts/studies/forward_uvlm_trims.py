@@ -20,6 +20,9 @@ under a lock, so that processes running other speeds can share it) after every s
 
     python -m scripts.studies.forward_uvlm_trims --out results/forward_flight/uvlm_trims.json   # 5-15 min a speed
     python -m scripts.studies.forward_uvlm_trims --from results/forward_flight/uvlm_trims.json --markdown
+
+``--polish RUNS`` balances the rows that missed the tolerance once more from their kinematics (the balance inside
+the search stops after 30 + 20 runs).
 """
 
 from __future__ import annotations
@@ -35,15 +38,16 @@ from pathlib import Path
 from hawksim import __version__
 from hawksim.atomic import write_text
 from hawksim.insect.kinematics import Kinematics
-from hawksim.trim.balance import TRIM_RESOLUTION
+from hawksim.trim.balance import TRIM_RESOLUTION, balance_on_uvlm
 from hawksim.trim.model_search import REFINE_DIFF_STEP, REFINE_PENALTY, REFINE_RADIUS, refine_on_model
-from scripts.studies.forward_trims import markdown, trim_row
+from scripts.studies.forward_trims import trim_row
 
 SPEEDS = (1.0, 2.0, 3.0, 4.0, 5.0)
 """Forward speeds [m/s] (level flight); hover's UVLM trim is the shipped table's."""
 QS_TRIMS = Path("results/forward_flight/qs_trims.json")
 UVLM_BALANCE = Path("results/forward_flight/uvlm_balance.json")
 STARTS = ("qs", "balance", "previous", "next")
+OUTPUTS = ("L_plus", "D_plus", "M_plus", "P_plus")
 MAX_EVALS = 60
 """UVLM runs of one start's search (about 6 steps of 8 runs and the rejected steps; model choice, sized to the
 shared host: 4-8 s a run under load; on the quasi-steady model the search from these starts ends within 40-80
@@ -100,6 +104,25 @@ def speed_row(U: float, V: float, kins: dict[str, Kinematics], max_evals: int) -
                                   for r in tried]}
 
 
+def polish(r: dict, max_evals: int) -> dict:
+    """A row whose best answer missed the tolerance, balanced once more from it (:func:`balance_on_uvlm`,
+    ``max_evals`` runs, its four parameters): the new row where that balances, the old one kept as a candidate; else
+    the old row with the attempt added to its candidates."""
+    U, V = r["forward_speed"], r["speed"]
+    b = balance_on_uvlm(Kinematics.from_edge(r["kinematics"]), V, TRIM_RESOLUTION, max_evals=max_evals,
+                        forward_speed=U)
+    new = trim_row(b, U, V) | {"residual": _residual(b.outputs), "evaluations": b.evaluations,
+                               "wall_time_s": b.wall_time_s, "outcome": f"polished: {b.source}",
+                               "start_name": f"polish of {r['start_name']}",
+                               "start": {"kinematics": r["kinematics"], **{k: r[k] for k in OUTPUTS}}}
+    cand = {k: new[k] for k in ("start_name", "converged", "P_plus", "residual", "evaluations", "wall_time_s",
+                                "outcome")} | {"start_P_plus": r["P_plus"]}
+    print(json.dumps(new), file=sys.stderr, flush=True)
+    if b.converged:
+        return new | {"candidates": [*r["candidates"], cand]}
+    return r | {"candidates": [*r["candidates"], cand]}
+
+
 def save(out: Path, row: dict, header: dict) -> None:
     """Add ``row`` to ``out`` (re-read under a lock: other processes may have added speeds), all or nothing."""
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -114,12 +137,57 @@ def save(out: Path, row: dict, header: dict) -> None:
         os.close(fd)
 
 
+def _stop(outcome: str) -> str:
+    """How a search stopped, in a few words (from the trim's source)."""
+    words = ("trust region below", "evaluation budget", "no predicted descent", "linear program failed")
+    short = {"trust region below": "radius", "evaluation budget": "budget", "no predicted descent": "stationary",
+             "linear program failed": "LP failed"}
+    found = next((short[w] for w in words if w in outcome), "?")
+    return found + (" + balance" if "then balanced" in outcome else "")
+
+
+def markdown(data: dict) -> str:
+    """The docs' table: the quasi-steady table's columns, then the residual, the runs, the start and how it
+    stopped (radius: the trust region shrank below its floor, a local minimum at the UVLM's resolution; budget: the
+    runs ran out; + balance: no run balanced and the balance finished it)."""
+    qs, bal = _rows(QS_TRIMS), _rows(UVLM_BALANCE)
+    lines = ["| U [m/s] | f [Hz] | stroke amplitude [deg] | beta [deg] | chi [deg] | C_L | mid-downstroke incidence "
+             "[deg] | P+ | balanced (residual) | runs | start (stop) | P+ QS trim, UVLM balance |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(data["rows"], key=lambda r: r["forward_speed"]):
+        U = r["forward_speed"]
+        q, b = qs.get(U), bal.get(U)
+        ref = f"{q['P_plus']:.3f}" if q else "-"
+        ref += f", {b['P_plus']:.3f}{'' if b['converged'] else ' (unbalanced)'}" if b else ", -"
+        runs = sum(c["evaluations"] for c in r["candidates"])
+        lines.append(f"| {U:g} | {r['f_hz']:.1f} | {r['stroke_amplitude_deg']:.1f} | {r['stroke_plane_deg']:.1f} | "
+                     f"{r['body_angle_deg']:.1f} | {r['lift_coefficient']:.2f} | "
+                     f"{r['mid_downstroke_incidence_deg']:.1f} | {r['P_plus']:.3f} | "
+                     f"{'yes' if r['converged'] else 'no'} ({r['residual']:.3f}) | {r['evaluations']} of {runs} | "
+                     f"{r['start_name']} ({_stop(r['outcome'])}) | {ref} |")
+    return "\n".join(lines)
+
+
+def candidates_markdown(data: dict) -> str:
+    """Every start's outcome per speed."""
+    lines = ["| U [m/s] | start | P+ at the start | P+ found | balanced (residual) | runs | stop |",
+             "|---|---|---|---|---|---|---|"]
+    for r in sorted(data["rows"], key=lambda r: r["forward_speed"]):
+        for c in r["candidates"]:
+            lines.append(f"| {r['forward_speed']:g} | {c['start_name']} | {c['start_P_plus']:.3f} | "
+                         f"{c['P_plus']:.3f} | {'yes' if c['converged'] else 'no'} ({c['residual']:.3f}) | "
+                         f"{c['evaluations']} | {_stop(c['outcome'])} |")
+    return "\n".join(lines)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--speeds", type=float, nargs="+", default=list(SPEEDS), help="forward speeds U [m/s]")
     ap.add_argument("--vertical-speed", type=float, default=0.0, help="V [m/s] (0: level flight)")
     ap.add_argument("--starts", nargs="+", choices=STARTS, default=["qs", "balance"])
     ap.add_argument("--max-evals", type=int, default=MAX_EVALS, help="UVLM runs of one start's search")
+    ap.add_argument("--polish", type=int, metavar="RUNS", help="instead of searching: balance the unbalanced rows of "
+                    "--out (at --speeds) once more from their kinematics, with this many UVLM runs")
     ap.add_argument("--out", type=Path, help="the JSON (resumed: its speeds are skipped; rewritten after each speed)")
     ap.add_argument("--from", dest="source", type=Path, help="read the rows from this JSON instead of computing")
     ap.add_argument("--markdown", action="store_true", help="print the docs' table instead of the JSON")
@@ -132,7 +200,11 @@ def main() -> None:
                   "resolution": TRIM_RESOLUTION.to_dict(), "method": "refine_on_model (trust-region SLP on P+ + mu "
                   "x residuals; then balance_on_uvlm where outside the tolerance)", "diff_step": REFINE_DIFF_STEP,
                   "mu": REFINE_PENALTY, "radius": list(REFINE_RADIUS), "max_evals": a.max_evals, "rows": []}
-        for U in a.speeds:
+        for U in a.speeds if a.polish else ():
+            r = _rows(a.out).get(U)
+            if r is not None and not r["converged"]:
+                save(a.out, polish(r, a.polish), header)
+        for U in a.speeds if not a.polish else ():
             if a.out is not None and U in _rows(a.out):
                 print(f"U={U:g}: in {a.out}, skipped", file=sys.stderr)
                 continue
@@ -141,7 +213,7 @@ def main() -> None:
                 save(a.out, row, header)
             header["rows"].append(row)
         data = json.loads(a.out.read_text()) if a.out is not None else header
-    print(markdown(data) if a.markdown else json.dumps(data))
+    print(markdown(data) + "\n\n" + candidates_markdown(data) if a.markdown else json.dumps(data))
 
 
 if __name__ == "__main__":
