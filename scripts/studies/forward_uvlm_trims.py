@@ -142,14 +142,17 @@ def _stop(outcome: str) -> str:
     words = ("trust region below", "evaluation budget", "no predicted descent", "linear program failed")
     short = {"trust region below": "radius", "evaluation budget": "budget", "no predicted descent": "stationary",
              "linear program failed": "LP failed"}
+    if outcome.startswith("polished"):
+        return "balance"
     found = next((short[w] for w in words if w in outcome), "?")
     return found + (" + balance" if "then balanced" in outcome else "")
 
 
 def markdown(data: dict) -> str:
-    """The docs' table: the quasi-steady table's columns, then the residual, the runs, the start and how it
-    stopped (radius: the trust region shrank below its floor, a local minimum at the UVLM's resolution; budget: the
-    runs ran out; + balance: no run balanced and the balance finished it)."""
+    """The docs' table: the quasi-steady table's columns, then the residual, the runs (of the answer's search or
+    balance, of all the speed's), the start and how it stopped (radius: the trust region shrank below its floor, a
+    local minimum at the UVLM's resolution; budget: the runs ran out; + balance: no run balanced and the balance
+    finished it; polish: ``--polish``'s balance of the best unbalanced answer)."""
     qs, bal = _rows(QS_TRIMS), _rows(UVLM_BALANCE)
     lines = ["| U [m/s] | f [Hz] | stroke amplitude [deg] | beta [deg] | chi [deg] | C_L | mid-downstroke incidence "
              "[deg] | P+ | balanced (residual) | runs | start (stop) | P+ QS trim, UVLM balance |",
