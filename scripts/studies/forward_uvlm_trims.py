@@ -16,7 +16,8 @@ Per speed the row is the start's answer of lowest P+ among the balanced ones (no
 with the table's quantities (``scripts.studies.forward_trims.trim_row``: f, stroke amplitude, beta, chi, the mean
 lift coefficient and mid-downstroke incidence of :mod:`hawksim.flight.lift_coefficient`, P+, the body's share) and
 every start's outcome. Resumable: speeds already in ``--out`` are skipped; the file is rewritten (all or nothing,
-under a lock, so that processes running other speeds can share it) after every speed.
+under a lock, so that processes running other speeds can share it) after every speed; its ``commands`` lists every
+command that wrote it.
 
     python -m scripts.studies.forward_uvlm_trims --out results/forward_flight/uvlm_trims.json   # 5-15 min a speed
     python -m scripts.studies.forward_uvlm_trims --from results/forward_flight/uvlm_trims.json --markdown
@@ -130,6 +131,7 @@ def save(out: Path, row: dict, header: dict) -> None:
     try:
         fcntl.flock(fd, fcntl.LOCK_EX)
         data = json.loads(out.read_text()) if out.exists() else header
+        data["commands"] = list(dict.fromkeys([*data.get("commands", [data["command"]]), header["command"]]))
         data["rows"] = sorted([r for r in data["rows"] if r["forward_speed"] != row["forward_speed"]] + [row],
                               key=lambda r: r["forward_speed"])
         write_text(out, json.dumps(data, indent=1))
