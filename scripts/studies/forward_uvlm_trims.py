@@ -10,7 +10,9 @@ aero``'s lattice and 40 steps a beat, 4 beats with the last 3 averaged), from ea
 - ``qs``: the quasi-steady minimum-power trim at U (results/forward_flight/qs_trims.json);
 - ``balance``: the UVLM balance of that trim (results/forward_flight/uvlm_balance.json), where it exists;
 - ``previous``, ``next``: the UVLM trim found at the nearest lower (higher) speed in the output file, where it
-  exists (a continuation in speed; the row records which start it came from).
+  exists (a continuation in speed; the row records which start it came from);
+- ``self``: the row already in the output at U (a search continued where one stopped on its budget; the better of
+  the two rows is kept, with every candidate).
 
 Per speed the row is the start's answer of lowest P+ among the balanced ones (none balanced: the smallest residual),
 with the table's quantities (``scripts.studies.forward_trims.trim_row``: f, stroke amplitude, beta, chi, the mean
@@ -47,7 +49,7 @@ SPEEDS = (1.0, 2.0, 3.0, 4.0, 5.0)
 """Forward speeds [m/s] (level flight); hover's UVLM trim is the shipped table's."""
 QS_TRIMS = Path("results/forward_flight/qs_trims.json")
 UVLM_BALANCE = Path("results/forward_flight/uvlm_balance.json")
-STARTS = ("qs", "balance", "previous", "next")
+STARTS = ("qs", "balance", "previous", "next", "self")
 OUTPUTS = ("L_plus", "D_plus", "M_plus", "P_plus")
 MAX_EVALS = 60
 """UVLM runs of one start's search (about 6 steps of 8 runs and the rejected steps; model choice, sized to the
@@ -71,6 +73,8 @@ def starts(U: float, names, out: Path | None) -> dict[str, Kinematics]:
             r = _rows(QS_TRIMS).get(U)
         elif name == "balance":
             r = _rows(UVLM_BALANCE).get(U)
+        elif name == "self":
+            r = (_rows(out) if out is not None else {}).get(U)
         else:  # the UVLM trim found at the nearest lower ("previous") or higher ("next") speed
             done = _rows(out) if out is not None else {}
             near = [u for u in done if (u < U if name == "previous" else u > U)]
@@ -87,6 +91,11 @@ def _progress(label: str):
     return show
 
 
+def _rank(r: dict) -> tuple:
+    """Balanced before unbalanced; then the lower P+ (balanced) or the smaller residual."""
+    return not r["converged"], r["P_plus"] if r["converged"] else r["residual"]
+
+
 def speed_row(U: float, V: float, kins: dict[str, Kinematics], max_evals: int) -> dict:
     """Refine from every start; the best balanced answer (else the smallest residual) with every start's outcome."""
     tried = []
@@ -98,7 +107,7 @@ def speed_row(U: float, V: float, kins: dict[str, Kinematics], max_evals: int) -
                                  "start": {"kinematics": t.start.kinematics.to_edge(), **t.start.outputs}}
         tried.append(r)
         print(json.dumps(r), file=sys.stderr, flush=True)
-    best = min(tried, key=lambda r: (not r["converged"], r["P_plus"] if r["converged"] else r["residual"]))
+    best = min(tried, key=_rank)
     return best | {"candidates": [{k: r[k] for k in ("start_name", "converged", "P_plus", "residual", "evaluations",
                                                       "wall_time_s", "outcome")} | {"start_P_plus":
                                                                                     r["start"]["P_plus"]}
@@ -210,10 +219,13 @@ def main() -> None:
             if r is not None and not r["converged"]:
                 save(a.out, polish(r, a.polish), header)
         for U in a.speeds if not a.polish else ():
-            if a.out is not None and U in _rows(a.out):
+            old = _rows(a.out).get(U) if a.out is not None else None
+            if old is not None and "self" not in a.starts:
                 print(f"U={U:g}: in {a.out}, skipped", file=sys.stderr)
                 continue
             row = speed_row(U, a.vertical_speed, starts(U, a.starts, a.out), a.max_evals)
+            if old is not None:  # a search continued from the row itself: the better of the two, every candidate
+                row = min((old, row), key=_rank) | {"candidates": [*old["candidates"], *row["candidates"]]}
             if a.out is not None:
                 save(a.out, row, header)
             header["rows"].append(row)
