@@ -199,7 +199,8 @@ def refine_on_model(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOL
                         h, zj[j] = -h, z[j] - h
                         vj = values(key_of(zj))
                     if vj is None:
-                        raise _Budget  # no gradient here
+                        outcome = "no gradient: the runs on both sides of the iterate failed"
+                        raise _Budget
                     J[:, j] = (vj - v) / h
             g, A, c = J[0], J[1:], v[1:]
             m = len(c)  # LP in (d, s+, s-): min g.d + mu sum(s+ + s-), c + A d = s+ - s-
