@@ -156,7 +156,10 @@ CREATE TABLE IF NOT EXISTS flights (
 class FlightSpec:
     """One training flight: speed V [m/s], kinematics (SI), launch state x0 (9,) and chart chi_ref [rad] (the
     orbit's, :func:`hawksim.flight.orbit.set_body_state`), the kick (9,) added to the state at t = WARM_BEATS T,
-    symmetric."""
+    symmetric; forward_speed U [m/s] (:mod:`hawksim.condition`, default 0): the flight's reference velocity is
+    (U, 0, V) in the world frame (the cut by speed is measured from it). The data sets are vertical (their table
+    has no U: :func:`insert_flight` refuses U > 0); a forward flight is a measurement outside them
+    (``scripts/studies/forward_step_surrogate.py``)."""
 
     speed: float
     kinematics: Kinematics
@@ -164,6 +167,7 @@ class FlightSpec:
     chi_ref: float
     perturbation: tuple[float, ...]
     symmetric: bool
+    forward_speed: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -261,7 +265,7 @@ def fly_spec(spec: FlightSpec, seed: int = -1, i: int = -1, beats: int = FLIGHT_
     set_body_state(sim, np.asarray(spec.x0), spec.chi_ref)
     u_tip = 2.0 * math.pi * kin.f * kin.phi_a * morph.R
     f_ceiling = PEAK_FORCE_CEILING * 0.5 * RHO_AIR * u_tip**2 * morph.wing_area  # per wing
-    v_ref = np.array([0.0, 0.0, spec.speed])
+    v_ref = np.array([spec.forward_speed, 0.0, spec.speed])
     rows, cut, status, att0 = [], None, "ok", None
     try:
         for step in range(beats * FLY_STEPS_PER_CYCLE):
@@ -356,7 +360,10 @@ def stored_flights(conn, seed: int) -> set[int]:
 
 
 def insert_flight(conn, s: FlightSample) -> None:
-    """Store one flight and commit (INSERT OR IGNORE: never a duplicate)."""
+    """Store one flight and commit (INSERT OR IGNORE: never a duplicate). ValueError for a forward flight (the
+    table has no forward speed)."""
+    if s.spec.forward_speed:
+        raise ValueError(f"forward_speed {s.spec.forward_speed:g} m/s: the flight data sets hold vertical flights only")
     cols = ("seed", "idx", "speed", *PARAM_NAMES, "perturbation", "symmetric", "n_rows", "cut", "status",
             "resolution", "version", "wall_s", "data")
     res = {**FLY_UVLM.to_dict(), "wake_cycles": FLY_WAKE_CYCLES, "mujoco_steps_per_cycle": FLY_STEPS_PER_CYCLE}

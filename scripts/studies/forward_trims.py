@@ -35,19 +35,24 @@ SPEEDS = (0.0, 1.0, 2.0, 3.0, 4.0, 5.0)
 """Forward speeds [m/s] of the study (issue 51: hover to 5 m/s)."""
 
 
-def row(U: float, V: float, seed: int, population: int | None, penalty: float = R_PENALTY) -> dict:
-    cfg = SEARCH_CONFIG if population is None else replace(SEARCH_CONFIG, population=population)
-    t = trim_on_model(V, forward_speed=U, seed=seed, cfg=cfg, penalty=penalty)
+def trim_row(t, U: float, V: float) -> dict:
+    """The table's quantities of a held-body trim ``t`` at (U, V) [m/s]: kinematics, the W&E quantities, the averages,
+    the body's share, whether it balanced (shared by the UVLM trims, ``scripts.studies.forward_uvlm_trims``)."""
     k = t.kinematics
     body = body_averages(k, V, U)
-    a = t.averages
     return {"forward_speed": U, "speed": V, "kinematics": k.to_edge(), "f_hz": k.f,
             "stroke_amplitude_deg": 2 * math.degrees(k.phi_a), "stroke_plane_deg": math.degrees(k.beta),
-            "body_angle_deg": math.degrees(k.chi), **t.outputs, "power_W": a.power_W,
+            "body_angle_deg": math.degrees(k.chi), **t.outputs, "power_W": t.averages.power_W,
             "lift_coefficient": mean_lift_coefficient(k, V, U),
             "mid_downstroke_incidence_deg": math.degrees(mid_downstroke_incidence(k, V, U)),
             "body": {"L_plus": body.L_plus, "D_plus": body.D_plus, "M_plus": body.M_plus},
-            "converged": t.converged, "tolerance": t.tolerance, "fitness": t.fitness,
+            "converged": t.converged, "tolerance": t.tolerance}
+
+
+def row(U: float, V: float, seed: int, population: int | None, penalty: float = R_PENALTY) -> dict:
+    cfg = SEARCH_CONFIG if population is None else replace(SEARCH_CONFIG, population=population)
+    t = trim_on_model(V, forward_speed=U, seed=seed, cfg=cfg, penalty=penalty)
+    return {**trim_row(t, U, V), "fitness": t.fitness,
             "search_optimum": {"kinematics": t.start.kinematics.to_edge(), **t.start.outputs},
             "generations": t.search.generations, "evaluations": t.evaluations, "wall_time_s": t.wall_time_s,
             "seed": seed, "population": cfg.population, "penalty": penalty}
