@@ -19,8 +19,10 @@ Stages (in the order of their dependencies; ``--stages`` names them, ``--list`` 
   into data/uvlm_training_<version>.sqlite;
 * the rest are single commands (:data:`COMMANDS`), each with the shipped file(s) it writes or the files it copies
   into hawksim/data (as insects/hawkmoth/data/surrogates/README.md and the tables' own ``command`` fields record them):
-  the cycle-mean networks, the trims, the orbits, the per-step surrogate's flights and network, its orbits, the
-  control models, and the paper's tables. Scripts run with PYTHONPATH set to the repository, so that its code is
+  the cycle-mean networks, the trims, the orbits, the per-step surrogate's flights and network (with the wake-age
+  input, ``--wake-age``: trained on the warm-up beats too, so that a flight launched from no wake is right from its
+  first beat; docs/surrogate.md, "Launch from no wake"), its orbits, the control models, and the paper's tables.
+  Scripts run with PYTHONPATH set to the repository, so that its code is
   the code that runs.
 """
 
@@ -71,7 +73,7 @@ COMMANDS = {
     "step_network": [[*_TRAIN, "--kind", "step", "--data", "data/uvlm_flights_{version}.sqlite", "--out",
                       DATA + "surrogates/uvlm_step.safetensors", "--layers", "192,192,192", "--lags", "0.5,1",
                       "--max-iter", "300", "--time-limit", "1500", "--weight-decay", "0", "--ensemble", "3",
-                      "--no-progress", "--json"]],
+                      "--wake-age", "--no-progress", "--json"]],
     "surrogate_orbits": [["python", "scripts/studies/step_surrogate_orbits.py", "--speeds", "0", "0.5", "1", "1.5",
                           "2", "--validate", "--out", "results/surrogate/step_orbits.json", "--table",
                           DATA + "orbit_table_surrogate.json"]],
@@ -126,6 +128,20 @@ def run_stage(name: str, repo: Path, facts: dict, manifest: dict, save, nice: in
             print(f"{now()} {key} done", file=sys.stderr, flush=True)
 
 
+def restamp_written(repo: Path, since: float, env: dict, log: Path) -> None:
+    """Restamp (:func:`hawksim.insect.tables.restamp`, in the repository's own code) the hawkmoth's manifest entries
+    whose files were written at or after ``since`` (epoch seconds): they were computed on the repository's MJCF."""
+    code = ("import json, sys, time; from pathlib import Path; from hawksim.insect.folder import default_insect; "
+            "from hawksim.insect.tables import manifest, restamp; ins = default_insect(); "
+            "data = Path(ins.folder) / 'data'; since = float(sys.argv[1]); "
+            "names = [str(e.path.relative_to(data)) for e in manifest(ins) if e.path.is_file() "
+            "and e.path.stat().st_mtime >= since]; print(json.dumps(restamp(ins, names)))")
+    proc = subprocess.run([sys.executable, "-c", code, repr(since - 1.0)], cwd=repo, env=env, capture_output=True,
+                          text=True, check=True)
+    with log.open("a") as f:
+        f.write(f"{now()} restamped in the manifest: {proc.stdout.strip()}\n")
+
+
 def run_commands(name: str, repo: Path, facts: dict, manifest: dict, save, nice: int) -> None:
     """A command stage (:data:`COMMANDS`): each command once, in order, recorded in the manifest when it succeeds."""
     env = dict(os.environ, NUMBA_NUM_THREADS="1", OMP_NUM_THREADS="1", PYTHONPATH=str(repo))
@@ -143,13 +159,14 @@ def run_commands(name: str, repo: Path, facts: dict, manifest: dict, save, nice:
         else:
             cmd = argv
         start, load = now(), os.getloadavg()
-        t0 = time.perf_counter()
+        t0, wall0 = time.perf_counter(), time.time()
         proc = subprocess.run(cmd, cwd=repo, env=env, capture_output=True, text=True)
         with log.open("a") as f:
             f.write(f"{start} {' '.join(argv)} (load {load})\n{proc.stdout[-20000:]}{proc.stderr[-20000:]}\n")
         if proc.returncode != 0:
             print(f"regenerate: {key} ({' '.join(argv)}) failed (exit {proc.returncode}); see {log}", file=sys.stderr)
             sys.exit(proc.returncode)
+        restamp_written(repo, wall0, env, log)
         manifest["stages"][key] = {"command": " ".join(argv), "seed": 0, "start": start, "end": now(),
                                    "wall_time_s": time.perf_counter() - t0, "loadavg_start": load, **facts}
         save()

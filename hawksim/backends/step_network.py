@@ -7,6 +7,9 @@ Network. A multilayer perceptron (tanh hidden layers, linear output) for the LEF
   velocity relative to the air v (3) [m/s] and its angular velocity omega (3) [rad/s] in body axes (x head, y left,
   z dorsal), and for each lag in ``lags`` (in wingbeat periods T) the same six at time t - lag T, each in the body
   axes of its own time (the wake's memory; which lags it needs is an ablation, docs/surrogate.md);
+  and, for a network with ``age_beats`` > 0, last, the wake's age :data:`AGE_INPUT`: min(f (t - t_launch),
+  age_beats), the wingbeats since the flight's launch from no wake, saturating (:func:`wake_age`; the UVLM's wake
+  starts from none at a launch and develops over its first beats, docs/surrogate.md, "Launch from no wake");
 - outputs (:data:`OUTPUTS`): the wing's aerodynamic force [N] and moment about its hinge [N m] in its own wing
   axes (the wing body's frame in MuJoCo), six numbers.
 
@@ -18,9 +21,10 @@ exact for the UVLM, checked on its symmetric flights in tests/hawksim/test_step_
 Files. safetensors with tensors ``W0, b0, ..., W{L-1}, b{L-1}`` (``W_k`` (n_out_k, n_in_k)), ``x_mean, x_std``
 (n_in,) and ``y_mean, y_std`` (6,) (standardisation of the training data; the network maps standardised inputs
 to standardised outputs), weights float32, standardisation float64; JSON metadata: ``format`` (:data:`FORMAT`),
-``inputs`` (names, lags), ``outputs`` and ``meta`` (provenance: command, seed, data hash, scores). No pickle. A
-file of another format, with other tensor names or shapes, other input names than its lags imply, or non-finite
-values is refused with :class:`StepNetworkFileError`.
+``inputs`` (names, lags, and ``age_beats`` where > 0; a file without it, every file before the age input, has
+none), ``outputs`` and ``meta`` (provenance: command, seed, data hash, scores). No pickle. A file of another
+format, with other tensor names or shapes, other input names than its lags and age imply, or non-finite values is
+refused with :class:`StepNetworkFileError`.
 
 Inference (:meth:`StepNetwork.folded`): the input standardisation is folded into the first layer and the output
 scaling into the last, so a flight evaluates ``tanh(x W0' + b0') ... W' + b'`` on SI inputs in float32 numpy,
@@ -49,22 +53,35 @@ MIRROR_F = MIRROR_V
 MIRROR_M = MIRROR_W
 """Right-wing moment in its wing axes = MIRROR_M * (network moment at mirrored inputs)."""
 SHIPPED_NAME = "uvlm_step.safetensors"
+AGE_INPUT = "wake_age_beats"
+"""Name of the wake-age input (wingbeats since the launch, saturating at the network's ``age_beats``)."""
 
 
 class StepNetworkFileError(ValueError):
     """A per-step surrogate file that cannot be used: missing, not safetensors, another format or shapes."""
 
 
-def input_names(lags: tuple[float, ...] = ()) -> tuple[str, ...]:
-    """Names of the network inputs for history lags (in periods)."""
+def input_names(lags: tuple[float, ...] = (), age_beats: float = 0.0) -> tuple[str, ...]:
+    """Names of the network inputs for history lags (in periods), and the wake-age input last when ``age_beats``
+    > 0."""
     names = [*PARAM_NAMES, "sin_phase", "cos_phase", *STATE_NAMES]
     for lag in lags:
         names += [f"{n}@-{lag:g}T" for n in STATE_NAMES]
+    if age_beats > 0:
+        names.append(AGE_INPUT)
     return tuple(names)
 
 
+def wake_age(t: np.ndarray | float, f: float, age_beats: float, t_launch: float = 0.0) -> np.ndarray | float:
+    """The wake-age input: min(f (t - t_launch), age_beats) [wingbeats] at time(s) t [s] of a flight launched
+    from no wake at t_launch [s] with flapping frequency f [Hz] (t_launch = -inf: a developed wake, the saturated
+    value). One formula for the training rows and both inference paths."""
+    return np.minimum(f * (np.asarray(t, dtype=np.float64) - t_launch), age_beats)
+
+
 def mirror_inputs(x: np.ndarray) -> np.ndarray:
-    """Inputs (..., n_in) of the right wing mapped to the left wing's network: every (v, omega) block mirrored."""
+    """Inputs (..., n_in) of the right wing mapped to the left wing's network: every (v, omega) block mirrored
+    (a wake-age input, one column after them, is the same for both wings)."""
     x = np.array(x, dtype=x.dtype, copy=True)
     n_state = (x.shape[-1] - len(PARAM_NAMES) - 2) // 6
     s = np.concatenate([MIRROR_V, MIRROR_W])
@@ -77,7 +94,8 @@ def mirror_inputs(x: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True)
 class StepNetwork:
     """A trained per-step network (module docstring). ``weights``: ((W0, b0), ..., (W_L, b_L)) float32, W (out, in);
-    ``lags``: history lags [periods]; ``meta``: provenance and scores."""
+    ``lags``: history lags [periods]; ``age_beats``: saturation of the wake-age input [wingbeats] (0: the network
+    has none); ``meta``: provenance and scores."""
 
     weights: tuple[tuple[np.ndarray, np.ndarray], ...]
     x_mean: np.ndarray
@@ -86,10 +104,11 @@ class StepNetwork:
     y_std: np.ndarray
     lags: tuple[float, ...] = ()
     meta: dict = field(default_factory=dict, compare=False)
+    age_beats: float = 0.0
 
     @property
     def n_in(self) -> int:
-        return len(input_names(self.lags))
+        return len(input_names(self.lags, self.age_beats))
 
     def folded(self) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
         """((W0'^T, b0'), ..., (W_L'^T, b_L')) float32 acting on SI inputs and giving SI outputs: the input
@@ -130,7 +149,10 @@ class StepNetwork:
             tensors[f"b{k}"] = np.ascontiguousarray(b, np.float32)
         for k in ("x_mean", "x_std", "y_mean", "y_std"):
             tensors[k] = np.ascontiguousarray(getattr(self, k), np.float64)
-        md = {"format": FORMAT, "inputs": json.dumps({"names": list(input_names(self.lags)), "lags": list(self.lags)}),
+        inputs = {"names": list(input_names(self.lags, self.age_beats)), "lags": list(self.lags)}
+        if self.age_beats > 0:  # absent otherwise: a network without the age input is written as before
+            inputs["age_beats"] = float(self.age_beats)
+        md = {"format": FORMAT, "inputs": json.dumps(inputs),
               "outputs": json.dumps(list(OUTPUTS)), "meta": json.dumps(self.meta)}
         # all or nothing, a link's target replaced, a device refused (hawksim.atomic)
         return write_bytes(path, save(tensors, metadata=md), "per-step surrogate")
@@ -155,14 +177,17 @@ def load(path: str | Path) -> StepNetwork:
     try:
         inp = strict_json(md["inputs"])
         lags = tuple(float(v) for v in inp["lags"])
+        age = float(inp.get("age_beats", 0.0))
         names = tuple(inp["names"])
         outputs = tuple(strict_json(md["outputs"]))
         meta = metadata_object(md.get("meta"), "meta")
     except (KeyError, TypeError, ValueError) as exc:
         raise StepNetworkFileError(f"{str(path)!r} has unreadable metadata: {exc}") from None
-    if names != input_names(lags):
+    if not (np.isfinite(age) and age >= 0):
+        raise StepNetworkFileError(f"{str(path)!r} has age_beats {age!r}; expected a finite number >= 0")
+    if names != input_names(lags, age):
         raise StepNetworkFileError(f"{str(path)!r} has inputs {list(names)}, not this hawksim's "
-                                   f"{list(input_names(lags))}")
+                                   f"{list(input_names(lags, age))}")
     if outputs != OUTPUTS:
         raise StepNetworkFileError(f"{str(path)!r} predicts {list(outputs)}, not {list(OUTPUTS)}")
     n_layers = sum(1 for k in arrays if k.startswith("W"))
@@ -186,7 +211,7 @@ def load(path: str | Path) -> StepNetwork:
             or np.any(arrays["y_std"] <= 0):
         raise StepNetworkFileError(f"{str(path)!r} holds non-finite weights or non-positive scales")
     return StepNetwork(tuple(weights), *(arrays[k].astype(np.float64) for k in ("x_mean", "x_std", "y_mean", "y_std")),
-                       lags=lags, meta=meta)
+                       lags=lags, meta=meta, age_beats=age)
 
 
 def network_sha256(path: str | Path | None = None) -> str | None:

@@ -5,9 +5,18 @@ Every call evaluates the left-wing network of :mod:`hawksim.backends.step_networ
 right wing at the mirrored inputs, in numpy with the normalisation folded into the weights. Inputs: the flight's
 kinematics, the phase 2 pi f t, the body's velocity relative to the air and its angular velocity in body axes (and, for
 a network with history lags, the same at t - lag T from this backend's own record of past calls, linearly interpolated;
-before the flight's start the first call's state). Outputs: each wing's force and moment about its hinge in its wing
+before the flight's start the first call's state; and, for a network with the wake-age input, the wingbeats since the
+flight's launch, see below). Outputs: each wing's force and moment about its hinge in its wing
 axes, turned to the world frame with the flight state's wing attitude. Power: P = -sum_wings (omega_wing - omega_body) .
 M_hinge [W], the UVLM's definition for a rigid wing hinged on the body (:mod:`hawksim.backends.base`).
+
+The wake's age (a network with ``age_beats`` > 0, :func:`hawksim.backends.step_network.wake_age`). The UVLM starts
+every flight from no wake and its loads differ over the first beats (the wake's start-up); a network with this input
+learned them. How the loop knows the wake's age: a flight is a launch from no wake at its reset (t = 0, as the UVLM's
+is) unless the backend was seeded with a record (:meth:`StepSurrogateBackend.seed`: the flight continues a periodic
+orbit, whose wake is developed) or told so (:meth:`StepSurrogateBackend.set_developed_wake`, for a flight started
+from a state saved mid-flight); then the input is saturated from the first call. The launch time lives in a
+one-element array that the native callback reads by address, as it does the record.
 
 Where it holds: the states of the training flights (:mod:`hawksim.surrogate.flights`: the shipped UVLM orbits at
 0-2 m/s, kinematics within +-2.5 % of Table 2's ranges about them, perturbations up to ~1 m/s and 45 deg); outside
@@ -25,7 +34,8 @@ from hawksim.backends.base import FlightState, WingLoads
 from hawksim.backends.record import (HISTORY_ROW, HISTORY_ROWS_PER_BEAT, MAX_NATIVE_LAGS,  # noqa: F401 (re-exported)
                                      history_rows, lagged_states, new_history, record_scale, record_size,
                                      set_history_rows, set_history_values)
-from hawksim.backends.step_network import MIRROR_F, MIRROR_M, MIRROR_V, MIRROR_W, StepNetwork, load, shipped_path
+from hawksim.backends.step_network import (MIRROR_F, MIRROR_M, MIRROR_V, MIRROR_W, StepNetwork, load, shipped_path,
+                                           wake_age)
 from hawksim.insect.kinematics import Kinematics
 
 
@@ -49,6 +59,17 @@ class StepSurrogateBackend:
         loop's native callback reads and writes the same array, so the two paths share one record."""
         self._lagged_out = np.zeros((len(self.lags), 6))
         self._seed: tuple[np.ndarray, float] | None = None
+        self.age_beats = float(self.net.age_beats)
+        self.launch = np.zeros(1)
+        """The launch time [s] the wake-age input counts from (-inf: a developed wake); set at :meth:`reset`,
+        read by the native callback at its address."""
+        self._developed: bool | None = None
+
+    def set_developed_wake(self, developed: bool | None = True) -> None:
+        """Whether the flights' wake is developed from their start (the wake-age input saturated): True for a flight
+        started from a state saved mid-flight, False for a launch from no wake, None (default) developed exactly when
+        the backend is seeded with a record (module docstring). Takes effect at the next :meth:`reset`."""
+        self._developed = developed
 
     # the record memory protocol (:class:`hawksim.backends.memory.RecordMemory`)
     def seed(self, record: np.ndarray, dt: float) -> None:
@@ -88,7 +109,8 @@ class StepSurrogateBackend:
                              hidden=h, layers=len(blocks), every=every, omega_f=self._omega_f,
                              kinematics=self._x[0, :7].astype(np.float64),
                              mirrors=np.concatenate([MIRROR_V, MIRROR_W, MIRROR_F, MIRROR_M]).astype(float),
-                             lags=self.lags, history=self.history, period=1.0 / self.kin.f)
+                             lags=self.lags, history=self.history, period=1.0 / self.kin.f,
+                             age_beats=self.age_beats, launch=self.launch, age_frequency=float(self.kin.f))
 
     def _phase(self, state: FlightState) -> float:
         """The phase input [rad] at this call: 2 pi f t of this backend's kinematics."""
@@ -99,6 +121,8 @@ class StepSurrogateBackend:
             self.history[1] = 0.0  # no records
         else:
             set_history_rows(self.history, self._seed[0], state.t, self._seed[1])
+        developed = self._seed is not None if self._developed is None else self._developed
+        self.launch[0] = -math.inf if developed else state.t
 
     def _lagged(self, t: float, s: np.ndarray) -> np.ndarray:
         """States (n_lags, 6) at t - lag T for each lag, after recording s (6,) at t (:func:`lagged_states`)."""
@@ -142,6 +166,8 @@ class StepSurrogateBackend:
                 j = 15 + 6 * k
                 x[0, j:j + 3], x[0, j + 3:j + 6] = s[:3], s[3:]
                 x[1, j:j + 3], x[1, j + 3:j + 6] = s[:3] * MIRROR_V, s[3:] * MIRROR_W
+        if self.age_beats > 0:
+            x[:, -1] = wake_age(state.t, self.kin.f, self.age_beats, self.launch[0])
         y = self.evaluate(x).astype(np.float64)
         F_w = np.stack([y[0, :3], y[1, :3] * MIRROR_F])
         M_w = np.stack([y[0, 3:], y[1, 3:] * MIRROR_M])
@@ -179,6 +205,12 @@ class NativeNetwork:
     """The backend's record of calls (:func:`new_history`), read and written by the callback (None: no lags)."""
     period: float = 0.0
     """The wingbeat period T [s] the lags are counted in."""
+    age_beats: float = 0.0
+    """Saturation of the wake-age input, the last input [wingbeats] (0: the network has none)."""
+    launch: np.ndarray | None = None
+    """The backend's launch time (1,) [s] (:attr:`StepSurrogateBackend.launch`) the age input counts from."""
+    age_frequency: float = 0.0
+    """The frequency [Hz] the age input counts wingbeats in (the backend's kinematics')."""
 
     @staticmethod
     def pack(values: np.ndarray) -> np.ndarray:

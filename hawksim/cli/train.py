@@ -75,16 +75,20 @@ def cmd_train_step(args) -> dict:
 
     import torch
 
+    from hawksim.surrogate.flights import WARM_BEATS
     from hawksim.surrogate.step_train import TrainConfig, fit
 
     torch.set_num_threads(1)
     cfg = TrainConfig(hidden=args.layers, lags=args.lags, epochs=args.max_iter, seed=args.seed,
-                      max_seconds=args.time_limit, weight_decay=args.weight_decay, ensemble=args.ensemble)
+                      max_seconds=args.time_limit, weight_decay=args.weight_decay, ensemble=args.ensemble,
+                      age_beats=WARM_BEATS if args.wake_age else 0.0)
     command = ["hawksim", "train", "--kind", "step", "--data", str(args.data), "--out", str(args.out), "--seed",
                str(args.seed), "--layers", ",".join(map(str, args.layers)), "--lags", ",".join(f"{v:g}" for v in
                                                                                            args.lags),
                "--max-iter", str(args.max_iter), "--time-limit", f"{args.time_limit:g}",
                "--weight-decay", f"{args.weight_decay:g}", "--ensemble", str(args.ensemble)]
+    if args.wake_age:
+        command.append("--wake-age")
     for p in args.extra_data or ():
         command += ["--extra-data", str(p)]
     net, sc = fit(args.data, cfg, command=shlex.join(command), extra=tuple(args.extra_data or ()),
@@ -161,6 +165,8 @@ def cmd_train(args) -> dict:
         return cmd_train_step(args)
     if args.extra_data:
         raise UsageError("--extra-data needs --kind step (the per-step surrogate's flights)")
+    if args.wake_age:
+        raise UsageError("--wake-age needs --kind step (the per-step surrogate's flights)")
 
     from hawksim.backends.network import InputDefinition
     from hawksim.surrogate.dataset import file_sha256, read_samples, speeds_in
@@ -265,6 +271,9 @@ def register(sub) -> None:
     p.add_argument("--weight-decay", type=_weight_decay, default=0.0, help="--kind step: AdamW weight decay (0: Adam)")
     p.add_argument("--ensemble", type=positive_int_arg("ensemble"), default=1,
                    help="--kind step: networks trained from different seeds, folded into one (1)")
+    p.add_argument("--wake-age", action="store_true",
+                   help="--kind step: add the wake's age (wingbeats since the launch from no wake, saturating at the "
+                        "flights' warm-up) as an input and train on the warm-up rows too (docs/surrogate.md)")
     p.add_argument("--data", required=True, help="SQLite data set from `hawksim dataset`")
     p.add_argument("--extra-data", action="append", metavar="PATH",
                    help="--kind step: another flights data set (e.g. --family wide) whose training and validation "

@@ -64,8 +64,12 @@ C_BETA_NEW, C_BETA_OLD = 101, 103  # 2 each (left, right): the stroke-plane angl
 # a network with history lags: the address of its backend's record (StepSurrogateBackend.history), the number of
 # lags, the lags [wingbeats] (MAX_NATIVE_LAGS slots), the period they are counted in [s]
 C_HIST_ADDR, C_NLAG, C_LAGS, C_PERIOD = 105, 106, 107, 111
-C_SCRATCH = 112      # nv^2: the dense mass matrix of the stage (mj_fullM), then N_WORK
-N_FIXED = 112
+# a network with the wake-age input (its last): the input's saturation [wingbeats] (0: none), the frequency it
+# counts wingbeats in [Hz], the address of the backend's launch time (StepSurrogateBackend.launch, one float64 [s];
+# -inf: a developed wake)
+C_AGE, C_AGE_F, C_LAUNCH_ADDR = 112, 113, 114
+C_SCRATCH = 115      # nv^2: the dense mass matrix of the stage (mj_fullM), then N_WORK
+N_FIXED = 115
 N_WORK = 64          # after the mass matrix: the stage's scratch (blend_desired's motion and its own, and
                      # prescribed_torque's, nv <= 37)
 
@@ -255,6 +259,10 @@ def _surrogate_loads(ctx, t, qvel, xmat, cvel, buf):
             for j in range(6):
                 x[0, 15 + 6 * k + j] = lagged[k, j]
                 x[1, 15 + 6 * k + j] = lagged[k, j] * ctx[C_MIRROR + j]
+    if ctx[C_AGE] > 0.0:  # the wake's age: wake_age's arithmetic, at the frequency of the phase input
+        age = min(ctx[C_AGE_F] * (t - carray(voidptr(int(ctx[C_LAUNCH_ADDR])), 1, np.float64)[0]), ctx[C_AGE])
+        x[0, n_in - 1] = age
+        x[1, n_in - 1] = age
     y = mlp(x, buf, int(ctx[C_NET_K]), n_in, int(ctx[C_NET_H]), int(ctx[C_NET_L]))  # NativeNetwork's layout
     power = 0.0
     for wg in range(2):
@@ -451,6 +459,10 @@ class NativeControl:
         c[C_LAGS:C_LAGS + nlag] = net.lags
         c[C_HIST_ADDR] = float(net.history.ctypes.data) if nlag else 0.0
         c[C_PERIOD] = net.period
+        if net.age_beats > 0 and net.launch is None:
+            raise ValueError("a network with the wake-age input needs its backend's launch time (launch)")
+        c[C_AGE], c[C_AGE_F] = net.age_beats, net.age_frequency
+        c[C_LAUNCH_ADDR] = float(net.launch.ctypes.data) if net.age_beats > 0 else 0.0
         c[C_NET_ON] = 1.0
 
     def set_air(self, air_v) -> None:

@@ -166,8 +166,6 @@ class FlightResult:
         pitch = att[:, 0]
         beats = self.beats()
         horiz = self.body_pos[-1, :2] - self.body_pos[0, :2]
-        L, D = self.lift_drag()
-        W = self.insect.weight
         return {
             "speed_target": self.speed_target,
             "cycles": self.cycles,
@@ -182,13 +180,20 @@ class FlightResult:
             "kinematics": self.kinematics.to_edge(),
             "trim_source": self.trim_source,
             "steps_per_cycle": n,
-            "last_cycle": {
-                "L_plus": float(L[last].mean() / W),
-                "D_plus": float(D[last].mean() / W),
-                "M_plus": float(self.pitching_moment()[last].mean() / (W * self.insect.cbar)),
-                "P_plus": P_plus(self.power_joint[last], self.aero_every, first=last.start, P0=self.insect.P0),
-            },
+            "last_cycle": self.coefficients(last.start, last.stop),
         }
+
+    def coefficients(self, a: int, b: int) -> dict[str, float]:
+        """L+, D+, M+, P+ of steps a..b-1 (one wingbeat: the cycle means of the paper's Eq. 2): the mean lift and
+        drag (:meth:`lift_drag`) over the insect's weight, the mean nose-up pitching moment about the centre of mass
+        (:meth:`pitching_moment`) over weight x mean chord, and :func:`hawksim.flight.power.P_plus` of the joint
+        power over the insect's P0."""
+        s = slice(a, b)
+        L, D = self.lift_drag()
+        W = self.insect.weight
+        return {"L_plus": float(L[s].mean() / W), "D_plus": float(D[s].mean() / W),
+                "M_plus": float(self.pitching_moment()[s].mean() / (W * self.insect.cbar)),
+                "P_plus": P_plus(self.power_joint[s], self.aero_every, first=a, P0=self.insect.P0)}
 
     def beat_table(self, log: list[dict] | None = None) -> list[dict]:
         """The full per-beat table: :meth:`beats` (the contract's means) numbered from 1 with each beat's P+

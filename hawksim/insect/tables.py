@@ -86,6 +86,35 @@ def _read_manifest(data: Path) -> tuple[ShippedFile, ...]:
     return tuple(out)
 
 
+def restamp(insect, files) -> list[str]:
+    """Set the ``model_sha256`` of ``files`` (names relative to the insect's ``data/``) in its manifest to the
+    insect's MJCF digest (:func:`mjcf_digest`): what regenerating them on that MJCF makes them (`scripts/regenerate.py`
+    calls it after each stage). The manifest's text is edited in place, its comments and order kept. ValueError for
+    an insect without a folder or a name the manifest does not list. Returns the names whose digest changed."""
+    import re
+
+    if insect.folder is None:
+        raise ValueError(f"insect {insect.name!r} has no folder, so no manifest to restamp")
+    path = Path(insect.folder) / "data" / MANIFEST
+    digest = mjcf_digest(insect)
+    head, *blocks = path.read_text().split("[[file]]")
+    names = {re.search(r'^file = "([^"]+)"', b, re.M).group(1): i for i, b in enumerate(blocks)}
+    missing = sorted(set(files) - set(names))
+    if missing:
+        raise ValueError(f"files {missing} are not in the manifest {str(path)!r}")
+    changed = []
+    for name in files:
+        i = names[name]
+        new = re.sub(r'^model_sha256 = "[0-9a-f]*"', f'model_sha256 = "{digest}"', blocks[i], count=1, flags=re.M)
+        if new != blocks[i]:
+            blocks[i] = new
+            changed.append(name)
+    if changed:
+        path.write_text("[[file]]".join([head, *blocks]))
+        _read_manifest.cache_clear()
+    return changed
+
+
 def find_file(insect, kind: str, aero: str | None = None, name: str | None = None) -> ShippedFile | None:
     """The manifest entry of ``kind`` serving backend ``aero`` (and, if given, of file name ``name``, relative to
     ``data/``), None if the insect ships none."""

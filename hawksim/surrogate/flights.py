@@ -227,7 +227,17 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
                     history_kick: np.ndarray | None = None, state_at_kick: np.ndarray | None = None,
                     kick_log: list | None = None) -> FlightSample:
     """Fly flight i of ``family`` (UVLM in the loop, `hawksim fly --aero uvlm`'s settings) and record every UVLM
-    update.
+    update (:func:`fly_spec` of :func:`sample_flight`'s spec)."""
+    return fly_spec(sample_flight(seed, i, family), seed, i, beats, family, history_kick=history_kick,
+                    state_at_kick=state_at_kick, kick_log=kick_log)
+
+
+def fly_spec(spec: FlightSpec, seed: int = -1, i: int = -1, beats: int = FLIGHT_BEATS, family: str = "orbit", *,
+             kick: bool = True, history_kick: np.ndarray | None = None, state_at_kick: np.ndarray | None = None,
+             kick_log: list | None = None) -> FlightSample:
+    """Fly the flight ``spec`` (UVLM in the loop, `hawksim fly --aero uvlm`'s settings; cut as ``family``'s) and
+    record every UVLM update; seed and i label the sample. ``kick`` False: no kick at t = WARM_BEATS T (a free flight
+    from the launch state, e.g. the launch study, scripts/studies/step_surrogate_launch.py).
 
     For the memory study (``scripts/studies/step_surrogate_memory.py``; the data sets use none of these):
     history_kick (9,) is added to the body state one beat before the kick; state_at_kick (9,) is written at the
@@ -242,7 +252,6 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
 
     morph = default_insect().morphology
 
-    spec = sample_flight(seed, i, family)
     fam = FAMILIES[family]
     t0 = time.perf_counter()
     kin = spec.kinematics
@@ -258,7 +267,7 @@ def evaluate_flight(seed: int, i: int, beats: int = FLIGHT_BEATS, family: str = 
         for step in range(beats * FLY_STEPS_PER_CYCLE):
             if history_kick is not None and step == (WARM_BEATS - 1) * FLY_STEPS_PER_CYCLE:
                 _kick(sim, read_body_state(sim, spec.chi_ref) + np.asarray(history_kick), spec.chi_ref)
-            if step == WARM_BEATS * FLY_STEPS_PER_CYCLE:
+            if kick and step == WARM_BEATS * FLY_STEPS_PER_CYCLE:
                 before = read_body_state(sim, spec.chi_ref)
                 if kick_log is not None:
                     kick_log.append(before)

@@ -2,7 +2,10 @@
 (:mod:`hawksim.surrogate.flights`).
 
 Split by FLIGHT (seeded): held-out flights are never seen in training or early stopping. Rows of the first
-:data:`hawksim.surrogate.flights.WARM_BEATS` wingbeats (the wake's start from none) are left out everywhere. A
+:data:`hawksim.surrogate.flights.WARM_BEATS` wingbeats (the wake's start from none) are left out of the training
+of a network without the wake-age input (``TrainConfig.age_beats`` 0, the shipped one's) and kept, with that input
+(:func:`hawksim.backends.step_network.wake_age`, the flight's launch at t = 0), by one with it; the scores are
+those of the rows past the warm-up either way. A
 symmetric flight contributes its left wing (the right one is its exact mirror image); a lateral flight both, the
 right mapped to the left network by mirror symmetry.
 
@@ -35,6 +38,7 @@ from hawksim.backends.step_network import (
     StepNetwork,
     input_names,
     mirror_inputs,
+    wake_age,
 )
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.folder import default_insect
@@ -63,8 +67,11 @@ class Rows:
     wing: np.ndarray
 
 
-def flight_inputs(fl: StoredFlight, lags: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray]:
-    """(left-wing inputs (n, n_in), mask (n,) of rows past the warm-up) for every row of a flight."""
+def flight_inputs(fl: StoredFlight, lags: tuple[float, ...], age_beats: float = 0.0) -> tuple[np.ndarray,
+                                                                                              np.ndarray]:
+    """(left-wing inputs (n, n_in), mask (n,) of rows past the warm-up) for every row of a flight; with
+    ``age_beats`` > 0 the last input is the wake's age (:func:`wake_age`: the flight was launched from no wake at
+    t = 0)."""
     r = fl.rows
     n = r.shape[0]
     f = fl.kinematics[0]
@@ -75,15 +82,20 @@ def flight_inputs(fl: StoredFlight, lags: tuple[float, ...]) -> tuple[np.ndarray
         k = int(round(lag * UPDATES_PER_BEAT))
         idx = np.clip(np.arange(n) - k, 0, None)
         parts.append(state[idx])
+    if age_beats > 0:
+        parts.append(wake_age(r[:, COLUMN_INDEX["t"]], f, age_beats)[:, None])
     x = np.concatenate(parts, axis=1)
     return x, r[:, COLUMN_INDEX["t"]] >= WARM_BEATS / f - 1e-9
 
 
-def rows_of(flights: list[StoredFlight], lags: tuple[float, ...]) -> Rows:
-    """Training rows (module docstring) of ``flights``."""
+def rows_of(flights: list[StoredFlight], lags: tuple[float, ...], age_beats: float = 0.0) -> Rows:
+    """Training rows (module docstring) of ``flights``: past the warm-up, or every row with the wake-age input
+    (``age_beats`` > 0)."""
     xs, ys, fid, wid = [], [], [], []
     for j, fl in enumerate(flights):
-        x, keep = flight_inputs(fl, lags)
+        x, keep = flight_inputs(fl, lags, age_beats)
+        if age_beats > 0:
+            keep = np.ones_like(keep)
         r = fl.rows[keep]
         x = x[keep]
         yl = np.concatenate([r[:, column_indices("FLx", "FLy", "FLz")], r[:, column_indices("MLx", "MLy", "MLz")]],
@@ -116,7 +128,8 @@ class TrainConfig:
     step; lr: Adam's initial learning rate; patience: epochs without validation gain before the rate is halved;
     stop: epochs without gain before training stops; max_seconds: wall-time cap [s]; seed; weight_decay: AdamW's
     decoupled weight decay (0: Adam); ensemble: members trained from different initial weights and folded into one
-    network (:func:`fold_ensemble`)."""
+    network (:func:`fold_ensemble`); age_beats: saturation of the wake-age input [wingbeats] (0: no such input, the
+    warm-up rows left out; module docstring)."""
 
     hidden: tuple[int, ...] = (128, 128, 128)
     lags: tuple[float, ...] = ()
@@ -129,6 +142,7 @@ class TrainConfig:
     seed: int = 0
     weight_decay: float = 0.0
     ensemble: int = 1
+    age_beats: float = 0.0
 
 
 def train(train_rows: Rows, val_rows: Rows, cfg: TrainConfig, log=None) -> tuple[StepNetwork, dict]:
@@ -151,13 +165,13 @@ def train(train_rows: Rows, val_rows: Rows, cfg: TrainConfig, log=None) -> tuple
         members.append(w)
         hists.append(h)
     weights = members[0] if len(members) == 1 else fold_ensemble(members)
-    sn = StepNetwork(weights, x_mean, x_std, y_mean, y_std, lags=tuple(cfg.lags))
+    sn = StepNetwork(weights, x_mean, x_std, y_mean, y_std, lags=tuple(cfg.lags), age_beats=cfg.age_beats)
     if len(hists) == 1:
         return sn, hists[0]
     if log:
         with torch.no_grad():
             ys = StepNetwork(weights, np.zeros(X.shape[1]), np.ones(X.shape[1]), np.zeros(6), np.ones(6),
-                             lags=tuple(cfg.lags)).predict(Xv.numpy())
+                             lags=tuple(cfg.lags), age_beats=cfg.age_beats).predict(Xv.numpy())
         log(f"ensemble of {len(members)}: val mse {float(np.mean((ys - Yv.numpy()) ** 2)):.3e}")
     return sn, {k: [h[k] for h in hists] for k in hists[0]}
 
@@ -296,15 +310,17 @@ def flight_loads(fl: StoredFlight, y_left: np.ndarray, y_right: np.ndarray, geom
             "power_aero": -np.einsum("nki,nki->n", w_rel, Mb)}
 
 
-def cycle_means(fl: StoredFlight, loads: dict[str, np.ndarray], power_aero_uvlm: np.ndarray) -> np.ndarray:
-    """(beats, 4) L+, D+, M+, P+ of every complete wingbeat past the warm-up; P+ from the recorded joint power
-    with the UVLM's aerodynamic power replaced by ``loads['power_aero']``."""
+def cycle_means(fl: StoredFlight, loads: dict[str, np.ndarray], power_aero_uvlm: np.ndarray,
+                first: int = WARM_BEATS) -> np.ndarray:
+    """(beats, 4) L+, D+, M+, P+ of every complete wingbeat from beat ``first`` (0-based; default past the
+    warm-up); P+ from the recorded joint power with the UVLM's aerodynamic power replaced by
+    ``loads['power_aero']``."""
     insect = default_insect()
     W, c, P0 = insect.weight, insect.cbar, insect.P0
     n = fl.rows.shape[0]
     p = fl.rows[:, COLUMN_INDEX["power_joint"]] - power_aero_uvlm + loads["power_aero"]
     out = []
-    for k in range(WARM_BEATS, n // UPDATES_PER_BEAT):
+    for k in range(first, n // UPDATES_PER_BEAT):
         s = slice(k * UPDATES_PER_BEAT, (k + 1) * UPDATES_PER_BEAT)
         out.append((loads["lift"][s].mean() / W, loads["drag"][s].mean() / W, loads["moment"][s].mean() / (W * c),
                     np.maximum(p[s], 0.0).mean() / P0))
@@ -312,17 +328,27 @@ def cycle_means(fl: StoredFlight, loads: dict[str, np.ndarray], power_aero_uvlm:
 
 
 def flight_cycle_means(fl: StoredFlight, y_left: np.ndarray | None = None,
-                       y_right: np.ndarray | None = None) -> np.ndarray:
-    """(beats, 4) L+, D+, M+, P+ of every complete wingbeat of a recorded flight past the warm-up
-    (:func:`cycle_means`), from the flight's own UVLM wing loads or, where given, from other per-row wing loads
-    y_left, y_right (n, 6) in wing axes (force [N], moment about the hinge [N m]; a network's predictions)."""
+                       y_right: np.ndarray | None = None, first: int = WARM_BEATS) -> np.ndarray:
+    """(beats, 4) L+, D+, M+, P+ of every complete wingbeat of a recorded flight from beat ``first`` (default past
+    the warm-up; :func:`cycle_means`), from the flight's own UVLM wing loads or, where given, from other per-row
+    wing loads y_left, y_right (n, 6) in wing axes (force [N], moment about the hinge [N m]; a network's
+    predictions)."""
     r = fl.rows
     u_l = r[:, column_indices("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
     u_r = r[:, column_indices("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
     geom = wing_geometry(Kinematics.from_array(fl.kinematics), r[:, COLUMN_INDEX["t"]])
     yl = u_l if y_left is None else y_left
     yr = u_r if y_right is None else y_right
-    return cycle_means(fl, flight_loads(fl, yl, yr, geom), r[:, COLUMN_INDEX["power_aero"]])
+    return cycle_means(fl, flight_loads(fl, yl, yr, geom), r[:, COLUMN_INDEX["power_aero"]], first)
+
+
+def replay(net: StepNetwork, fl: StoredFlight) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The network's wing loads along a recorded flight (its inputs from the flight's rows, :func:`flight_inputs`,
+    the flight launched from no wake at t = 0): (left (n, 6), right (n, 6) in their own wing axes, mask (n,) of the
+    rows past the warm-up)."""
+    x, keep = flight_inputs(fl, net.lags, net.age_beats)
+    mirror = np.concatenate([MIRROR_F, MIRROR_M])
+    return net.predict(x), net.predict(mirror_inputs(x)) * mirror, keep
 
 
 def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
@@ -333,9 +359,7 @@ def score(net: StepNetwork, flights: list[StoredFlight]) -> dict:
     mirror = np.concatenate([MIRROR_F, MIRROR_M])
     wing_u, wing_p, body_u, body_p, uvlm, pred = [], [], [], [], [], []
     for fl in flights:
-        x, keep = flight_inputs(fl, net.lags)
-        yl = net.predict(x)
-        yr = net.predict(mirror_inputs(x)) * mirror  # the right wing in its own axes
+        yl, yr, keep = replay(net, fl)
         r = fl.rows
         u_l = r[:, column_indices("FLx", "FLy", "FLz", "MLx", "MLy", "MLz")]
         u_r = r[:, column_indices("FRx", "FRy", "FRz", "MRx", "MRy", "MRz")]
@@ -397,7 +421,7 @@ def fit(path, cfg: TrainConfig, *, command: str = "", max_flights: int | None = 
         fl_tr += [fx[i] for i in a]
         fl_va += [fx[i] for i in b]
         more.append((p, fx, c))
-    rows_tr, rows_va = rows_of(fl_tr, cfg.lags), rows_of(fl_va, cfg.lags)
+    rows_tr, rows_va = rows_of(fl_tr, cfg.lags, cfg.age_beats), rows_of(fl_va, cfg.lags, cfg.age_beats)
     net, hist = train(rows_tr, rows_va, cfg, log=log)
     test = [flights[i] for i in te]
     sc = score(net, test)
@@ -407,12 +431,14 @@ def fit(path, cfg: TrainConfig, *, command: str = "", max_flights: int | None = 
     meta = {"command": command, "data": str(path), "data_sha256": _flights_sha256(path, max_flights),
             "max_flights": max_flights, "config": {
                 "hidden": list(cfg.hidden), "lags": list(cfg.lags), "epochs": cfg.epochs, "batch": cfg.batch,
-                "lr": cfg.lr, "seed": cfg.seed}, "n_flights": len(flights), "n_train_rows": int(len(rows_tr.y)),
+                "lr": cfg.lr, "seed": cfg.seed, **({"age_beats": cfg.age_beats} if cfg.age_beats else {})},
+            "n_flights": len(flights), "n_train_rows": int(len(rows_tr.y)),
             "n_val_rows": int(len(rows_va.y)), "test_flights": [int(flights[i].idx) for i in te],
             "val_flights": [int(flights[i].idx) for i in va], "history": hist, "test": sc}
     if extra_meta:
         meta["extra"] = extra_meta
-    return StepNetwork(net.weights, net.x_mean, net.x_std, net.y_mean, net.y_std, lags=net.lags, meta=meta), sc
+    return StepNetwork(net.weights, net.x_mean, net.x_std, net.y_mean, net.y_std, lags=net.lags, meta=meta,
+                       age_beats=net.age_beats), sc
 
 
 def _flights_sha256(path, max_flights: int | None = None) -> str:

@@ -84,6 +84,25 @@ def test_a_table_of_another_model_is_refused(tmp_path):
     assert path is None and "was computed on the model" in reason
 
 
+def test_restamp_sets_the_digest_of_the_named_files_only(tmp_path):
+    """scripts/regenerate.py restamps what a stage wrote: the named entries take the insect's MJCF digest, the others
+    and the manifest's comments stay as they were."""
+    from hawksim.insect.tables import manifest, restamp
+
+    longer = load_insect(_copy(tmp_path, edit=lambda s: s.replace("value = 0.0485\n", "value = 0.05\n")))
+    text = (longer.folder / "data" / "manifest.toml").read_text()
+    assert restamp(longer, ["orbit_table_uvlm.json"]) == ["orbit_table_uvlm.json"]
+    assert table_path(longer, "orbit", "uvlm") == longer.folder / "data" / "orbit_table_uvlm.json"
+    with pytest.raises(ValueError, match="computed on the model"):
+        table_path(longer, "orbit", "quasi-steady")
+    after = (longer.folder / "data" / "manifest.toml").read_text()
+    assert after.splitlines()[:3] == text.splitlines()[:3] and after.count("[[file]]") == text.count("[[file]]")
+    assert restamp(longer, ["orbit_table_uvlm.json"]) == []  # already stamped
+    assert sum(e.model_sha256 == mjcf_digest(longer) for e in manifest(longer)) == 1
+    with pytest.raises(ValueError, match="not in the manifest"):
+        restamp(longer, ["no_such_table.json"])
+
+
 def test_a_copy_under_another_name_gives_the_same_aero_numbers(tmp_path):
     from hawksim.backends.held import run
     from hawksim.backends.resolution import Resolution

@@ -171,6 +171,49 @@ def test_history_network_in_the_callback_matches_the_python_network():
     assert np.abs(c["force"][late] - a["force"][late]).max() > 100 * NETWORK_REL_TOL * np.abs(a["force"]).max()
 
 
+def test_wake_age_network_in_the_callback_matches_the_python_network():
+    """A network with the wake-age input (issue 49) evaluated in the callback, which reads its backend's launch time
+    by address, against the same network in Python: 2.5 beats from a launch (the age ramps from 0 and saturates at
+    2), float32 round-off apart; the input acts (a developed wake from the start gives other loads early, the same
+    loads once the age saturates)."""
+    import math
+
+    from hawksim.backends.step_network import OUTPUTS, StepNetwork, input_names
+    from hawksim.backends.step_surrogate import StepSurrogateBackend
+
+    rng = np.random.default_rng(5)
+    lags = (0.5,)
+    n_in = len(input_names(lags, 2.0))
+    sizes = [n_in, 16, 16, len(OUTPUTS)]
+    weights = tuple((rng.normal(0, 1 / math.sqrt(a), (b, a)).astype(np.float32),
+                     rng.normal(0, 0.1, b).astype(np.float32)) for a, b in zip(sizes[:-1], sizes[1:]))
+    x_std = np.concatenate([np.ones(9), np.full(n_in - 10, 0.3), [0.5]])
+    net = StepNetwork(weights, np.zeros(n_in), x_std, np.zeros(6), np.full(6, 2e-3), lags=lags, age_beats=2.0)
+    backend = StepSurrogateBackend(table3_kinematics(1.0), net)
+    assert backend.native(5).age_beats == 2.0
+    steps, chunks = 250, (37, 63, 50, 100)
+    (a, qa, _), (b, qb, _) = _advance_vs_step(backend, steps=steps, chunks=chunks)
+    assert np.abs(a["force"] - b["force"]).max() <= NETWORK_REL_TOL * np.abs(a["force"]).max()
+    assert np.abs(a["moment"] - b["moment"]).max() <= NETWORK_REL_TOL * np.abs(a["moment"]).max()
+    np.testing.assert_allclose(qb, qa, rtol=0, atol=1e-7)
+    grown = StepSurrogateBackend(table3_kinematics(1.0), net)
+    grown.set_developed_wake(True)
+    (c, _, _), (d, _, _) = _advance_vs_step(grown, steps=steps, chunks=chunks)
+    assert np.abs(c["force"] - d["force"]).max() <= NETWORK_REL_TOL * np.abs(c["force"]).max()
+    early = a["t"] < 0.5 / table3_kinematics(1.0).f
+    assert np.abs(c["force"][early] - a["force"][early]).max() > 100 * NETWORK_REL_TOL * np.abs(a["force"]).max()
+    # a copied simulator (hawksim.control.derivatives.Snapshot) reads its own backend's launch time
+    import copy
+
+    from hawksim.flight.native import C_LAUNCH_ADDR
+
+    sim = Simulator(load_model(), table3_kinematics(1.0), backend, steps_per_cycle=100, aero_every=5)
+    sim.reset(velocity=(0.0, 0.0, 1.0))
+    sim.advance(10)
+    twin = copy.deepcopy(sim)
+    assert twin._native.ctx[C_LAUNCH_ADDR] == twin.backend.launch.ctypes.data != sim._native.ctx[C_LAUNCH_ADDR]
+
+
 def test_a_copied_simulator_flies_on_with_its_own_network_and_record():
     """copy.deepcopy of a simulator on the native callback (hawksim.control.derivatives.Snapshot branches from
     copies): the copy's ctx points at its own network buffer and history record, and both continue bit for bit."""

@@ -33,14 +33,14 @@ bits (6e-8); three hidden layers of 128 sums of products accumulate ~sqrt(128) *
 layer, and the standardisation spans y_std ~ the outputs' size: measured 3e-6; 1e-4 leaves 30x."""
 
 
-def _random_net(lags=(), hidden=(16, 16), seed=0) -> StepNetwork:
+def _random_net(lags=(), hidden=(16, 16), seed=0, age_beats=0.0) -> StepNetwork:
     rng = np.random.default_rng(seed)
-    n_in = len(input_names(lags))
+    n_in = len(input_names(lags, age_beats))
     sizes = [n_in, *hidden, len(OUTPUTS)]
     weights = tuple((rng.normal(0, 1 / math.sqrt(a), (b, a)).astype(np.float32), rng.normal(0, 0.1, b).astype(
         np.float32)) for a, b in zip(sizes[:-1], sizes[1:]))
     return StepNetwork(weights, rng.normal(0, 1, n_in), rng.uniform(0.5, 2, n_in), rng.normal(0, 1e-3, 6),
-                       rng.uniform(1e-3, 1e-2, 6), lags=lags, meta={"test": True})
+                       rng.uniform(1e-3, 1e-2, 6), lags=lags, meta={"test": True}, age_beats=age_beats)
 
 
 def _inputs(net, n=7, seed=1):
@@ -159,6 +159,116 @@ def test_history_lags_interpolate_the_backends_own_record():
         b.loads(st)
         seen.append(st.body_R.T @ st.body_v)
     assert np.allclose(b._x[0, 15:18], seen[20], atol=1e-6)
+
+
+# ------------------------------------------------------------------------------- the wake's age (issue 49)
+
+
+def test_the_wake_age_counts_beats_from_the_launch_and_saturates():
+    """The age input along a flight: min(f t, 2) from a launch at the reset (t = 0); saturated from the start for
+    a flight seeded with a record (an orbit's continuation) or declared to have a developed wake; a launch again when
+    declared so despite the seed."""
+    kin = table3_kinematics(1.0)
+    T = 1.0 / kin.f
+    st0 = FlightState(**{**_state(0).__dict__, "t": 0.0})
+
+    def ages(b):
+        b.reset(st0)
+        out = []
+        for k in range(13):
+            b.loads(FlightState(**{**st0.__dict__, "t": k * T / 4}))
+            assert b._x[0, -1] == b._x[1, -1]  # both wings
+            out.append(float(b._x[0, -1]))
+        return np.array(out)
+
+    net = _random_net(lags=(0.5,), age_beats=2.0)
+    assert net.n_in == 9 + 6 + 6 + 1 and input_names((0.5,), 2.0)[-1] == "wake_age_beats"
+    b = StepSurrogateBackend(kin, net)
+    np.testing.assert_allclose(ages(b), np.minimum(np.arange(13) / 4, 2.0), rtol=1e-6, atol=1e-6)
+    assert ages(b)[8:].tolist() == [2.0] * 5
+    b.seed(np.zeros((20, 6)), T / 40)
+    assert ages(b).tolist() == [2.0] * 13
+    b.set_developed_wake(False)
+    np.testing.assert_allclose(ages(b), np.minimum(np.arange(13) / 4, 2.0), rtol=1e-6, atol=1e-6)
+    c = StepSurrogateBackend(kin, net)
+    c.set_developed_wake(True)
+    assert ages(c).tolist() == [2.0] * 13
+    # the input acts: another age, other loads
+    b.set_developed_wake(None)
+    b.reset(st0)
+    late = b.loads(FlightState(**{**st0.__dict__, "t": 0.3 * T}))
+    c.reset(st0)
+    assert np.abs(c.loads(FlightState(**{**st0.__dict__, "t": 0.3 * T})).force - late.force).max() > 1e-6
+
+
+def _synthetic_flight(symmetric=True, beats=4):
+    from hawksim.surrogate.flights import COLUMNS, StoredFlight
+
+    kin = table3_kinematics(1.0)
+    n = 40 * beats
+    rng = np.random.default_rng(3)
+    rows = rng.normal(0, 1, (n, len(COLUMNS)))
+    rows[:, 0] = np.arange(n) / (40 * kin.f)
+    return StoredFlight(0, 0, 1.0, kin.as_array(), symmetric, rows, None, "ok")
+
+
+def test_training_rows_keep_the_warm_up_only_with_the_age_input():
+    """Without the age input the rows of the first WARM_BEATS beats (t < 2 T) are left out of the training; with
+    it every row is kept, its last input the age min(f t, 2) and its other inputs those without it."""
+    from hawksim.surrogate.flights import WARM_BEATS
+    from hawksim.surrogate.step_train import rows_of
+
+    fl = _synthetic_flight()
+    f = fl.kinematics[0]
+    plain, aged = rows_of([fl], (0.5, 1.0)), rows_of([fl], (0.5, 1.0), float(WARM_BEATS))
+    assert WARM_BEATS == 2 and plain.x.shape == (80, 27) and aged.x.shape == (160, 28)
+    np.testing.assert_array_equal(aged.x[80:, :27], plain.x)
+    np.testing.assert_array_equal(aged.y[80:], plain.y)
+    np.testing.assert_allclose(aged.x[:, -1], np.minimum(f * fl.rows[:, 0], 2.0), rtol=1e-12)
+    assert aged.x[0, -1] == 0.0 and aged.x[79, -1] < 2.0 and np.all(aged.x[80:, -1] == 2.0)
+    lateral = rows_of([_synthetic_flight(symmetric=False)], (0.5, 1.0), 2.0)
+    assert lateral.x.shape == (320, 28)
+    np.testing.assert_array_equal(lateral.x[160:, -1], lateral.x[:160, -1])  # the mirrored wing: the same age
+
+
+SHIPPED_PREDICTION = (-2.5801989587241229e-04, -2.1432385364001616e-04, 4.9058743330973719e-03,
+                      1.8774285992347053e-04, 2.2810800810350727e-05, 1.0037591657474874e-05)
+"""The shipped network's predict at x_mean + 0.5 x_std sin(arange(27)), measured before the age input existed
+(commit 68e5d21)."""
+
+
+def test_a_network_without_the_age_input_loads_writes_and_predicts_as_before(tmp_path):
+    """A file without ``age_beats`` (every file before the age input) loads with none, predicts the numbers it
+    predicted before (the shipped one), and is written back with the same input metadata; one with it round-trips;
+    a file whose names and age disagree is refused."""
+    from safetensors import safe_open
+
+    if shipped_path().is_file():
+        net = load(shipped_path())
+        assert net.age_beats == 0.0 and net.n_in == 27
+        x = net.x_mean + 0.5 * net.x_std * np.sin(np.arange(net.n_in))
+        np.testing.assert_allclose(net.predict(x[None])[0], SHIPPED_PREDICTION, rtol=1e-12, atol=0)
+        with safe_open(str(shipped_path()), framework="numpy") as fh:
+            before = json.loads(fh.metadata()["inputs"])
+        with safe_open(str(net.save(tmp_path / "again.safetensors")), framework="numpy") as fh:
+            assert json.loads(fh.metadata()["inputs"]) == before and "age_beats" not in before
+    aged = _random_net(lags=(0.5,), age_beats=2.0)
+    back = load(aged.save(tmp_path / "aged.safetensors"))
+    assert back.age_beats == 2.0 and back.n_in == 22
+    x = _inputs(aged)
+    np.testing.assert_array_equal(back.predict(x), aged.predict(x))
+    plain = StepNetwork(aged.weights, aged.x_mean, aged.x_std, aged.y_mean, aged.y_std, lags=(0.5, 1.0))
+    with pytest.raises(ValueError, match="inputs must have shape"):
+        plain.predict(x)  # a network is one or the other: the age input is not silently dropped
+    with safe_open(str(tmp_path / "aged.safetensors"), framework="numpy") as fh:
+        md, arrays = fh.metadata(), {k: fh.get_tensor(k) for k in fh.keys()}
+    inputs = json.loads(md["inputs"])
+    del inputs["age_beats"]
+    from safetensors.numpy import save_file
+
+    save_file(arrays, str(tmp_path / "bad.safetensors"), metadata={**md, "inputs": json.dumps(inputs)})
+    with pytest.raises(StepNetworkFileError, match="wake_age_beats"):
+        load(tmp_path / "bad.safetensors")
 
 
 # ------------------------------------------------------------------------------------ accuracy vs the UVLM
@@ -280,6 +390,32 @@ def test_extra_flights_leave_the_main_split_as_it_is(tmp_path):
     assert both.meta["n_train_rows"] > alone.meta["n_train_rows"]
     (ex,) = both.meta["extra"]
     assert set(ex["test_flights"]) <= set(range(8, 14)) and ex["test"]["n_flights"] == len(ex["test_flights"])
+
+def test_train_with_the_wake_age_writes_a_network_that_records_it(tmp_path, capsys):
+    """`hawksim train --kind step --wake-age`: the network file records the age input (saturating at WARM_BEATS)
+    and it trained on the warm-up rows too (more rows than without, on the same flights); --wake-age without
+    --kind step is refused."""
+    from hawksim.cli import main
+    from hawksim.surrogate.flights import WARM_BEATS, copy_flights
+
+    if not FLIGHTS.is_file():
+        pytest.skip("the flights data set is not in this checkout")
+    a = tmp_path / "a.sqlite"
+    copy_flights(FLIGHTS, a, [(0, i) for i in range(6)])
+    nets = {}
+    for age in (False, True):
+        out = tmp_path / f"n{int(age)}.safetensors"
+        argv = ["train", "--kind", "step", "--data", str(a), "--out", str(out), "--layers", "8", "--lags", "0.5",
+                "--max-iter", "1", "--no-progress", "--json"] + (["--wake-age"] if age else [])
+        assert main(argv) == 0
+        nets[age] = load(out)
+    capsys.readouterr()
+    assert nets[False].age_beats == 0.0 and nets[True].age_beats == float(WARM_BEATS)
+    assert nets[True].n_in == nets[False].n_in + 1 and "--wake-age" in nets[True].meta["command"]
+    assert nets[True].meta["n_train_rows"] > nets[False].meta["n_train_rows"]
+    assert main(["train", "--data", str(a), "--out", str(tmp_path / "m.safetensors"), "--wake-age"]) != 0
+    assert "--wake-age needs --kind step" in capsys.readouterr().err
+
 
 def test_an_ensemble_folds_exactly_into_one_network():
     from hawksim.surrogate.step_train import fold_ensemble
