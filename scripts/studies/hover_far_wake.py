@@ -143,13 +143,18 @@ def averages(speed: float, free_beats: float | None) -> dict:
     return {"speed": speed, "free_beats": free_beats, **r.averages.to_dict()}
 
 
-def solve(speed: float, free_beats: float, validate: bool = False) -> dict:
+def solve(speed: float, free_beats: float, validate: bool = False, from_table: bool = False) -> dict:
     """The UVLM orbit with the prescribed far wake; with ``validate``, its Floquet multipliers against perturbed
     nonlinear flights and the averaged model (:func:`hawksim.stability.validation.validate_speed`, as
-    `hawksim reproduce --only validation_uvlm` does at 1-2 m/s), every flight with the same far wake."""
+    `hawksim reproduce --only validation_uvlm` does at 1-2 m/s), every flight with the same far wake. ``from_table``:
+    the shipped orbit of that speed (solved with the same far wake) instead of a new solve."""
     t0 = time.perf_counter()
     fw = far_wake(speed, free_beats, trim_kinematics(speed, "uvlm"))
-    o = periodic_orbit(speed, "uvlm", far_wake=fw, log=lambda *a: print(*a, file=sys.stderr))
+    o = shipped_orbit(speed, "uvlm") if from_table else None
+    if o is not None and (o.far_wake is None or o.far_wake.free_beats != free_beats):
+        raise ValueError(f"the shipped UVLM orbit at {speed:g} m/s has far wake {o.far_wake}, not {free_beats} beats")
+    if o is None:
+        o = periodic_orbit(speed, "uvlm", far_wake=fw, log=lambda *a: print(*a, file=sys.stderr))
     val = None
     if validate and o.converged:
         from hawksim.stability.floquet import monodromy
@@ -175,6 +180,7 @@ def main(argv=None) -> int:
     ap.add_argument("--speed", type=float, default=0.0, help="speed of the smoothness section [m/s]")
     ap.add_argument("--speeds", type=float, nargs="+", default=[0.0, 1.0, 2.0])
     ap.add_argument("--orbit-speed", type=float, default=0.0)
+    ap.add_argument("--from-table", action="store_true", help="orbit/validate: the shipped orbit, not a new solve")
     ap.add_argument("--out")
     a = ap.parse_args(argv)
     out = {"command": shlex.join(["python", "-m", "scripts.studies.hover_far_wake", *(argv or sys.argv[1:])]),
@@ -191,7 +197,8 @@ def main(argv=None) -> int:
     if "averages" in a.sections:
         out["averages"] = [averages(v, fb) for v in a.speeds for fb in [None, *a.free_beats]]
     if "orbit" in a.sections or "validate" in a.sections:
-        out["orbit"] = solve(a.orbit_speed, a.free_beats[0], validate="validate" in a.sections)
+        out["orbit"] = solve(a.orbit_speed, a.free_beats[0], validate="validate" in a.sections,
+                             from_table=a.from_table)
     out["momentum_downwash"] = {f"{v:g}": momentum_downwash(v, trim_kinematics(v, "uvlm"),
                                                             default_insect().morphology) for v in a.speeds}
     emit(out, a.out)
