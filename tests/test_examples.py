@@ -128,6 +128,22 @@ def test_your_own_controller(tmp_path):
     assert abs(c0 - 60.57) < 0.05 and abs(c1 - 57.72) < 1.0 and line_with(out, "PD on phi0").endswith("None")
 
 
+def test_forward_flight(tmp_path):
+    out = run_example("forward_flight.py", tmp_path)
+    rows = [numbers(s) for s in out if s.startswith("U ")]
+    assert [r[0] for r in rows] == [0.0, 1.0, 2.0, 3.0]
+    L0, D0, M0, body0 = rows[0][1:]
+    assert abs(L0 - 1.005) < 0.01 and abs(D0) < 0.01 and body0 == 0.0  # the hover trim balances at U = 0
+    # flown forward the hover wing motion is pushed back (D+ 0.28, 0.58, 0.92) and pitched up, the body's drag grows
+    # with U^2 at its 59 deg body angle (0.006, 0.025, 0.056 of the weight); measured 2026-12-07
+    np.testing.assert_allclose([r[2] for r in rows[1:]], [0.278, 0.580, 0.923], atol=0.01)
+    np.testing.assert_allclose([r[4] for r in rows[1:]], [0.0062, 0.0250, 0.0562], rtol=0.02)
+    line = line_with(out, "balanced at 1 m/s")
+    assert "converged True" in line
+    f, beta, chi, p_plus, c_l = numbers(line)[-5:]
+    assert abs(beta + chi - 60.0) < 1e-6 and 0.5 < p_plus < 0.8 and 1.5 < c_l < 2.5
+
+
 def test_the_gallery_is_listed_short_and_documented():
     scripts = sorted(p.name for p in EXAMPLES.glob("*.py"))
     tested = sorted(n.removeprefix("test_") + ".py" for n in globals() if n.startswith("test_")

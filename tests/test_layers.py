@@ -20,7 +20,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 HAWKSIM_LAYERS = (
     ("hawksim", "hawksim.atomic", "hawksim.cluster", "hawksim.environment", "hawksim.frames", "hawksim.inputfile",
-     "hawksim.interrupts", "hawksim.jsonout", "hawksim.lazy", "hawksim.plotting", "hawksim.state"),
+     "hawksim.interrupts", "hawksim.jsonout", "hawksim.lazy", "hawksim.plotting", "hawksim.state",
+     "hawksim.condition"),
     ("hawksim.insect",),
     ("hawksim.backends",),
     ("hawksim.trim",),

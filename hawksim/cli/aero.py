@@ -1,4 +1,6 @@
-"""`hawksim aero`: one UVLM run with the body held at ascent speed V (cycle-averaged L+, D+, M+, P+)."""
+"""`hawksim aero`: one UVLM run with the body held at ascent speed V (cycle-averaged L+, D+, M+, P+); with
+``--forward-speed U`` in forward flight (the air at (-U, 0, -V), the body's own loads counted,
+:mod:`hawksim.condition`)."""
 
 from __future__ import annotations
 
@@ -6,8 +8,8 @@ import math
 from dataclasses import replace
 
 from hawksim.backends.resolution import AERO_MODELS, DEFAULT
-from hawksim.cli.args import (KINEMATICS_HELP, add_insect_arg, add_resolution_args, parse_kinematics, resolution_from,
-                              speed_arg)
+from hawksim.cli.args import (KINEMATICS_HELP, add_forward_speed_arg, add_insect_arg, add_resolution_args,
+                              parse_kinematics, resolution_from, speed_arg)
 from hawksim.cli.loads_report import render_aero
 from hawksim.cli.progress import progress_for
 
@@ -24,7 +26,7 @@ def cmd_aero(args) -> dict:
     res = replace(resolution_from(args, DEFAULT), aero=args.aero)
     progress = progress_for(args, "aero")
     insect = getattr(args, "insect", None)
-    r = run(args.kinematics, args.speed, res, progress=progress, insect=insect)
+    r = run(args.kinematics, args.speed, res, progress=progress, insect=insect, forward_speed=args.forward_speed)
     a = r.averages
     status, peak = held_status(r, res.average_cycles)
     if status == "diverged":
@@ -40,7 +42,10 @@ def cmd_aero(args) -> dict:
         "resolution": res.to_dict(),
         "per_cycle": [{"L_plus": c.L_plus, "D_plus": c.D_plus, "M_plus": c.M_plus, "P_plus": c.P_plus}
                       for c in r.per_cycle],
-    } | ({} if insect is None else {"insect": insect.name})
+    } | ({} if insect is None else {"insect": insect.name}) | (
+        {} if not args.forward_speed else {
+            "forward_speed": args.forward_speed,
+            "body": {k: getattr(r.body_averages, k) for k in ("L_plus", "D_plus", "M_plus")}})
 
 
 def register(sub) -> None:
@@ -53,6 +58,7 @@ def register(sub) -> None:
                     "--n-chord, --n-span and --steps-per-cycle together (the step alone moves L+ by up to 4.6 % "
                     "from 40 to 160 steps). Measurements: docs/validation.md, sections 3-4.")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
+    add_forward_speed_arg(p, "; the body's own drag and lift (hawksim.insect.body_aero) count where U > 0")
     p.add_argument("--kinematics", type=parse_kinematics, required=True,
                    help=KINEMATICS_HELP)
     p.add_argument("--aero", choices=AERO_MODELS, default=DEFAULT.aero)

@@ -75,14 +75,43 @@ def add_insect_arg(p, extra: str = "") -> None:
     p.add_argument("--insect", type=insect_arg, metavar="NAME|FILE", help=INSECT_HELP + extra)
 
 
-def speed_arg(text: str) -> float:
-    v = _number("speed", text, float, "a number")
-    lo, hi = SPEED_RANGE
+def _ranged_speed(flag: str, text: str, rng: tuple[float, float], what: str) -> float:
+    """``--FLAG text`` as a speed [m/s]: finite, at least rng[0] ("must be a finite WHAT >= ..."), at most rng[1]."""
+    v = _number(flag, text, float, "a number")
+    lo, hi = rng
     if not math.isfinite(v) or v < lo:
-        raise argparse.ArgumentTypeError(f"--speed {text} must be a finite ascent speed >= {lo:g} m/s")
+        raise argparse.ArgumentTypeError(f"--{flag} {text} must be a finite {what} >= {lo:g} m/s")
     if v > hi:
-        raise argparse.ArgumentTypeError(f"--speed {text} is outside the study's range [{lo:g}, {hi:g}] m/s")
+        raise argparse.ArgumentTypeError(f"--{flag} {text} is outside the study's range [{lo:g}, {hi:g}] m/s")
     return v
+
+
+def speed_arg(text: str) -> float:
+    return _ranged_speed("speed", text, SPEED_RANGE, "ascent speed")
+
+
+def forward_speed_arg(text: str) -> float:
+    """``--forward-speed U`` [m/s]: finite, in :data:`hawksim.condition.FORWARD_SPEED_RANGE` (hover to 5 m/s)."""
+    from hawksim.condition import FORWARD_SPEED_RANGE
+
+    return _ranged_speed("forward-speed", text, FORWARD_SPEED_RANGE, "forward speed")
+
+
+FORWARD_SPEED_HELP = "forward speed U [m/s], 0 (default: vertical flight) to 5; flight along world +x"
+"""Help text of every --forward-speed option."""
+
+
+def add_forward_speed_arg(p, extra: str = "") -> None:
+    """The ``--forward-speed U`` option of a subcommand (default 0; ``extra`` appended to the help)."""
+    p.add_argument("--forward-speed", type=forward_speed_arg, default=0.0, metavar="U",
+                   help=FORWARD_SPEED_HELP + extra)
+
+
+def refuse_forward_speed(args, command: str, why: str) -> None:
+    """UsageError (exit 2) if ``args.forward_speed`` is nonzero: ``command`` does not fly forward yet (``why``)."""
+    if getattr(args, "forward_speed", 0.0):
+        raise UsageError(f"hawksim {command}: --forward-speed {args.forward_speed:g} is not supported {why} "
+                         "(docs/forward_flight.md, 'Not yet')")
 
 
 def _integer(text: str) -> int:

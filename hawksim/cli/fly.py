@@ -8,7 +8,7 @@ from hawksim.backends.resolution import FLY_STEPS_PER_CYCLE as STEPS_PER_CYCLE
 from hawksim.backends.resolution import FLY_WAKE_CYCLES
 from hawksim.backends.resolution import MIN_STEPS_PER_CYCLE
 from hawksim.cli.args import (INSECT_HELP, KINEMATICS_HELP, MAX_FLY_STEPS, MAX_STEPS_PER_CYCLE, UsageError, cycles_arg,
-                              insect_arg,
+                              add_forward_speed_arg, insect_arg, refuse_forward_speed,
                               parse_kinematics, perturbation_arg, positive_int_arg, speed_arg, wake_precision_arg,
                               writable_file)
 from hawksim.cli.progress import NoStage, progress_for
@@ -155,6 +155,7 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
 
 
 def cmd_fly(args) -> dict:
+    refuse_forward_speed(args, "fly", "by the free flights yet (their operating points are vertical ones)")
     if args.json_full:
         args.json = True
     if args.cycles * args.steps_per_cycle > MAX_FLY_STEPS:
@@ -419,6 +420,7 @@ def _delay(text: str) -> int:
 def register(sub) -> None:
     f = sub.add_parser("fly", help="fly the insect from its trim at an ascent speed (MuJoCo, 6-DOF)")
     f.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 (hover) to 2")
+    add_forward_speed_arg(f, " (not yet: nonzero is refused)")
     f.add_argument("--cycles", type=cycles_arg, required=True, help="number of wingbeats N")
     f.add_argument("--aero", choices=backend_names(), default="quasi-steady",
                    help="aerodynamic model (default quasi-steady): uvlm, the extended UVLM in the loop; surrogate, the "

@@ -8,7 +8,8 @@ import math
 import sys
 
 from hawksim.backends.registry import descriptor, names
-from hawksim.cli.args import INSECT_HELP, UsageError, insect_arg, parse_kinematics, positive_int_arg, speed_arg
+from hawksim.cli.args import (INSECT_HELP, UsageError, add_forward_speed_arg, insect_arg, parse_kinematics,
+                              positive_int_arg, refuse_forward_speed, speed_arg)
 
 
 def _averaged(args, kin, client=None) -> dict:
@@ -38,6 +39,8 @@ def cmd_stability(args) -> dict:
     from hawksim.cli.stability_report import render
 
     args.human = render
+    refuse_forward_speed(args, "stability", "by the stability analysis yet (averaged derivatives and Floquet "
+                         "multipliers are of vertical flight)")
     from hawksim.cluster import dask_client
     from hawksim.trim.tables import shipped_trim
 
@@ -168,6 +171,7 @@ def register(sub) -> None:
     p = sub.add_parser("stability", help="stability derivatives, A matrices and modes at the trim; --floquet: "
                                          "free-flight orbit and Floquet multipliers")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
+    add_forward_speed_arg(p, " (not yet: nonzero is refused)")
     p.add_argument("--kinematics", type=parse_kinematics, help="use these kinematics instead of the trim table")
     p.add_argument("--aero", choices=names(having="orbits"), default="uvlm", help="aerodynamic model (default uvlm)")
     p.add_argument("--floquet", action="store_true",

@@ -1,10 +1,13 @@
-"""`hawksim trim`: minimum-power trim on the surrogate (GA + Nelder-Mead), optionally checked by the UVLM."""
+"""`hawksim trim`: minimum-power trim on the surrogate (GA + Nelder-Mead), optionally checked by the UVLM; with
+``--aero quasi-steady`` the same search on the quasi-steady model itself (any ``--forward-speed``); with
+``--free-flight`` the free body's periodic orbit."""
 
 from __future__ import annotations
 
 import math
 
-from hawksim.cli.args import MAX_POPULATION, add_insect_arg, positive_int_arg, seed_arg, speed_arg
+from hawksim.cli.args import (MAX_POPULATION, add_forward_speed_arg, add_insect_arg, positive_int_arg,
+                              refuse_forward_speed, seed_arg, speed_arg)
 from hawksim.cli.predict import add_network_args, network_choice
 from hawksim.cli.progress import progress_for
 from hawksim.backends.registry import names
@@ -29,6 +32,13 @@ def cmd_free_flight(args) -> dict:
     return orbit_json(orbit)
 
 
+MODEL_SEARCH = ("quasi-steady",)
+"""The models ``--aero`` searches on without ``--free-flight`` (:func:`hawksim.trim.model_search.trim_on_model`; a
+UVLM search would take days at a run's seconds)."""
+
+NETWORK_ONLY = ("model", "network", "verify", "balance")
+"""Options of the surrogate trim that a search on a model (``--aero`` without ``--free-flight``) does not use."""
+
 SURROGATE_ONLY = ("model", "network", "seed", "population", "verify", "balance")
 """Options of the surrogate trim alone: ``--free-flight`` solves the free body's periodic orbit with ``--aero``'s
 model (Newton shooting, no network, no GA, no random draw), so each of these given with it is refused (exit 2)
@@ -40,13 +50,22 @@ def _refuse_ignored(args) -> None:
     from hawksim.cli.args import UsageError
 
     if args.free_flight:
+        refuse_forward_speed(args, "trim --free-flight", "by the free-body orbits yet")
         for name in SURROGATE_ONLY:
             if getattr(args, name, None) not in (None, False):
                 raise UsageError(f"--{name} does not apply to --free-flight: the free body's periodic orbit uses "
                                  "--aero's model, no surrogate network and no GA")
     elif args.aero is not None:
-        raise UsageError("--aero applies to --free-flight only: the trim searches on the surrogate network "
-                         "(--network)")
+        if args.aero not in MODEL_SEARCH:
+            raise UsageError(f"--aero {args.aero} does not apply without --free-flight: the trim searches on the "
+                             f"surrogate network (no --aero) or on the {', '.join(MODEL_SEARCH)} model")
+        for name in NETWORK_ONLY:
+            if getattr(args, name, None) not in (None, False):
+                raise UsageError(f"--{name} does not apply to --aero {args.aero}: the search runs on that model "
+                                 "and balances on it")
+    elif args.forward_speed:
+        raise UsageError(f"--forward-speed {args.forward_speed:g} needs --aero quasi-steady: the surrogate network "
+                         "covers vertical flight only")
     elif getattr(args, "insect", None) is not None:
         for name in ("verify", "balance"):
             if getattr(args, name, False):
@@ -58,6 +77,8 @@ def cmd_trim(args) -> dict:
     _refuse_ignored(args)
     if args.free_flight:
         return cmd_free_flight(args)
+    if args.aero is not None:
+        return cmd_model_trim(args)
     path, network = network_choice(args)
     args.population = args.population or DEFAULT_POPULATION
     args.seed = 0 if args.seed is None else args.seed
@@ -102,9 +123,47 @@ def cmd_trim(args) -> dict:
     return out
 
 
+def cmd_model_trim(args) -> dict:
+    """The minimum-power trim searched and balanced on ``--aero``'s model (:func:`hawksim.trim.model_search.
+    trim_on_model`), at ``--speed`` and ``--forward-speed``."""
+    from dataclasses import replace
+
+    from hawksim.trim.model_search import SEARCH_CONFIG, trim_on_model
+
+    seed = 0 if args.seed is None else args.seed
+    cfg = SEARCH_CONFIG if args.population is None else replace(SEARCH_CONFIG, population=args.population)
+    bar = progress_for(args, "trim (GA)", "gen")
+    progress = None if bar is None else (lambda g, n, best: bar(g, n, best=f"{best:.6f}"))
+    insect = getattr(args, "insect", None)
+    r = trim_on_model(args.speed, forward_speed=args.forward_speed, aero=args.aero, seed=seed, cfg=cfg,
+                      insect=insect, progress=progress)
+    if bar is not None:
+        bar.close()
+    return trim_json(r) | {"seed": seed, "population": cfg.population, "generations": r.search.generations} | (
+        {} if insect is None else {"insect": insect.name})
+
+
+def trim_json(r) -> dict:
+    """The JSON of a trim searched and balanced on a model (:func:`hawksim.trim.model_search.trim_on_model`): its
+    kinematics (Hz, deg), body angle, averages, the search's optimum before the balance and the body's share of
+    the averages in forward flight."""
+    out = {"kinematics": r.kinematics.to_edge(), "chi": math.degrees(r.kinematics.chi), **r.outputs,
+           "converged": r.converged, "tolerance": r.tolerance, "fitness": r.fitness, "speed": r.speed,
+           "forward_speed": r.forward_speed, "evaluations": r.evaluations, "wall_time_s": r.wall_time_s,
+           "model": r.aero, "source": r.source,
+           "search_optimum": {"kinematics": r.start.kinematics.to_edge(), **r.start.outputs}}
+    if r.forward_speed:
+        from hawksim.backends.held import body_averages
+
+        b = body_averages(r.kinematics, r.speed, r.forward_speed, r.insect)
+        out["body"] = {k: getattr(b, k) for k in ("L_plus", "D_plus", "M_plus")}
+    return out
+
+
 def register(sub) -> None:
     p = sub.add_parser("trim", help="minimum-power trim on the surrogate (GA + Nelder-Mead, paper Eq. 3)")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
+    add_forward_speed_arg(p, "; with --aero quasi-steady only (the search on that model)")
     add_network_args(p, None)
     p.add_argument("--seed", type=seed_arg, help="seed of the GA (0)")
     p.add_argument("--population", type=positive_int_arg("population", MAX_POPULATION),
@@ -116,7 +175,9 @@ def register(sub) -> None:
                    help="instead: the periodic orbit of the free body (Newton shooting on the one-wingbeat map; "
                         "frees f and phi0 and the body state at phase 0)")
     p.add_argument("--aero", choices=names(having="orbits"),
-                   help="with --free-flight: the aerodynamic model (default uvlm)")
+                   help="with --free-flight: the aerodynamic model (default uvlm); without it: search the "
+                        "minimum-power trim on that model itself (quasi-steady only: GA + Nelder-Mead, a population of "
+                        "80 unless --population, then balanced to |residuals| <= 0.01; minutes)")
     add_insect_arg(p, "; the GA searches its bounds_deg (inside Table 2, the network's training box; "
                         "its morphology must be the hawkmoth's) and P+ is in its reference power; with --free-flight "
                         "its own periodic orbit (any morphology)")

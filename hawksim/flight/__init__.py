@@ -16,6 +16,8 @@ Modules:
 - ``orbit``: the free body's periodic orbit (Newton shooting on the one-beat map) and the shipped orbit tables.
 - ``points``: find an operating point (free-body orbit or held-body trim).
 - ``power``: the required power P+ of a flight.
+- ``lift_coefficient``: the mean lift coefficient and mid-downstroke incidence as Willmott & Ellington (1997)
+  compute them (forward flight).
 - ``export``: a flight's per-step and per-beat arrays saved to a self-describing file.
 - ``recording``, ``recording_layout``: Rerun recordings and their views.
 """
@@ -32,6 +34,7 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, {
     ".orbit": ("Orbit", "Beats", "OrbitFlight", "periodic_orbit", "shipped_orbit", "fly_orbit", "beat_map"),
     ".points": ("find_operating_point",),
     ".power": ("P_plus", "required_power"),
+    ".lift_coefficient": ("mean_lift_coefficient", "mid_downstroke_incidence"),
     ".export": ("save_flight", "read_flight"),
     ".recording": ("write_rrd",),
 })

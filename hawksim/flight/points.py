@@ -8,6 +8,7 @@ given kinematics, or the shipped trim table's row, :func:`hawksim.trim.tables.sh
 
 from __future__ import annotations
 
+from hawksim.condition import check_forward_speed
 from hawksim.insect.folder import default_insect
 from hawksim.insect.insect import Insect
 from hawksim.insect.kinematics import Kinematics
@@ -18,9 +19,13 @@ from hawksim.trim.registry import (insect_digest, model_digest, point_key, shipp
 
 def find_operating_point(speed: float, *, aero: str = "quasi-steady", body: str = "free",
                          insect: Insect | None = None, kinematics: Kinematics | None = None, model=None,
-                         shipped: bool = True, log=None, **solve) -> OperatingPoint:
+                         shipped: bool = True, log=None, forward_speed: float = 0.0, **solve) -> OperatingPoint:
     """The operating point of ``insect`` (default :func:`hawksim.insect.folder.default_insect`) at ascent
-    ``speed`` [m/s] on the aerodynamic model ``aero``.
+    ``speed`` [m/s] (and ``forward_speed`` [m/s], :mod:`hawksim.condition`) on the aerodynamic model ``aero``.
+
+    Forward flight (forward_speed > 0) has held-body points only, from given ``kinematics`` (search one with
+    :func:`hawksim.trim.model_search.trim_on_model`); ValueError naming ``forward_speed`` otherwise (no shipped
+    forward trims, no free-body orbits yet: docs/forward_flight.md).
 
     ``body="free"``: the periodic orbit of the free body: the shipped one where the registry holds it
     (``shipped``, no ``kinematics``: :func:`shipped_point`), else solved by Newton shooting
@@ -31,11 +36,17 @@ def find_operating_point(speed: float, *, aero: str = "quasi-steady", body: str 
     if body not in BODIES:
         raise ValueError(f"body must be one of {BODIES}, got {body!r}")
     ins = default_insect() if insect is None else insect
+    forward_speed = check_forward_speed(forward_speed)
+    if forward_speed > 0 and (body != "held" or kinematics is None):
+        raise ValueError(f"forward_speed {forward_speed:g} m/s: only held-body points with given kinematics exist in "
+                         "forward flight (no shipped trims nor free-body orbits yet); search one with "
+                         "hawksim.trim.model_search.trim_on_model")
     if body == "held":
         if solve:
             raise ValueError(f"body='held' takes no orbit-solve keywords (got {', '.join(sorted(solve))})")
         if kinematics is not None:
-            return OperatingPoint(float(speed), kinematics, aero=aero, source="given", body="held", insect=ins)
+            return OperatingPoint(float(speed), kinematics, aero=aero, source="given", body="held", insect=ins,
+                                  forward_speed=forward_speed)
         if ins != default_insect():
             raise ValueError(f"insect {ins.name!r}: no shipped held-body trim (the tables are the default insect's); "
                              "give kinematics, or find its free-body point (body='free')")

@@ -12,6 +12,7 @@ Modules:
 - ``kinematics``: the wing kinematics of the paper's Eq. 1 (Tables 2-3), SI inside (radians, Hz).
 - ``model``: the MJCF model generated from the morphology, and loading it into MuJoCo.
 - ``accessors``: named body, joint and dof indices into the MuJoCo model.
+- ``body_aero``: the body's own drag and lift (a slender-body crossflow model), counted in forward flight.
 """
 
 from hawksim.lazy import lazy_exports
@@ -25,4 +26,5 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, {
                     "TABLE2_BOUNDS_DEG", "TABLE3_SPEEDS"),
     ".model": ("load_model", "mjcf", "write_model"),
     ".accessors": ("ModelIndex",),
+    ".body_aero": ("BodyAero",),
 })

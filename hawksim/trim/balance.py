@@ -43,8 +43,10 @@ RESTART_EVALS = 20
 
 def balance_on_uvlm(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOLUTION, *, tol: float = 0.01,
                     max_evals: int = 30, free=FREE, diff_step: float = DIFF_STEP, restarts: int = 1,
-                    insect: Insect | None = None) -> Trim:
-    """Adjust ``free`` parameters of kin0 until the UVLM balances within tol (see the module docstring).
+                    insect: Insect | None = None, forward_speed: float = 0.0) -> Trim:
+    """Adjust ``free`` parameters of kin0 until the UVLM balances within tol (see the module docstring), at ascent
+    ``speed`` and ``forward_speed`` [m/s] (:mod:`hawksim.condition`; in forward flight the body's own loads count,
+    :func:`hawksim.backends.held.held_flight`).
 
     ``insect`` (default :data:`hawksim.insect.insect.DEFAULT_INSECT`): the insect held (its wings, weight and P0 in
     the averages); its ``bounds_deg`` take the place of Table 2's (the scaling of the free parameters, their
@@ -54,16 +56,17 @@ def balance_on_uvlm(kin0: Kinematics, speed: float, res: Resolution = TRIM_RESOL
     smaller difference step and RESTART_EVALS more evaluations, ``restarts`` times (the hover residual is not
     smooth in the kinematics at the scale of the first step: Broyden stalled at 0.012 there, the restart
     reaches 0.006)."""
-    first = _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect)
+    first = _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect, forward_speed)
     if first.converged or restarts < 1:
         return first
     again = balance_on_uvlm(first.kinematics, speed, res, tol=tol, max_evals=RESTART_EVALS, free=free,
-                            diff_step=diff_step / 4, restarts=restarts - 1, insect=insect)
+                            diff_step=diff_step / 4, restarts=restarts - 1, insect=insect,
+                            forward_speed=forward_speed)
     return replace(again, start=first.start, evaluations=first.evaluations + again.evaluations,
                    wall_time_s=first.wall_time_s + again.wall_time_s)
 
 
-def _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect) -> Trim:
+def _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect, forward_speed=0.0) -> Trim:
     """One Newton-Broyden pass of :func:`balance_on_uvlm`."""
     idx = [PARAM_NAMES.index(k) for k in free]
     lo, hi = (default_insect() if insect is None else insect).bounds_si()
@@ -78,7 +81,7 @@ def _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect) -> Trim:
     def averages(z):
         key = tuple(np.round(z, 12))
         if key not in cache:
-            cache[key] = run(kin_of(z), speed, res, insect=insect).averages
+            cache[key] = run(kin_of(z), speed, res, insect=insect, forward_speed=forward_speed).averages
         return cache[key]
 
     def residual(z):
@@ -111,7 +114,8 @@ def _balance(kin0, speed, res, tol, max_evals, free, diff_step, insect) -> Trim:
     a = averages(best)
     err = max(abs(a.L_plus - 1), abs(a.D_plus), abs(a.M_plus))
     model = res.aero
-    start_trim = Trim(float(speed), kin0, model=model, source="start of the balance", averages=start)
+    start_trim = Trim(float(speed), kin0, model=model, source="start of the balance", averages=start,
+                      forward_speed=forward_speed)
     return Trim(float(speed), kin_of(best), model=model, source=f"{model} balance (free: {', '.join(free)})",
                 averages=a, converged=err <= tol, tolerance=tol, evaluations=len(cache),
-                wall_time_s=time.perf_counter() - t0, start=start_trim)
+                wall_time_s=time.perf_counter() - t0, start=start_trim, forward_speed=forward_speed)

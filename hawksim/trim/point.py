@@ -35,7 +35,8 @@ class OperatingPoint:
     """Kinematics that balance the insect at ascent speed ``speed`` [m/s] on the aerodynamic model ``aero``, the body
     held (a trim) or free (a periodic orbit). SI throughout (angles in radians, f in Hz).
 
-    Common to both: ``speed``: ascent speed V [m/s]; ``kinematics``: the seven parameters of Eq. 1 (a free-body
+    Common to both: ``speed``: ascent speed V [m/s] (``forward_speed``: forward speed U [m/s], default 0, the last
+    field: :mod:`hawksim.condition`); ``kinematics``: the seven parameters of Eq. 1 (a free-body
     orbit's: f and phi0 solved, the rest the trim's); ``aero``: the aerodynamic model it balances on ("uvlm",
     "quasi-steady", "surrogate"; "paper" for Table 3; ``model=`` is accepted for it in the constructor and
     :attr:`model` reads it, the names of ``Trim``); ``source``: where it comes from, in words (a search, a balance, a
@@ -104,6 +105,9 @@ class OperatingPoint:
     record_change: float = 0.0
     """max ``|record after the periodic beat - record before|`` (normalized: velocities / U, rates x T) at the solution
     (the fixed point of the record, :data:`hawksim.flight.orbit.RECORD_TOL`); 0 without a record."""
+    forward_speed: float = 0.0
+    """Forward speed U [m/s] of the flight condition (:mod:`hawksim.condition`; ``speed`` is the vertical one); 0
+    for vertical ascent. Written to JSON only where nonzero (older files read as U = 0)."""
 
     def __post_init__(self):
         body = self.body if self.body is not None else ("free" if self.initial_state is not None else "held")
@@ -112,11 +116,14 @@ class OperatingPoint:
         if body == "free" and (self.initial_state is None or self.launch_state is None):
             raise ValueError("a free-body operating point (a periodic orbit) needs initial_state and launch_state")
         object.__setattr__(self, "body", body)
+        from hawksim.condition import check_forward_speed
+
+        object.__setattr__(self, "forward_speed", check_forward_speed(self.forward_speed))
 
     def __hash__(self) -> int:
         """Over the fields that name the point (equal points hash equal; the insect's spec and the arrays are left
         out: they are not hashable)."""
-        return hash((self.speed, self.kinematics, self.aero, self.body, self.source))
+        return hash((self.speed, self.forward_speed, self.kinematics, self.aero, self.body, self.source))
 
     @property
     def model(self) -> str | None:
@@ -151,6 +158,8 @@ class OperatingPoint:
         kin = {"kinematics": self.kinematics.to_edge(),
                "kinematics_si": dict(zip(PARAM_NAMES, map(float, self.kinematics.as_array())))}
         ins = {} if self.insect == default_insect() else {"insect": self.insect.to_dict()}
+        if self.forward_speed:
+            ins = {"forward_speed": self.forward_speed} | ins
         if not self.free:
             return {"body": "held", "speed": self.speed, "aero": self.aero, **kin, "source": self.source,
                     "converged": bool(self.converged), "tolerance": self.tolerance, "fitness": self.fitness,
@@ -173,13 +182,14 @@ class OperatingPoint:
         """Inverse of :meth:`to_json`; reads the rows of the shipped orbit tables as they are (free body)."""
         kin = Kinematics.from_array(np.array([d["kinematics_si"][k] for k in PARAM_NAMES]))
         insect = Insect.from_dict(d["insect"]) if d.get("insect") is not None else default_insect()
+        u = float(d.get("forward_speed", 0.0))
         if d.get("body", "free") == "held":
             av = d.get("averages")
             return OperatingPoint(float(d["speed"]), kin, aero=d.get("aero"), source=d.get("source", ""),
                                   body="held", insect=insect, converged=bool(d.get("converged", True)),
                                   wall_time_s=float(d.get("wall_time_s", 0.0)), tolerance=d.get("tolerance"),
                                   fitness=d.get("fitness"), evaluations=int(d.get("evaluations", 0)),
-                                  search_seed=d.get("search_seed"),
+                                  search_seed=d.get("search_seed"), forward_speed=u,
                                   averages=None if av is None else CycleAverages(**av))
         return OperatingPoint(speed=float(d["speed"]), aero=d["aero"], kinematics=kin, body="free",
                               initial_state=BodyState(**d["initial_state"]),
@@ -194,7 +204,7 @@ class OperatingPoint:
                               record=np.asarray(d["record"], float) if d.get("record") is not None else None,
                               record_dt=float(d.get("record_dt", 0.0)),
                               record_change=float(d.get("record_change", 0.0)), insect=insect,
-                              far_wake=FarWake.from_json(d.get("far_wake")))
+                              far_wake=FarWake.from_json(d.get("far_wake")), forward_speed=u)
 
 
 _dataclass_init = OperatingPoint.__init__

@@ -67,19 +67,16 @@ def residual_map(speed: float, free_beats: float | None):
 
 
 def smoothness(speed: float, free_beats: float | None) -> dict:
-    """scripts/studies/uvlm_orbit_floor.py's measure: the derivative of the residual with respect to the relative
-    frequency by forward differences at steps 1e-5 .. 1e-2."""
+    """scripts/studies/uvlm_orbit_floor.py's measure (the derivative of the residual with respect to the relative
+    frequency by forward differences at steps 1e-5 .. 1e-2) with the far wake prescribed after ``free_beats``."""
+    from scripts.studies.uvlm_orbit_floor import smoothness as measure
+
     t0 = time.perf_counter()
-    F, z = residual_map(speed, free_beats)
-    r0 = F(z)
-    rows = {}
-    for step in (1e-5, 1e-4, 1e-3, 1e-2):
-        zz = z.copy()
-        zz[4] += step
-        rows[f"{step:g}"] = ((F(zz) - r0) / step).tolist()
-    return {"free_beats": free_beats, "speed": speed, "residual": r0.tolist(), "d_residual_d_f_rel_by_step": rows,
-            "residual_order": "periodicity u, w, q, theta; mean velocity x, z (normalized)",
-            "d_u_periodicity_by_step": {k: v[0] for k, v in rows.items()}, "wall_time_s": time.perf_counter() - t0}
+    fw = far_wake(speed, free_beats, shipped_orbit(speed, "uvlm").kinematics)
+    out = measure(speed, far_wake=fw)
+    return {"free_beats": free_beats, **out,
+            "d_u_periodicity_by_step": {k: v[0] for k, v in out["d_residual_d_f_rel_by_step"].items()},
+            "wall_time_s": time.perf_counter() - t0}
 
 
 def scan(speed: float, free_beats: float | None, steps) -> dict:

@@ -41,11 +41,12 @@ def flight(speed: float, wake_beats: int, beats: int, resolve: bool) -> dict:
     return out
 
 
-def smoothness(speed: float) -> dict:
+def smoothness(speed: float, far_wake=None) -> dict:
     """At the shipped orbit, or where none is shipped (0.5 m/s) at the Newton solver's start (the held-body trim and
-    its calibrated launch state, hawksim.flight.orbit.initial_guess)."""
+    its calibrated launch state, hawksim.flight.orbit.initial_guess); ``far_wake``: the flights' prescribed far wake
+    (:class:`hawksim.backends.far_wake.FarWake`; None: the whole wake free)."""
     orb = shipped_orbit(speed, "uvlm")
-    fl = OrbitFlight("uvlm", symmetric=True)
+    fl = OrbitFlight("uvlm", symmetric=True, far_wake=far_wake)
     if orb is not None:
         base, w, x0 = orb.kinematics, orb.warm_beats, orb.launch_state.as_array()
     else:
