@@ -12,7 +12,6 @@ from hawksim.backends.registry import descriptor
 from hawksim.flight.orbit import (ORBIT_TOL, Orbit, OrbitFlight, orbit_residual,
                                   orbit_within_uvlm_tolerance)
 from hawksim.trim.registry import shipped_table
-from regeneration import WAITS_FOR_REGENERATION
 
 REPRODUCE_TOL = 1e-9
 """Normalized residual: the re-flown quasi-steady orbit's residual may differ from the recorded one by this much
@@ -54,7 +53,6 @@ def test_fly_starts_from_the_shipped_orbit():
 
 
 @pytest.mark.slow
-@WAITS_FOR_REGENERATION
 def test_uvlm_rows_are_orbits_of_this_code():
     """The UVLM rows (where shipped) meet the UVLM tolerance (1e-3 m/s, 1e-2 rad/s) when re-flown."""
     rows = _rows("uvlm")
@@ -84,7 +82,6 @@ UVLM_PITCH_TOL_DEG = 1.0
 
 
 @pytest.mark.slow
-@WAITS_FOR_REGENERATION
 def test_uvlm_trim_holds_from_the_shipped_orbit():
     from hawksim.cli.fly import fly_named
 
