@@ -25,7 +25,7 @@ from hawksim.frames import rot_x, rot_y, rot_z
 from hawksim.insect.kinematics import table3_kinematics
 
 ROOT = Path(__file__).resolve().parents[2]
-FLIGHTS = ROOT / "data" / "uvlm_flights_0.2.0.sqlite"
+FLIGHTS = ROOT / "data" / "uvlm_flights_0.3.0.sqlite"
 
 FOLD_RTOL = 1e-4
 """Relative (to the largest output): the folded float32 network against the float64 reference. float32 carries 24

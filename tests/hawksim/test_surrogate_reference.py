@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[2]
 FIXTURE = ROOT / "results" / "surrogate" / "reference_fixture.json"
 """Held-out kinematics (seed 22, never used for training) with their reference-lattice UVLM labels, written by
 scripts/studies/surrogate_vs_reference.py (its command is in the file)."""
-REFERENCE_DATA = ROOT / "data" / "uvlm_reference_0.1.sqlite"
+REFERENCE_DATA = ROOT / "data" / "uvlm_reference_0.3.0.sqlite"
 
 REFERENCE_ABS_TOL = 0.03
 """|predict - aero| bound in L+ and P+ at held-out kinematics, issue 22's target, here on the mean over each speed's
