@@ -140,10 +140,10 @@ def test_advance_with_the_network_in_the_callback_matches_the_python_network():
 HISTORY_QUAT_TOL = 5e-7
 """The body's attitude quaternion after the random history network's 2.5 beats (test below), callback against
 Python: the loads differ by float32 round-off (2.8e-6 of their peak, within NETWORK_REL_TOL), integrated over a flight
-in which this network spins the body at up to 65 rad/s. Measured 1.5e-7 on hawksim 0.3.0's sourced hawkmoth and 1.4e-8
-on hawksim 0.2's (loads apart by 1.8e-6 there; the previous bound, 1e-7, for position and attitude alike): this flight of
-the new morphology amplifies the same round-off ten times more (which of its changes does was not isolated); the
-callback is not less exact (the positions agree to 4e-10, the wing joints exactly)."""
+in which this network spins the body at up to 65 rad/s. Measured 1.5e-7 on hawksim 0.3.0's sourced hawkmoth and
+1.4e-8 on hawksim 0.2's (loads apart by 1.8e-6 there; the previous bound, 1e-7, for position and attitude alike): this
+flight of the new morphology amplifies the same round-off ten times more (which of its changes does was not
+isolated); the callback is not less exact (the positions agree to 4e-10, the wing joints exactly)."""
 
 
 def test_history_network_in_the_callback_matches_the_python_network():
