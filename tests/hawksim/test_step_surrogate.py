@@ -231,27 +231,27 @@ def test_training_rows_keep_the_warm_up_only_with_the_age_input():
     np.testing.assert_array_equal(lateral.x[160:, -1], lateral.x[:160, -1])  # the mirrored wing: the same age
 
 
-SHIPPED_PREDICTION = (-2.5801989587241229e-04, -2.1432385364001616e-04, 4.9058743330973719e-03,
-                      1.8774285992347053e-04, 2.2810800810350727e-05, 1.0037591657474874e-05)
-"""The shipped network's predict at x_mean + 0.5 x_std sin(arange(27)), measured before the age input existed
-(commit 68e5d21)."""
-
-
 def test_a_network_without_the_age_input_loads_writes_and_predicts_as_before(tmp_path):
-    """A file without ``age_beats`` (every file before the age input) loads with none, predicts the numbers it
-    predicted before (the shipped one), and is written back with the same input metadata; one with it round-trips;
-    a file whose names and age disagree is refused."""
+    """A file without ``age_beats`` (every file before the age input) loads with none, predicts as the network it
+    was written from, and is written back with the same input metadata; one with it round-trips (the shipped one
+    since hawksim 0.3.0: the regeneration's `step_network` stage trained it with ``--wake-age``, age_beats 2,
+    results/regeneration/commands.log; hawksim 0.2's shipped network, which had none, left the tree with it); a file
+    whose names and age disagree is refused."""
     from safetensors import safe_open
 
     if shipped_path().is_file():
         net = load(shipped_path())
-        assert net.age_beats == 0.0 and net.n_in == 27
-        x = net.x_mean + 0.5 * net.x_std * np.sin(np.arange(net.n_in))
-        np.testing.assert_allclose(net.predict(x[None])[0], SHIPPED_PREDICTION, rtol=1e-12, atol=0)
+        assert net.age_beats == 2.0 and net.n_in == 28 and "--wake-age" in net.meta["command"]
         with safe_open(str(shipped_path()), framework="numpy") as fh:
             before = json.loads(fh.metadata()["inputs"])
         with safe_open(str(net.save(tmp_path / "again.safetensors")), framework="numpy") as fh:
-            assert json.loads(fh.metadata()["inputs"]) == before and "age_beats" not in before
+            assert json.loads(fh.metadata()["inputs"]) == before and before["age_beats"] == 2.0
+    old = _random_net(lags=(0.5, 1.0))  # the layout of hawksim 0.2's shipped network: 27 inputs, no age
+    with safe_open(str(old.save(tmp_path / "old.safetensors")), framework="numpy") as fh:
+        assert "age_beats" not in json.loads(fh.metadata()["inputs"])
+    back = load(tmp_path / "old.safetensors")
+    assert back.age_beats == 0.0 and back.n_in == 27
+    np.testing.assert_array_equal(back.predict(_inputs(old)), old.predict(_inputs(old)))
     aged = _random_net(lags=(0.5,), age_beats=2.0)
     back = load(aged.save(tmp_path / "aged.safetensors"))
     assert back.age_beats == 2.0 and back.n_in == 22
