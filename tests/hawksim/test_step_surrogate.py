@@ -294,17 +294,20 @@ def test_uvlm_right_wing_is_the_mirror_image_of_the_left_in_symmetric_flights():
 
 
 CI_FLIGHTS = 105
-"""Held-out flights scored in CI: all 105 test flights of the shipped network (15 % of its 700; 17 767 rows, 319
-beats; ~3 s)."""
+"""Held-out flights scored in CI: all 105 test flights of the shipped network (15 % of its 700; hawksim 0.3.0's
+data set: 21 181 rows; ~3 s)."""
 
 R2_TARGET = 0.98
 """Issue 21's per-step target on held-out flights, here for the six components of each wing's force and moment in
-BODY axes (in wing axes the in-plane force Fy is ~2 % of the normal force and its R^2 is 0.94: docs/surrogate.md)."""
+BODY axes (in wing axes the in-plane force Fy is ~2 % of the normal force and its R^2 is 0.94: docs/surrogate.md;
+hawksim 0.3.0's network, measured: 0.987-0.997, the least Fy; docs/results.md's 0.914 is the side force's in wing
+axes)."""
 
 CYCLE_MEAN_TARGET = 0.02
-"""Issue 21's target for |network - UVLM| of L+, D+, M+, P+ (absolute), on the mean over held-out wingbeats (the
-shipped history network, measured: 0.0167, 0.0130, 0.0189, 0.0064; the memoryless one it replaced had M+ 0.0245,
-docs/surrogate.md)."""
+"""Issue 21's target for |network - UVLM| of L+, D+, M+, P+ (absolute), on the mean over held-out wingbeats (hawksim
+0.3.0's network with the wake-age input on data/uvlm_flights_0.3.0.sqlite, measured: 0.0150, 0.0142, 0.0142, 0.0096,
+docs/results.md; hawksim 0.2's history network: 0.0167, 0.0130, 0.0189, 0.0064; the memoryless one before it had M+
+0.0245, docs/surrogate.md)."""
 
 
 @pytest.mark.skipif(not (FLIGHTS.is_file() and shipped_path().is_file()),
@@ -314,8 +317,8 @@ def test_shipped_network_meets_the_targets_on_held_out_flights():
     from hawksim.surrogate.step_train import _flights_sha256, score
 
     net = _shipped()
-    # trained on the data set's first n_flights flights (0..344 of seed 0, none diverged); the set grew since (the
-    # resumable generation appends), so the hash is of that prefix
+    # trained on the data set's first n_flights flights (all 700 of seed 0 for hawksim 0.3.0's network); a set that
+    # grew since (the resumable generation appends) is hashed over that prefix
     prefix = net.meta.get("max_flights") or net.meta["n_flights"]
     assert net.meta["data_sha256"] == _flights_sha256(FLIGHTS, prefix), "the shipped network was trained on other data"
     test = set(net.meta["test_flights"][:CI_FLIGHTS])
