@@ -16,7 +16,6 @@ from hawksim.flight.simulator import Simulator
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
 from hawksim.trim.registry import shipped_table
-from regeneration import WAITS_FOR_REGENERATION
 
 L = body_length()
 
@@ -270,12 +269,14 @@ def test_cli_uvlm_under_control_json(capsys):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("speed", [pytest.param(1.0, marks=WAITS_FOR_REGENERATION),
-                                   pytest.param(1.5, marks=WAITS_FOR_REGENERATION), 2.0])
+@pytest.mark.parametrize("speed", [1.0, 1.5, 2.0])
 def test_uvlm_in_the_loop_20_beats(speed):
     """The shipped UVLM orbit, its shipped derivatives and LQR, 20 controlled wingbeats within the bounds
-    (~25 s per speed on a quiet machine)."""
-    s = Schedule(1.0, 2.0, aero="uvlm")
+    (~25 s per speed on a quiet machine, ~5 min at a load of 7; hawksim 0.3.0's regenerated orbits and control models).
+    Not at 0 and 0.5 m/s: their orbits are of the prescribed far wake (docs/free_flight.md), and flown with the UVLM's
+    own wake under this LQR they leave the bounds (measured 2026-12-07: at 0.5 m/s the pitch error is 2.7 deg by beat
+    2)."""
+    s = Schedule(0.0, 2.0, aero="uvlm")
     cl = fly_closed_loop(speed, 20, schedule=s, aero="uvlm")
     assert all(_within(b) for b in cl.beats)
 
