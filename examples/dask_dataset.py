@@ -5,7 +5,10 @@ resolution (4 x 8 vortex rings per wing, 30 steps per wingbeat, 3 wingbeats), co
 Shows: ``hawksim dataset`` (run here as ``python -m hawksim``; ``--scheduler ADDRESS`` sends the same work to a
 running Dask scheduler, e.g. dask-jobqueue on a cluster) and its resumable SQLite file (dataset.sqlite): a rerun
 computes only the missing samples. Each row holds the seven kinematic parameters (SI: f [Hz], angles [rad]) drawn
-within Table 2's bounds and the UVLM's cycle averages L+, D+, M+, P+ (of the weight W, W cbar and P0).
+within Table 2's bounds and the UVLM's cycle averages L+, D+, M+, P+ (of the weight W, W cbar and P0), and a
+status: a run whose loads blew up at this coarse resolution (about 2 % of the training samples,
+docs/surrogate.md) is stored as 'diverged', one whose cycle averages are not yet periodic as 'unsettled'; both
+are left out of training. Here sample 0 is a diverged one.
 """
 
 import json

@@ -5,7 +5,7 @@ disturbance, beside the same flight open loop.
 Shows: the protocol (``rate``, ``reset(point)``, ``update(obs)`` returning each wing's seven Eq. 1 parameters, SI,
 radians), the sensed state (``obs.state``, hawksim.flight.STATE_NAMES order: theta at 7, q at 4) and ``hawksim.fly``
 with ``controller=``. Open loop the unstable orbit pitches up by more than 25 deg in 10 beats; the controller holds the
-beat-mean pitch within a degree of the orbit's 57.7 deg by moving phi0 (the stroke's mean position) against it.
+beat-mean pitch within a degree of the orbit's 57.3 deg by moving phi0 (the stroke's mean position) against it.
 """
 
 import hawksim

@@ -25,7 +25,7 @@ Angles are radians and frequencies Hz in every Python call (the CLI and JSON tak
 import aero  # noqa: F401  (first: applies the opt-in HAWKSIM_VECTOR_WIDTH before numba is imported)
 from hawksim.lazy import lazy_exports
 
-__version__ = "0.3.0.dev0"
+__version__ = "0.3.0"
 
 __all__, __getattr__, __dir__ = lazy_exports(__name__, {
     "hawksim.insect.morphology": ("Morphology",),

@@ -47,8 +47,8 @@ def test_fly_and_plot(tmp_path):
     out = run_example("fly_and_plot.py", tmp_path)
     beats = [numbers(s) for s in out if s.startswith("beat mean")]
     assert len(beats) == 4
-    for vz, pitch in beats:  # held on the orbit: 1 m/s, pitch near the orbit's 57.7 deg
-        assert abs(vz - 1.0) < 1e-3 and abs(pitch - 57.72) < 0.5
+    for vz, pitch in beats:  # held on the orbit: 1 m/s, pitch near the shipped quasi-steady orbit's 57.34 deg
+        assert abs(vz - 1.0) < 1e-3 and abs(pitch - 57.34) < 0.5
     png = tmp_path / "fly_and_plot.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
 
@@ -57,11 +57,11 @@ def test_floquet_of_your_kinematics(tmp_path):
     out = run_example("floquet_of_your_kinematics.py", tmp_path)
     assert "free-body operating point, converged: True" in out[0]
     f_given, f_solved, phi_given, phi_solved = numbers(out[1])
-    assert (f_given, phi_given) == (28.5, -4.5) and abs(f_solved - 30.89) < 0.05 and abs(phi_solved + 4.51) < 0.05
-    long = numbers(line_with(out, "longitudinal"))  # docs/guide/floquet.md: 1.459 1.459 0.904 0.387
-    lat = numbers(line_with(out, "lateral"))  # 1.049 0.851 0.53 0.093
-    np.testing.assert_allclose(long, [1.459, 1.459, 0.904, 0.387], atol=0.01)
-    np.testing.assert_allclose(lat, [1.049, 0.851, 0.530, 0.093], atol=0.01)
+    assert (f_given, phi_given) == (28.5, -4.5) and abs(f_solved - 27.71) < 0.05 and abs(phi_solved + 3.97) < 0.05
+    long = numbers(line_with(out, "longitudinal"))  # docs/guide/floquet.md: 1.533 1.533 0.897 0.364
+    lat = numbers(line_with(out, "lateral"))  # 1.17 0.615 0.615 0.025
+    np.testing.assert_allclose(long, [1.533, 1.533, 0.897, 0.364], atol=0.01)
+    np.testing.assert_allclose(lat, [1.170, 0.615, 0.615, 0.025], atol=0.01)
     assert "unstable" in out[-1] and numbers(out[-1]) == [max(long)]
 
 
@@ -72,14 +72,15 @@ def test_heavier_insect(tmp_path):
     assert "<mujoco" in (tmp_path / "heavier.xml").read_text()
     f0, vz_sink = numbers(line_with(out, "default orbit"))
     # 20 % of the weight unbalanced: the body loses ~0.2 g T = 0.07 m/s of ascent per beat
-    assert abs(f0 - 28.53) < 0.01 and 0.85 < vz_sink < 0.97
+    assert abs(f0 - 25.76) < 0.01 and 0.85 < vz_sink < 0.97  # the shipped quasi-steady orbit at 1 m/s
     f1, vz, L_plus, L_plus_default_w = numbers(line_with(out, "own orbit"))
     assert "converged True" in line_with(out, "own orbit")
-    assert 30.0 < f1 < 31.5 and abs(vz - 1.0) < 1e-3 and abs(L_plus - 1.0) < 2e-3
+    assert 27.0 < f1 < 28.5 and abs(vz - 1.0) < 1e-3 and abs(L_plus - 1.0) < 2e-3  # measured 27.76 Hz
     # the summary's L+ is against the flight's own insect's weight; against the default hawkmoth's it would be 1.2
     assert abs(L_plus_default_w - 1.2 * L_plus) < 1e-3
     mu_heavy, mu_default = numbers(line_with(out, "largest Floquet"))
-    assert 1.2 < mu_heavy < 1.7 and abs(mu_default - 1.475) < 0.01
+    # the default's: results/free_flight/validation.json's quasi-steady 1 m/s |mu| 1.546 (`reproduce --only validation`)
+    assert 1.2 < mu_heavy < 1.7 and abs(mu_default - 1.546) < 0.01
 
 
 def test_new_insect_from_file(tmp_path):
@@ -89,7 +90,7 @@ def test_new_insect_from_file(tmp_path):
     rows = [numbers(line_with(out, f"V {v}")) for v in ("0.0", "1.0", "2.0")]
     for _, L0, L1, P0, P1 in rows:  # quasi-steady loads grow with R^3 (lift) to R^4 (power) at equal kinematics
         assert 1.25 < L1 / L0 < 1.40 and 1.30 < P1 / P0 < 1.45
-    np.testing.assert_allclose(rows[1][1:], [1.2306, 1.6084, 1.2255, 1.6359], atol=2e-4)  # measured, 2 beats
+    np.testing.assert_allclose(rows[1][1:], [1.4641, 1.8768, 1.3442, 1.8094], atol=2e-4)  # measured, 2 beats
     assert "hawkmoth's quasi-steady orbits: orbit_table_quasi_steady.json" in out[-1]
     assert "the insect 'longwing' ships no orbit table for quasi-steady" in out[-1]
 
@@ -112,20 +113,24 @@ def test_dask_dataset(tmp_path):
     out = run_example("dask_dataset.py", tmp_path)
     assert out[0].startswith("3 new samples (3 in the file)") and "on 2 workers" in out[0]
     samples = [s for s in out if s.strip().startswith("sample")]
-    assert len(samples) == 3 and all(s.endswith("(ok)") for s in samples)
-    for s in samples:
+    status = [s[s.rindex("(") + 1:-1] for s in samples]
+    # every sample is stored with its status; a diverged run (about 2 % at this resolution) says so
+    assert len(samples) == 3 and set(status) <= {"ok", "diverged", "unsettled"} and status.count("ok") >= 2
+    for s, st in zip(samples, status):
         _, f, phi_a, L, P = numbers(s.replace("sample ", "sample 0."))
-        assert 15 < f < 45 and 0 < phi_a <= 70 and -1 < L < 3 and 0 < P < 5
+        assert 15 < f < 45 and 0 < phi_a <= 70
+        if st == "ok":
+            assert -1 < L < 3 and 0 < P < 5
     assert out[-1] == "rerun: 0 new samples (the file is resumable)"
 
 
 def test_your_own_controller(tmp_path):
     out = run_example("your_own_controller.py", tmp_path)
     p0, p1 = numbers(line_with(out, "open loop"))
-    assert abs(p0 - 60.89) < 0.05 and p1 > 80.0 and "departed at beat None" not in line_with(out, "open loop")
+    assert abs(p0 - 60.54) < 0.05 and p1 > 80.0 and "departed at beat None" not in line_with(out, "open loop")
     c0, c1 = numbers(line_with(out, "PD on phi0"))
-    # the controller pulls the 3 deg nose-up start back to the orbit's 57.7 deg within 10 beats and never departs
-    assert abs(c0 - 60.57) < 0.05 and abs(c1 - 57.72) < 1.0 and line_with(out, "PD on phi0").endswith("None")
+    # the controller pulls the 3 deg nose-up start back to the orbit's 57.34 deg within 10 beats and never departs
+    assert abs(c0 - 60.21) < 0.05 and abs(c1 - 57.34) < 1.0 and line_with(out, "PD on phi0").endswith("None")
 
 
 def test_forward_flight(tmp_path):

@@ -149,7 +149,7 @@ def fly_named(speed: float, cycles: int, aero: str = "quasi-steady", *, kinemati
                              wake_precision=wake_precision, morphology=morphology,
                              **({} if wake_cycles is None else {"wake_cycles": wake_cycles}))
     if start_state is not None:
-        orbit.seed(backend)  # a history network's orbit: the flight starts with its record
+        orbit.seed(backend)  # the flight starts with the orbit's record (a history network's) and far wake (UVLM)
     return fly(trim, backend, cycles, perturb=perturb, model=model, steps_per_cycle=steps_per_cycle,
                keep_extras_every=keep_extras_every, start_state=start_state, insect=insect, **kw)
 

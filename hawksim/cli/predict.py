@@ -14,9 +14,9 @@ this parser; tests/hawksim/test_surrogate_reference.py checks they agree)."""
 
 
 NETWORK_HELP = ("the network: a family of shipped networks (hawksim.backends.network.NETWORKS: shipped, trained on the "
-                "training lattice's labels, the default; or reference, plus a correction trained on `hawksim aero`'s "
-                "default-lattice labels: mean |error| against it 0.010-0.023 in L+ and P+ at held-out kinematics, "
-                "docs/surrogate.md), or a network file (.safetensors)")
+                "training lattice's labels; or reference, plus a correction trained on `hawksim aero`'s "
+                "default-lattice labels: mean |error| against it 0.014-0.032 in L+ and 0.013-0.024 in P+ at "
+                "held-out kinematics, docs/surrogate.md), or a network file (.safetensors)")
 """Help text of --network in `predict` and `trim`."""
 
 MODEL_DEPRECATED = ("--model FILE is deprecated here: use --network FILE (--model names an MJCF model in `hawksim "
@@ -28,7 +28,7 @@ def add_network_args(p, default: str | None) -> None:
     """``--network NAME|FILE`` (a family of :data:`NETWORK_FAMILIES` or a network file) and the deprecated
     ``--model FILE`` (the same as ``--network FILE``), mutually exclusive."""
     which = p.add_mutually_exclusive_group()
-    which.add_argument("--network", metavar="NAME|FILE", default=default, help=NETWORK_HELP + " (default: shipped)")
+    which.add_argument("--network", metavar="NAME|FILE", default=default, help=NETWORK_HELP + f" (default: {default or 'shipped'})")
     which.add_argument("--model", help="deprecated spelling of --network FILE")
 
 
@@ -86,7 +86,7 @@ def register(sub) -> None:
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
     p.add_argument("--kinematics", type=parse_kinematics, required=True,
                    help=KINEMATICS_HELP)
-    add_network_args(p, "shipped")
+    add_network_args(p, "reference")  # the one that follows `hawksim aero` (issue 49's target), docs/surrogate.md
     add_insect_arg(p, "; its morphology must be the default insect's (the networks' training insect); P+ is in its P0")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_predict, human=render_predict)

@@ -55,8 +55,7 @@ def parse_gust(text: str) -> Gust:
 def default_control(aero: str, kinematics, steps_per_cycle: int, start: str | None, spc_default: int) -> str:
     """The backend descriptor's ``default_control`` ("lqr" where the controller applies at every speed of 0-2 m/s:
     quasi-steady and the per-step surrogate) from the orbit (no given kinematics, the orbit's steps per beat, no
-    --start trim), none otherwise (the UVLM's control models cover 1-2 m/s only, and its flights are slow: asked
-    for, not by default)."""
+    --start trim), none otherwise (the UVLM's flights are slow: asked for, not by default)."""
     from hawksim.backends.registry import descriptor
 
     ok = (descriptor(aero).default_control == "lqr" and kinematics is None and steps_per_cycle == spc_default

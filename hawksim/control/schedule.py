@@ -6,11 +6,12 @@ Quasi-steady: the orbits are solved (:func:`hawksim.flight.orbit.periodic_orbit`
 linearize_half_stroke`, ~3 s) at :data:`SCHEDULE_SPEEDS`, cached per process. UVLM (per beat only): the SHIPPED
 orbits (insects/hawkmoth/data/orbit_table_uvlm.json, converged at :data:`UVLM_SCHEDULE_SPEEDS`) and their one-beat
 control derivatives shipped in insects/hawkmoth/data/control_models_uvlm.json (``hawksim reproduce --only
-control_uvlm``, :func:`control_model_table`; linearizing one speed takes minutes), so the schedule covers 1-2 m/s only,
-and a speed outside the grid's range is refused (ValueError naming it). Per-step surrogate (per beat only): the same
-from its shipped orbits (hawksim/insects/hawkmoth/data/orbit_table_surrogate.json, for the shipped network only) at
-:func:`surrogate_schedule_speeds` (0, 0.5, 1, 1.5, 2 m/s) and insects/hawkmoth/data/control_models_surrogate.json
-(``hawksim reproduce --only control_surrogate``; without it the derivatives are recomputed, ~5 s per speed).
+control_uvlm``, :func:`control_model_table`; linearizing one speed takes minutes), so the schedule covers 0-2 m/s
+(hawksim 0.2's: 1-2 m/s), and a speed outside the grid's range is refused (ValueError naming it). Per-step surrogate
+(per beat only): the same from its shipped orbits (hawksim/insects/hawkmoth/data/orbit_table_surrogate.json, for the
+shipped network only) at :func:`surrogate_schedule_speeds` (0, 0.5, 1, 1.5, 2 m/s) and
+insects/hawkmoth/data/control_models_surrogate.json (``hawksim reproduce --only control_surrogate``; without it the
+derivatives are recomputed, ~5 s per speed).
 
 Per beat the gains are :func:`hawksim.control.lqr.lqr_gain` of the one-beat map; per half-stroke
 :func:`hawksim.control.lqr.periodic_lqr_gains` of the two half-stroke maps (a gain for phase 0 and one for
@@ -43,9 +44,10 @@ from hawksim.stability.linear_model import LinearModel
 SCHEDULE_SPEEDS = TABLE3_SPEEDS
 """Ascent speeds [m/s] of the quasi-steady gain schedule's orbits (0, 0.5, 1, 1.5, 2)."""
 
-UVLM_SCHEDULE_SPEEDS = (1.0, 1.5, 2.0)
-"""Speeds [m/s] of the UVLM schedule as shipped: the shipped UVLM orbits that converged (hover and 0.5 m/s did not,
-docs/free_flight.md); :func:`schedule_speeds` reads them from the table."""
+UVLM_SCHEDULE_SPEEDS = (0.0, 0.5, 1.0, 1.5, 2.0)
+"""Speeds [m/s] of the UVLM schedule as shipped: the shipped UVLM orbits that converged (all five since hawksim
+0.3.0, hover and 0.5 m/s with the prescribed far wake, docs/free_flight.md; hawksim 0.2's at 1-2 m/s only);
+:func:`schedule_speeds` reads them from the table."""
 
 SHIPPED_GRID = TABLE3_SPEEDS
 """Speeds [m/s] at which a schedule of shipped orbits looks for them (:func:`shipped_schedule_speeds`)."""

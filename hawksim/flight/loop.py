@@ -389,9 +389,7 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
                                      keep_panels=keep_extras_every > 0,
                                      morphology=None if insect == default_insect() else insect.morphology)
             if is_orbit:
-                point.seed(backend)
-                if point.far_wake is not None:
-                    point.far_wake.apply(backend, kin)
+                point.seed(backend)  # its record and its far wake
         sim = Simulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity,
                         aero_every=aero_every_for(backend, steps_per_cycle))
     else:
@@ -400,9 +398,7 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
         if backend is None:
             sim = controlled_plant(model, kin, aero, steps_per_cycle=steps_per_cycle, insect=insect)
             if is_orbit:
-                point.seed(sim.backend)
-                if point.far_wake is not None:
-                    point.far_wake.apply(sim.backend, kin)
+                point.seed(sim.backend)  # its record and its far wake
         else:
             sim = ControlledSimulator(model, kin, backend, steps_per_cycle=steps_per_cycle, gravity=gravity,
                                       aero_every=aero_every_for(backend, steps_per_cycle))

@@ -30,10 +30,10 @@ from hawksim.insect.morphology import Morphology, morphology
 DEFAULT_MODEL_PATH = INSECTS_DIR / DEFAULT_NAME / "hawkmoth.xml"
 """The default insect's MJCF, in its folder."""
 
-MODEL_PATHS = {"default": DEFAULT_MODEL_PATH, "sourced": DEFAULT_MODEL_PATH.with_name("hawkmoth_sourced.xml")}
+MODEL_PATHS = {"sourced": DEFAULT_MODEL_PATH, "hawksim-0.2": DEFAULT_MODEL_PATH.with_name("hawkmoth_0.2.xml")}
 """The committed MJCF of each named morphology variant of the default insect
-(:data:`hawksim.insect.morphology.MORPHOLOGIES`); the "sourced" one is issue 49's sourced hawkmoth, not yet used by
-any command unless passed as ``--model``."""
+(:data:`hawksim.insect.morphology.MORPHOLOGIES`): the sourced one is the default insect's; "hawksim-0.2" is hawksim
+0.2's hawkmoth, used by no command unless passed as ``--model``."""
 
 
 def _f(x) -> str:
@@ -190,9 +190,9 @@ def write_model(path: Path = DEFAULT_MODEL_PATH, morph: Morphology | None = None
 def main(argv: list[str]) -> list[Path]:
     """``python -m hawksim.insect.model``: write every shipped insect's MJCF into its folder, and the default
     insect's other variants (:data:`MODEL_PATHS`); ``python -m hawksim.insect.model PATH [VARIANT]``: write one
-    variant's of the default insect (default "default") to PATH."""
+    variant's of the default insect (default "sourced") to PATH."""
     if argv:
-        return [write_model(Path(argv[0]), morphology(argv[1] if len(argv) > 1 else "default"))]
+        return [write_model(Path(argv[0]), morphology(argv[1] if len(argv) > 1 else "sourced"))]
     written = []
     for name in shipped_insects():
         insect = load_insect(name)

@@ -253,20 +253,38 @@ def _default_segments() -> tuple[Ellipsoid, ...]:
     )
 
 
+SEED_TOTAL_MASS = 1578.70e-6
+"""Total mass [kg] of the seed paper's individual, wings included; class (b): Nguyen et al. 2020, Table 1."""
+
+SEED_R = 48.50e-3
+"""Wing length [m] of the seed paper's individual; class (b): Nguyen et al. 2020, Table 1."""
+
+SEED_WING_MASS = WING_MASS_FRACTION * SEED_TOTAL_MASS / 2
+"""Mass of one wing [kg] of the seed paper's individual, 45.02 mg; class (c): :data:`WING_MASS_FRACTION` of
+:data:`SEED_TOTAL_MASS` (the rule is stated there)."""
+
+SEED_HINGE_FROM_THORAX = (0.0010, PALAORO_WING_BASE_SPACING * SEED_R / PALAORO_FOREWING / 2, 0.0035)
+"""Left wing hinge relative to the thorax centre [m]: lateral offset half the measured wing-base spacing scaled to the
+seed wing (class (c): :data:`PALAORO_WING_BASE_SPACING` x R / :data:`PALAORO_FOREWING`, 10.18 mm apart); fore-aft
+1.0 mm and height 3.5 mm, near the front of the thorax on its dorsolateral edge, are model choices."""
+
+
 @dataclass(frozen=True)
 class Morphology:
     """The hawkmoth model's mass properties and geometry (SI).
 
-    total_mass includes both wings (Table 1 of Nguyen et al. 2020). ``hinge_left`` is the left wing hinge in
-    the body frame; the right hinge is its mirror image (y -> -y).
+    The defaults are the sourced hawkmoth of hawksim 0.3 (issue 49): the seed paper's individual (Table 1: mass, R,
+    mean chord, r2) with every other number sourced or derived where the literature allows and labelled where it does
+    not (each field's docstring gives its class: (a) measured, (b) quoted, (c) derived, model choice, calibrated).
+    :meth:`hawksim_0_2` is hawksim 0.2's hawkmoth. total_mass includes both wings. ``hinge_left`` is the left wing
+    hinge in the body frame; the right hinge is its mirror image (y -> -y).
     """
 
-    total_mass: float = 1578.70e-6
+    total_mass: float = SEED_TOTAL_MASS
     """Total mass [kg], wings included; quoted: Nguyen et al. 2020, Table 1 (the seed paper's individual)."""
-    wing_mass: float = 47e-6
-    """Mass of one wing [kg]; quoted: Berman & Wang 2007 (a 1648 mg moth) taken as is (hawksim 0.2's choice;
-    :meth:`sourced` scales it by the wing-mass fraction)."""
-    R: float = 48.50e-3
+    wing_mass: float = SEED_WING_MASS
+    """Mass of one wing [kg]; derived: :data:`SEED_WING_MASS` (Berman & Wang 2007's wing-mass fraction)."""
+    R: float = SEED_R
     """Wing length [m]; quoted: Nguyen et al. 2020, Table 1."""
     cbar: float = 16.81e-3
     """Mean chord [m]; quoted: Nguyen et al. 2020, Table 1."""
@@ -276,17 +294,16 @@ class Morphology:
     """Wing thickness [m]; model choice (it only keeps the wing's inertia tensor positive definite)."""
     segments: tuple[Ellipsoid, ...] = field(default_factory=_default_segments)
     """Head, thorax, abdomen; model choice (:func:`_default_segments`; 42.5 mm long, :data:`PALAORO_BODY_LENGTH`)."""
-    hinge_from_thorax: tuple[float, float, float] = (0.0010, 0.0040, 0.0035)
-    """Left hinge relative to the thorax centre [m]: near the front of the thorax, on its dorsolateral edge; model
-    choice (:meth:`sourced` takes the lateral offset from the measured wing-base spacing)."""
-    axis_fraction: float = 0.25
+    hinge_from_thorax: tuple[float, float, float] = SEED_HINGE_FROM_THORAX
+    """Left hinge relative to the thorax centre [m]; lateral offset derived, the rest model choice
+    (:data:`SEED_HINGE_FROM_THORAX`)."""
+    axis_fraction: float = CALIBRATED_AXIS_FRACTION
     """Feathering (pitching) axis as a fraction of the local chord behind the leading edge (0: on the leading
-    edge). 0.25 is hawksim 0.2's model choice (it sets L+ and P+ by up to 10 %; docs/fidelity.md); :meth:`sourced`
-    takes the calibrated :data:`CALIBRATED_AXIS_FRACTION`."""
-    wing_mass_model: WingMassModel = UNIFORM_WING
-    """Areal density of the wing mass (:class:`WingMassModel`); default uniform, a model choice (:meth:`sourced`:
-    fitted to the measured radius of gyration)."""
-    name: str = "default"
+    edge); calibrated: :data:`CALIBRATED_AXIS_FRACTION` (the rule and what it moves are stated there)."""
+    wing_mass_model: WingMassModel = ROOT_HEAVY_WING
+    """Areal density of the wing mass (:class:`WingMassModel`): :data:`ROOT_HEAVY_WING`, fitted to the measured
+    radius of gyration (derived; uniform across the chord, a model choice)."""
+    name: str = "sourced"
     """Label of the variant (tables, reports, :data:`MORPHOLOGIES`)."""
 
     def __post_init__(self):
@@ -299,25 +316,17 @@ class Morphology:
 
     @classmethod
     def sourced(cls) -> Morphology:
-        """Issue 49's hawkmoth: the seed paper's individual (Table 1: mass, R, mean chord, r2) with every other number
-        sourced or derived where the literature allows, and labelled where it does not. NOT yet the default: every
-        shipped table, network and test is built on ``Morphology()`` until the pipeline is regenerated on it.
+        """Issue 49's sourced hawkmoth, the default since hawksim 0.3: ``Morphology()`` (kept so that code written
+        against hawksim 0.2, where it was a variant, runs unchanged)."""
+        return cls()
 
-        Differs from the default in:
-
-        * wing mass: :data:`WING_MASS_FRACTION` of the total mass, 45.02 mg a wing (derived, class (c), from Berman &
-          Wang 2007's 47 mg of a 1648 mg moth);
-        * wing mass distribution: :data:`ROOT_HEAVY_WING`, fitted to the measured radius of gyration 0.381 R
-          (derived); uniform across the chord (model choice);
-        * wing hinges: :data:`PALAORO_WING_BASE_SPACING` apart, scaled by R / :data:`PALAORO_FOREWING` to this
-          individual's wing (derived: 10.18 mm; the default's 8.00 mm was a model choice); their height and fore-aft
-          position stay the default's (model choice);
-        * feathering axis: :data:`CALIBRATED_AXIS_FRACTION`, a calibrated parameter (no source gives it).
-        """
-        spacing = PALAORO_WING_BASE_SPACING * cls.R / PALAORO_FOREWING
-        hx, _, hz = cls.hinge_from_thorax
-        return cls(wing_mass=WING_MASS_FRACTION * cls.total_mass / 2, wing_mass_model=ROOT_HEAVY_WING,
-                   hinge_from_thorax=(hx, spacing / 2, hz), axis_fraction=CALIBRATED_AXIS_FRACTION, name="sourced")
+    @classmethod
+    def hawksim_0_2(cls) -> Morphology:
+        """hawksim 0.2's hawkmoth, for reproducing its results: Berman & Wang's 47 mg wing taken as is, of uniform areal
+        density (:data:`UNIFORM_WING`), hinges 8.00 mm apart and the quarter-chord feathering axis (all model
+        choices then). Differs from the default in those four numbers and its name."""
+        return cls(wing_mass=BW2007_WING_MASS, wing_mass_model=UNIFORM_WING, hinge_from_thorax=(0.0010, 0.0040, 0.0035),
+                   axis_fraction=0.25, name="hawksim-0.2")
 
     @cached_property
     def planform(self) -> Planform:
@@ -406,16 +415,17 @@ class Morphology:
 
 
 HAWKMOTH = Morphology()
-"""The default hawkmoth."""
+"""The default hawkmoth (the sourced one, :class:`Morphology`'s defaults)."""
 
-MORPHOLOGIES = ("default", "sourced")
-"""Named variants (:func:`morphology`)."""
+MORPHOLOGIES = ("sourced", "hawksim-0.2")
+"""Named variants (:func:`morphology`): the default, and hawksim 0.2's (:meth:`Morphology.hawksim_0_2`)."""
 
 
-def morphology(name: str = "default") -> Morphology:
-    """The named variant: "default" (:data:`HAWKMOTH`) or "sourced" (:meth:`Morphology.sourced`)."""
-    if name == "default":
+def morphology(name: str = "sourced") -> Morphology:
+    """The named variant: "sourced" (:data:`HAWKMOTH`, also under its old name "default") or "hawksim-0.2"
+    (:meth:`Morphology.hawksim_0_2`)."""
+    if name in ("sourced", "default"):
         return HAWKMOTH
-    if name == "sourced":
-        return Morphology.sourced()
+    if name == "hawksim-0.2":
+        return Morphology.hawksim_0_2()
     raise ValueError(f"unknown morphology {name!r}; choose one of {', '.join(MORPHOLOGIES)}")

@@ -12,8 +12,7 @@ At 0, 1 and 2 m/s, for the quasi-steady model, the per-step surrogate of the UVL
   quasi-steady flight's);
 * the Floquet multipliers of the orbit: quasi-steady and UVLM from the validation
   (results/free_flight/validation.json, `hawksim reproduce --only validation` / ``validation_uvlm``; the UVLM's with
-  their ``resolved`` flag, and its hover row marked not resolved, since its orbit did not converge and its map is
-  not smooth there, docs/free_flight.md), the surrogate's from the monodromy on its augmented state (body and
+  their ``resolved`` flag; its hover orbit flies the prescribed far wake, docs/free_flight.md), the surrogate's from the monodromy on its augmented state (body and
   record of calls, :func:`hawksim.stability.history_floquet.history_monodromy`; a memoryless network's from its
   shipped control model's monodromy, hawksim/insects/hawkmoth/data/control_models_surrogate.json);
 * controlled flights under the LQR at each backend's default rate (per beat; the surrogate per half-stroke,
@@ -131,7 +130,8 @@ def open_loop(aero: str, speed: float) -> dict:
     if orb is None:
         return {"orbit": None}
     row = {"orbit": {"kinematics": orb.kinematics.to_edge(), "residual": orb.residual, "converged": orb.converged,
-                     "P_plus": orb.P_plus, "warm_beats": orb.warm_beats, "mean_pitch_deg": np.rad2deg(orb.mean_pitch)}}
+                     "P_plus": orb.P_plus, "warm_beats": orb.warm_beats, "mean_pitch_deg": np.rad2deg(orb.mean_pitch)}
+           | ({} if orb.far_wake is None else {"far_wake": orb.far_wake.to_json()})}
     if not orb.converged:
         row["note"] = "orbit did not converge (docs/free_flight.md: the UVLM's hover map is not smooth); not flown"
         return row
@@ -228,10 +228,6 @@ def compare(out_dir: Path, log=print) -> dict:
             log(f"backends: {aero} at {v:g} m/s ...")
             t0 = time.perf_counter()
             row = {"speed": v, "aero": aero, **open_loop(aero, v), "floquet": floquet(aero, v, out_dir)}
-            if aero == "uvlm" and v == 0.0:
-                row["floquet"]["not_resolved"] = ("the UVLM hover orbit did not converge (residual 2.6e-2) and its "
-                                                  "one-beat map is not smooth (docs/free_flight.md): no hover "
-                                                  "multiplier is a mode of the flight")
             row["controlled"] = controlled(aero, v, out_dir)
             row["step_wall_s"] = time.perf_counter() - t0
             res["rows"].append(row)
@@ -275,6 +271,8 @@ def markdown(res: dict) -> str:
         orb = f"{k.get('f', nan):.2f} / {k.get('phi0', nan):.2f} / {o.get('residual', nan):.1e}"
         if o and not o.get("converged"):
             orb += " (not converged)"
+        if o and o.get("far_wake"):
+            orb += " (far wake)"
         lp = (f"{r['L_plus_orbit_beat']:.3f} / {r['P_plus_orbit_beat']:.3f}" if "L_plus_orbit_beat" in r
               else f"- / {o.get('P_plus', float('nan')):.3f}")
         fq = r["floquet"]
@@ -309,7 +307,8 @@ def markdown(res: dict) -> str:
         lines.append(f"| {r['speed']:g} | {r['aero']} | {orb} | {lp} | {mu} | {hold} | {ctl} | {gust} | {wall} |")
     lines.append("")
     lines.append(f"`hawksim reproduce --only backends`, {res['date']}, load average {res['loadavg_start'][0]:.1f} to "
-                 f"{res['loadavg_end'][0]:.1f}. L+ of the orbit beat is 1 by periodicity (a check). Floquet: the two "
+                 f"{res['loadavg_end'][0]:.1f}. L+ of the orbit beat is 1 by periodicity (a check); far wake: the orbit "
+                 "flies the UVLM's prescribed far wake (docs/free_flight.md). Floquet: the two "
                  "largest distinct |mu| per beat of each system (c: a complex pair; *: flagged not resolved by the "
                  "UVLM's reach test). Trim holds: open-loop beats from the orbit beat within "
                  f"{HOLD_SPEED} m/s and {HOLD_PITCH_DEG} deg of it (+: every beat flown). Controlled: issue 20's "

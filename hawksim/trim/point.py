@@ -147,9 +147,13 @@ class OperatingPoint:
         return bool(self.warm_beats) or self.record is not None
 
     def seed(self, backend) -> None:
-        """Make ``backend`` start its flights with this orbit's record (nothing for a point without one)."""
+        """Make ``backend`` fly this point's flights as the orbit was solved: start them with its record (a history
+        network's orbit) and with its prescribed far wake (:attr:`far_wake`: the UVLM's orbits at hover and 0.5 m/s);
+        nothing for a point with neither."""
         if self.record is not None:
             backend.seed(np.asarray(self.record, float), float(self.record_dt))
+        if self.far_wake is not None:
+            self.far_wake.apply(backend, self.kinematics)
 
     def to_json(self) -> dict:
         """SI, JSON-ready (kinematics in SI under ``kinematics_si``, edge units under ``kinematics``). A free-body

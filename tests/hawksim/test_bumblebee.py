@@ -22,7 +22,7 @@ from hawksim.backends.resolution import Resolution
 from hawksim.insect.folder import load_insect
 from hawksim.insect.insect import DEFAULT_INSECT, Insect
 from hawksim.insect.kinematics import TABLE2_BOUNDS_DEG, Kinematics, table3_kinematics
-from hawksim.insect.morphology import HAWKMOTH, P0_W
+from hawksim.insect.morphology import HAWKMOTH, P0_W, Morphology
 
 ROOT = Path(__file__).resolve().parents[2]
 FOLDER = ROOT / "hawksim" / "insects" / "bumblebee"
@@ -31,10 +31,11 @@ RESULTS = ROOT / "results" / "bumblebee_hover.json"
 QS_RES = Resolution(aero="quasi-steady", steps_per_cycle=200, cycles=2)
 """The resolution of the bumblebee's (and the hawkmoth's shipped) quasi-steady trim."""
 
-HAWKMOTH_QS_HOVER = (1.2560934220638713, -0.03423999205605157, -0.058740145505086806, 0.9421665607496423,
-                     0.07933042441511988)
-"""The default hawkmoth's quasi-steady L+, D+, M+, P+, power [W] at Table 3's hover kinematics (QS_RES), recorded at
-the commit before the bumblebee was added (e2e07e8)."""
+HAWKMOTH_QS_HOVER = (1.449350783479392, -0.030200571502143458, -0.06401261483057018, 1.044475554525626,
+                     0.0879448416910577)
+"""The default hawkmoth's quasi-steady L+, D+, M+, P+, power [W] at Table 3's hover kinematics (QS_RES), recorded on
+the sourced hawkmoth of hawksim 0.3 (regen2, 23be96a; hawksim 0.2's were 1.2561, -0.0342, -0.0587, 0.9422, 0.0793:
+the feathering axis moved from 0.25 to 0.06 of the chord)."""
 
 
 @pytest.fixture(scope="module")
@@ -61,8 +62,8 @@ def test_spec_loads_with_its_quoted_numbers(bee):
 
 
 def test_spec_model_choices_follow_the_readme_rules(bee):
-    """Each model choice is the hawkmoth's number times the README's scale (6 significant digits)."""
-    m, h = bee.morphology, HAWKMOTH
+    """Each model choice is hawksim 0.2's hawkmoth's number times the README's scale (6 significant digits)."""
+    m, h = bee.morphology, Morphology.hawksim_0_2()
     s = (m.total_mass / h.total_mass) ** (1 / 3)
     k_f = math.sqrt(m.total_mass * h.R**3 * h.cbar / (h.total_mass * m.R**3 * m.cbar))
     assert s == pytest.approx(0.480374, abs=1e-6) and k_f == pytest.approx(4.79503, abs=1e-5)
@@ -210,7 +211,7 @@ def test_default_insect_is_the_hawkmoth():
     assert DEFAULT_INSECT == Insect() and DEFAULT_INSECT.morphology == HAWKMOTH and DEFAULT_INSECT.P0 == P0_W
     assert dict(DEFAULT_INSECT.bounds_deg) == {k: tuple(map(float, v)) for k, v in TABLE2_BOUNDS_DEG.items()}
     assert (HAWKMOTH.total_mass, HAWKMOTH.R, HAWKMOTH.cbar, HAWKMOTH.name) == (1578.70e-6, 48.50e-3, 16.81e-3,
-                                                                               "default")
+                                                                               "sourced")
 
 
 def test_hawkmoth_quasi_steady_averages_unchanged():

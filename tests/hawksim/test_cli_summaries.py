@@ -120,7 +120,8 @@ def test_resolution_error_by_speed_and_lattice():
 def test_predict(monkeypatch, capsys):
     out, stdout, _ = run(monkeypatch, capsys, ["predict", "--speed", "1", "--kinematics", KIN])
     lines = only_the_summary(stdout, "predict")
-    assert lines[0] == "hawksim predict: the cycle-mean surrogate at 1 m/s ascent; the shipped network for 1 m/s"
+    assert lines[0] == ("hawksim predict: the cycle-mean surrogate at 1 m/s ascent; the reference network (shipped, "
+                        "corrected to `hawksim aero`'s default lattice) with the ascent speed as an input")
     loads = labelled(lines, "loads")
     for key, name in (("L_plus", "L+"), ("D_plus", "D+"), ("M_plus", "M+"), ("P_plus", "P+")):
         check(loads, name, out[key])

@@ -64,6 +64,13 @@ def test_per_wing_derivatives_match_the_seven_channel_model(sched2):
             assert np.abs(ref).max() > 10 * FD_TOL  # a column that matters
 
 
+PLAN_LQR_TOL = 1e-6
+"""The condensed horizon's unconstrained first move against the LQR's -K z, relative to the largest entry of K z: the
+same optimum by two routes (a Cholesky-condensed least squares with cond ~7e4 and the DARE), equal to round-off.
+Measured on hawksim 0.3.0's 2 m/s model 4e-8 (one BLAS thread) and 1e-7 (several; per entry up to 1.2e-6 of the
+smallest, 5 % of the largest, which is why the bound is on the vector's scale, not per entry)."""
+
+
 def test_the_plan_is_the_lqr_where_no_bound_is_active(sched2):
     g = sched2.constrained[2.0]
     rng = np.random.default_rng(0)
@@ -75,7 +82,7 @@ def test_the_plan_is_the_lqr_where_no_bound_is_active(sched2):
     assert np.allclose(v, -g.K @ z, rtol=0, atol=1e-14)
     # the condensed problem's unconstrained optimum starts with the LQR's move (terminal cost P from the DARE)
     V = np.linalg.solve(g.M, -g.Mz @ z)
-    assert np.allclose(V[:8], -g.K @ z, rtol=1e-6, atol=1e-9 * np.abs(g.K @ z).max())
+    assert np.abs(V[:8] + g.K @ z).max() <= PLAN_LQR_TOL * np.abs(g.K @ z).max()
 
 
 def test_the_plan_respects_the_bounds_and_costs_no_more_than_the_clipped_lqr(sched2):
@@ -117,15 +124,32 @@ def _recovered_after(beats, end):
 
 
 def test_the_constrained_lqr_rejects_a_gust_the_lqr_does_not(sched2):
-    """0.2 m/s lateral gust over beats 5-6 at 2 m/s with the per-step surrogate (scripts/studies/
-    control_constrained.py, 2026-12-02): the per-beat LQR recovers after 22 beats, the constrained LQR after 7."""
-    gust = [Gust(np.array([0.0, 0.2, 0.0]), 5, 2)]
+    """0.15 m/s lateral gust over beats 5-6 at 2 m/s with the per-step surrogate: the constrained LQR stays within
+    the bounds throughout (measured: roll at most 1.7 deg), the per-beat LQR departs (measured: speed error -0.11 m/s at
+    beat 20, -2.5 at 30). hawksim 0.3.0's network at 2 m/s is less forgiving than 0.2's, whose 0.2 m/s gust this test
+    flew (the per-beat LQR recovered it after 22 beats, the constrained one after 7, scripts/studies/
+    control_constrained.py, 2026-12-02): now the per-beat LQR departs from a 0.1 m/s gust (0.05 m/s: recovered) and
+    the constrained LQR from the 0.2 m/s one (next test)."""
+    gust = [Gust(np.array([0.0, 0.15, 0.0]), 5, 2)]
     c = fly_closed_loop(2.0, 30, aero="surrogate", schedule=sched2, gusts=gust, control="clqr")
     lqr = fly_closed_loop(2.0, 30, aero="surrogate", schedule=Schedule(2.0, 2.0, aero="surrogate", speeds=(2.0,)),
                           gusts=gust)
     assert _recovered_after(c.beats, 6) <= 10
     k = _recovered_after(lqr.beats, 6)
     assert k is None or k > 10
+
+
+@pytest.mark.xfail(strict=True, reason="hawksim 0.3.0 regression, measured 2026-12-07: the constrained LQR does not "
+                   "recover the 0.2 m/s lateral gust at 2 m/s (pitch and roll errors of 2-6 deg through beat 35, "
+                   "departs at beat ~45; holding theta0 at the orbit's value it recovers after 20 beats), which it "
+                   "recovered after 7 with hawksim 0.2's network")
+def test_the_constrained_lqr_rejects_the_0_2_m_s_gust(sched2):
+    """Issue 20's constrained-LQR result of hawksim 0.2 (0.2 m/s lateral gust over beats 5-6 at 2 m/s, recovered
+    within 10 beats after it), kept as the target the regenerated network misses."""
+    gust = [Gust(np.array([0.0, 0.2, 0.0]), 5, 2)]
+    c = fly_closed_loop(2.0, 30, aero="surrogate", schedule=sched2, gusts=gust, control="clqr")
+    k = _recovered_after(c.beats, 6)
+    assert k is not None and k <= 10
 
 
 def test_clqr_on_the_cli_is_refused_with_the_uvlm():

@@ -19,15 +19,27 @@ velocity; a history network's lagged states follow them (hawksim.backends.step_s
 def _silenced(net: StepNetwork) -> tuple[StepNetwork, StepNetwork]:
     """(silent, memoryless) from the history network ``net``: the first with the history inputs' first-layer
     weights zeroed (the same lags, so the map's state still carries the record, which now feeds nothing), the
-    second with those inputs removed. Both give the same loads."""
+    second with those inputs removed. Both give the same loads.
+
+    A network with the wake-age input (the regenerated hawksim 0.3.0 network: ``age_beats`` 2, its last input,
+    hawksim.backends.step_network.AGE_INPUT) has it folded into the first layer's bias at its saturated value (a
+    developed wake, as on an orbit with a record) and removed: a memoryless network has no record, so its flights
+    would be launches from no wake (the age counting from 0) while the silent one's, seeded with the orbit's record,
+    are not; with the age folded in both see the developed wake."""
     assert net.lags, "the shipped per-step network has history inputs"
     (W0, b0), rest = net.weights[0], net.weights[1:]
     n = N_MEMORYLESS_INPUTS
+    n_hist = n + 6 * len(net.lags)
+    x_mean, x_std = np.asarray(net.x_mean, float), np.asarray(net.x_std, float)
+    if net.age_beats > 0:  # the age input, last, at its saturated value (standardised as the network does)
+        age = (net.age_beats - x_mean[n_hist]) / x_std[n_hist]
+        b0 = (b0.astype(np.float64) + W0[:, n_hist].astype(np.float64) * age).astype(b0.dtype)
+    W0 = np.ascontiguousarray(W0[:, :n_hist])
     W0s = W0.copy()
     W0s[:, n:] = 0.0
-    silent = StepNetwork(((W0s, b0), *rest), net.x_mean, net.x_std, net.y_mean, net.y_std, lags=net.lags,
-                         meta={"test": "silent history"})
-    plain = StepNetwork(((np.ascontiguousarray(W0[:, :n]), b0), *rest), net.x_mean[:n], net.x_std[:n], net.y_mean,
+    silent = StepNetwork(((W0s, b0), *rest), x_mean[:n_hist], x_std[:n_hist], net.y_mean, net.y_std,
+                         lags=net.lags, meta={"test": "silent history"})
+    plain = StepNetwork(((np.ascontiguousarray(W0[:, :n]), b0), *rest), x_mean[:n], x_std[:n], net.y_mean,
                         net.y_std, lags=(), meta={"test": "history inputs removed"})
     return silent, plain
 

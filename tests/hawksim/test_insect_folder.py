@@ -22,11 +22,11 @@ KIN = "f=29.4,beta=2.8,phi0=-4.7,theta0=15.0,alpha0=1.2,phi_a=60.0,alpha_a=65.0"
 
 
 def test_the_hawkmoth_folder_is_todays_default_hawkmoth():
-    """The spec names today's ``Morphology()`` number for number (issue 49's sourced hawkmoth replaces them with the
-    regenerated tables), P0 and Table 2's bounds; its reference kinematics are Table 3."""
+    """The spec names today's ``Morphology()`` number for number (issue 49's sourced hawkmoth, on which the shipped
+    tables were regenerated), P0 and Table 2's bounds; its reference kinematics are Table 3."""
     bug = default_insect()
     assert "hawkmoth" in shipped_insects() and load_insect("hawkmoth") is bug
-    assert bug == Insect() and bug.morphology == Morphology() and bug.morphology.name == "default"
+    assert bug == Insect() and bug.morphology == Morphology() and bug.morphology.name == "sourced"
     assert bug.P0 == P0_W and dict(bug.bounds_deg) == {k: tuple(v) for k, v in TABLE2_BOUNDS_DEG.items()}
     assert bug.name == "hawkmoth" and bug.folder == HAWKMOTH_DIR and bug.model_file == "hawkmoth.xml"
     assert bug.reference_deg["speed"] == TABLE3_SPEEDS
@@ -77,7 +77,7 @@ def test_a_table_of_another_model_is_refused(tmp_path):
     longer = load_insect(_copy(tmp_path, edit=lambda s: s.replace("value = 0.0485\n", "value = 0.05\n")))
     assert longer.morphology.R == 0.05 and longer.name == "moth2"
     with pytest.raises(ValueError, match=r"orbit table for uvlm \(orbit_table_uvlm.json\) was computed on the "
-                                         r"model 7e05d6bd20d1, not on its MJCF [0-9a-f]{12}: regenerate") as e:
+                                         r"model b6b14ba74309, not on its MJCF [0-9a-f]{12}: regenerate") as e:
         table_path(longer, "orbit", "uvlm")
     assert "\n" not in str(e.value)
     path, reason = table_status(longer, "trim", "quasi-steady")
@@ -197,4 +197,6 @@ def test_predict_takes_the_insects_p0_and_refuses_another_morphology(tmp_path, c
     assert err == "" and by_network["network"] == "file"
     _, by_model, err = predict("--model", net)
     assert "--model FILE is deprecated here: use --network FILE" in err
-    assert by_model["P_plus"] == by_network["P_plus"] == base["P_plus"]
+    _, per_speed, _ = predict("--network", "shipped")  # the family whose 1 m/s file `net` is
+    assert by_model["P_plus"] == by_network["P_plus"] == per_speed["P_plus"]
+    assert base["network"] == "reference"  # predict's default (issue 49: it follows `hawksim aero`)

@@ -115,15 +115,17 @@ def test_bad_model_files(tmp_path):
         load_model(other)
 
 
-def test_committed_sourced_xml_is_the_generated_one():
-    """The sourced hawkmoth (issue 49) has its own committed MJCF; loading by morphology gives the same model."""
-    from hawksim.insect.model import MODEL_PATHS
+def test_committed_variant_xml_is_the_generated_one():
+    """The default insect's MJCF is the sourced hawkmoth's (issue 49); hawksim 0.2's hawkmoth has its own committed
+    MJCF; loading by morphology gives the same model."""
+    from hawksim.insect.model import DEFAULT_MODEL_PATH, MODEL_PATHS
     from hawksim.insect.morphology import Morphology
-    sourced = Morphology.sourced()
-    assert MODEL_PATHS["sourced"].read_text() == mjcf(sourced), "regenerate with: python -m hawksim.insect.model"
-    m = load_model(morph=sourced)
+    assert MODEL_PATHS["sourced"] == DEFAULT_MODEL_PATH and DEFAULT_MODEL_PATH.read_text() == mjcf(Morphology())
+    old = Morphology.hawksim_0_2()
+    assert MODEL_PATHS["hawksim-0.2"].read_text() == mjcf(old), "regenerate with: python -m hawksim.insect.model"
+    m = load_model(morph=old)
     wl = m.body("wing_left").id
-    np.testing.assert_allclose(m.body_ipos[wl], sourced.wing_com, rtol=TOL, atol=POSITION_ATOL)
-    assert m.body_mass[wl] == pytest.approx(sourced.wing_mass, rel=TOL)
+    np.testing.assert_allclose(m.body_ipos[wl], old.wing_com, rtol=TOL, atol=POSITION_ATOL)
+    assert m.body_mass[wl] == pytest.approx(old.wing_mass, rel=TOL)
     with pytest.raises(ValueError, match="not both"):
-        load_model(MODEL_PATHS["sourced"], morph=sourced)
+        load_model(MODEL_PATHS["hawksim-0.2"], morph=old)

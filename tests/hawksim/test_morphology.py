@@ -61,7 +61,8 @@ def test_masses():
     m = HAWKMOTH
     assert m.total_mass == pytest.approx(1578.70e-6)
     assert m.body_mass + 2 * m.wing_mass == pytest.approx(1578.70e-6)
-    assert m.wing_mass == pytest.approx(47e-6)  # Berman & Wang (2007)
+    # Berman & Wang (2007): 47 mg wings of a 1648 mg moth, the same fraction of Table 1's 1578.70 mg
+    assert m.wing_mass == pytest.approx(47e-6 * 1578.70 / 1648)
     I = m.body_inertia
     assert np.all(np.linalg.eigvalsh(I) > 0) and np.allclose(I, I.T)
     Iw = m.wing_inertia
@@ -108,11 +109,12 @@ def _mass_moments(m):
     return m.wing_com[1] / m.R, r2, (w * s).sum() / w.sum()
 
 
-def test_default_is_hawksim_0_2s_wing():
-    """The default keeps the quarter-chord axis and the uniform density (every shipped result depends on it)."""
-    from hawksim.insect.morphology import UNIFORM_WING, morphology
-    m = HAWKMOTH
-    assert m.axis_fraction == 0.25 and m.wing_mass_model == UNIFORM_WING and morphology("default") is m
+def test_hawksim_0_2s_wing():
+    """hawksim 0.2's hawkmoth: the quarter-chord axis and the uniform density, 47 mg wings 8 mm apart."""
+    from hawksim.insect.morphology import UNIFORM_WING, Morphology, morphology
+    m = Morphology.hawksim_0_2()
+    assert m.axis_fraction == 0.25 and m.wing_mass_model == UNIFORM_WING and morphology("hawksim-0.2") == m
+    assert m.wing_mass == 47e-6 and m.hinge_from_thorax[1] == 0.004 and m.name == "hawksim-0.2"
     com, r2, s = _mass_moments(m)
     # uniform density: the centre of mass is the planform's r1 = 0.465 R, r2 of mass the area's 0.53
     assert com == pytest.approx(m.planform.r1_hat, rel=VARIANT_RTOL)
@@ -127,7 +129,7 @@ def test_sourced_variant():
     from hawksim.insect.morphology import (CALIBRATED_AXIS_FRACTION, ROOT_HEAVY_WING, WING_GYRATION_HAT, Morphology,
                                            morphology)
     m = Morphology.sourced()
-    assert m.name == "sourced" and morphology("sourced") == m
+    assert m.name == "sourced" and morphology("sourced") == m == Morphology() and morphology("default") is HAWKMOTH
     assert m.axis_fraction == CALIBRATED_AXIS_FRACTION and m.wing_mass_model == ROOT_HEAVY_WING
     assert WING_GYRATION_HAT == pytest.approx(0.381, abs=5e-4)
     com, r2, s = _mass_moments(m)
@@ -162,7 +164,7 @@ def test_root_heavy_decay_is_the_fit():
 
 def test_mass_model_moves_the_mass_inboard_and_forward():
     from hawksim.insect.morphology import Morphology, WingMassModel
-    base = _mass_moments(HAWKMOTH)
+    base = _mass_moments(Morphology(wing_mass_model=WingMassModel()))  # uniform
     span = _mass_moments(Morphology(wing_mass_model=WingMassModel("s", span_decay=1.0)))
     chord = _mass_moments(Morphology(wing_mass_model=WingMassModel("c", chord_decay=1.0)))
     assert span[0] < base[0] and span[1] < base[1] and span[2] == pytest.approx(base[2], rel=VARIANT_RTOL)

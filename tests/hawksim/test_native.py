@@ -137,6 +137,15 @@ def test_advance_with_the_network_in_the_callback_matches_the_python_network():
     np.testing.assert_array_equal(a["t"], b["t"])
 
 
+HISTORY_QUAT_TOL = 5e-7
+"""The body's attitude quaternion after the random history network's 2.5 beats (test below), callback against
+Python: the loads differ by float32 round-off (2.8e-6 of their peak, within NETWORK_REL_TOL), integrated over a flight
+in which this network spins the body at up to 65 rad/s. Measured 1.5e-7 on hawksim 0.3.0's sourced hawkmoth and
+1.4e-8 on hawksim 0.2's (loads apart by 1.8e-6 there; the previous bound, 1e-7, for position and attitude alike): this
+flight of the new morphology amplifies the same round-off ten times more (which of its changes does was not
+isolated); the callback is not less exact (the positions agree to 4e-10, the wing joints exactly)."""
+
+
 def test_history_network_in_the_callback_matches_the_python_network():
     """A network with history lags (T/2 and T) evaluated in the callback, which reads and writes its backend's record
     of calls (StepSurrogateBackend.history, lagged_states), against the same network evaluated in Python at each
@@ -161,7 +170,9 @@ def test_history_network_in_the_callback_matches_the_python_network():
     assert late.sum() > 50
     assert np.abs(a["force"] - b["force"]).max() <= NETWORK_REL_TOL * np.abs(a["force"]).max()
     assert np.abs(a["moment"] - b["moment"]).max() <= NETWORK_REL_TOL * np.abs(a["moment"]).max()
-    np.testing.assert_allclose(qb, qa, rtol=0, atol=1e-7)
+    np.testing.assert_allclose(qb[:3], qa[:3], rtol=0, atol=1e-7)  # position [m] (measured 4e-10)
+    np.testing.assert_allclose(qb[7:], qa[7:], rtol=0, atol=1e-7)  # the wing joints [rad] (measured 0)
+    np.testing.assert_allclose(qb[3:7], qa[3:7], rtol=0, atol=HISTORY_QUAT_TOL)
     # the lagged inputs act: the same network with its history inputs zeroed gives other loads
     flat = StepNetwork(tuple((W.copy(), c.copy()) for W, c in weights), np.zeros(n_in), x_std, np.zeros(6),
                        np.full(6, 2e-3), lags=lags, meta={"test": True})

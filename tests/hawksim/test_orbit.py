@@ -46,8 +46,11 @@ def test_orbit_converges_at_1m_s(orbit_1):
     assert o.converged and o.residual <= ORBIT_TOL, o.history
     assert o.iterations <= 6
     assert abs(o.mean_velocity[2] - 1.0) < 1e-7 and abs(o.mean_velocity[0]) < 1e-7
-    # the free orbit needs more lift than the held-body trim (the body's recoil costs lift): f up by a few %
-    assert 1.0 < o.kinematics.f / 27.0 < 1.1
+    # the free orbit needs more lift than the held-body trim (the body's recoil costs lift): f up by a few % (2.9 %
+    # on hawksim 0.3's shipped quasi-steady trim, 25.04 -> 25.76 Hz)
+    from hawksim.trim.tables import shipped_trim
+
+    assert 1.0 < o.kinematics.f / shipped_trim(1.0, "quasi-steady").kinematics.f < 1.1
 
 
 @pytest.mark.parametrize("speed", [0.0, 1.0, 2.0])

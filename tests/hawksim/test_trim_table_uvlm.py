@@ -14,7 +14,6 @@ from hawksim.backends.held import evaluate
 from hawksim.backends.resolution import Resolution
 from hawksim.insect.kinematics import Kinematics
 from hawksim.trim.registry import shipped_table
-from regeneration import WAITS_FOR_REGENERATION
 
 TABLE = shipped_table("trim_table.json")
 REPRODUCE_TOL = 1e-6
@@ -23,13 +22,11 @@ stored kinematics are rounded to ~1e-10, which the current wake turns into ~1e-8
 measured 1.2e-10 over the shipped rows."""
 
 
-@WAITS_FOR_REGENERATION
 def test_table_is_from_this_version():
-    """hawksim 0.3.0.dev0 is 0.2.0 with issue 48's UVLM: the table, made by 0.2.0, waits for issue 49."""
+    """The table was made by this version's `hawksim reproduce --only trim` (issue 49's regeneration)."""
     assert TABLE["hawksim_version"] == __version__
 
 
-@WAITS_FOR_REGENERATION
 @pytest.mark.parametrize("row", TABLE["rows"], ids=lambda r: f"V={r['speed']:g}")
 def test_trim_reproduces_and_balances(row):
     a = evaluate(Kinematics.from_edge(row["kinematics"]), row["speed"], Resolution(**TABLE["resolution"]))

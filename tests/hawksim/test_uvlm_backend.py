@@ -32,14 +32,15 @@ SYMMETRY_TOL = 1e-9
 """Side force of the explicit symmetric pair as a fraction of the peak |Fz|; roll and yaw moment as a fraction of
 peak |Fz| x R. Round-off; measured 1.4e-16 (force), 2.6e-16 (moments)."""
 
-TABLE4_RTOL = 0.15
-"""Relative: L+ and P+ at Table 3's kinematics vs Nguyen et al. (2020) Table 4 at the coarse 6 x 12 x 40 lattice.
-Our UVLM, morphology and hinge differ from theirs (docs/uvlm.md): 15 % is the band we claim, not derived;
-measured 12.5 % (L+) and 10.6 % (P+) at worst, at 1 and 2 m/s."""
+TABLE4_RTOL = 0.04
+"""Relative: L+ and P+ at Table 3's kinematics vs Nguyen et al. (2020) Table 4 at the 6 x 12 x 40 lattice (3 beats).
+L+ is calibrated there (the feathering axis, issue 49: within 3 % at 0, 1, 2 m/s by the calibration's rule); P+
+is a prediction. Measured L+ -2.3 % / +2.8 %, P+ -0.8 % / +1.1 % at 1 / 2 m/s (hawksim 0.2: 12.5 %, 10.6 %)."""
 
-TABLE4_DM_TOL = 0.05
-"""|D+| and |M+| at the same runs ('near 0'; the paper's trim balances them): a round bound; measured at most
-0.022 (D+)."""
+TABLE4_DM_TOL = 0.08
+"""|D+| and |M+| at the same runs ('near 0'; the paper's trim balances them on its model, not on ours): a round
+bound; measured D+ 0.066 / 0.044 and M+ 0.039 / -0.008 at 1 / 2 m/s on the sourced hawkmoth (its hinges and
+feathering axis moved the horizontal force; hawksim 0.2: at most 0.022)."""
 
 POWER_RISE = 1.1
 """P+(1.5 m/s) must exceed this multiple of P+(0.5 m/s). Table 4: 0.96 -> 1.21 (x 1.26); measured x 1.34 at the
@@ -87,9 +88,9 @@ def test_mirror_images_equal_two_explicit_wings():
 
 
 @pytest.mark.parametrize("speed, L_paper, P_paper", [(1.0, 0.99, 1.09), (2.0, 0.99, 1.34)])
-def test_table3_kinematics_reproduce_table4_within_15_percent(speed, L_paper, P_paper):
+def test_table3_kinematics_reproduce_table4(speed, L_paper, P_paper):
     """Nguyen et al. (2020) Table 4: the UVLM gives L+ and P+ at Table 3's kinematics. Our UVLM, morphology and
-    hinge differ from theirs (see docs/uvlm.md); at the coarse resolution we stay within 15 %, D+ and M+ near 0."""
+    hinge differ from theirs (see docs/uvlm.md); L+ is calibrated to it (the feathering axis), P+ predicted."""
     a = run(table3_kinematics(speed), speed, Resolution(n_chord=6, n_span=12, steps_per_cycle=40, cycles=3)).averages
     assert a.L_plus == pytest.approx(L_paper, rel=TABLE4_RTOL)
     assert a.P_plus == pytest.approx(P_paper, rel=TABLE4_RTOL)

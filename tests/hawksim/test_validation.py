@@ -12,7 +12,6 @@ import pytest
 from hawksim.flight.orbit import periodic_orbit
 from hawksim.stability.floquet import monodromy
 from hawksim.stability.validation import chart_map, fit_rate, validate_speed
-from regeneration import WAITS_FOR_REGENERATION
 
 TARGET = 0.05
 """Relative error |lambda_nl - lambda_floquet| / |lambda_floquet| of issue 19 (item 4)."""
@@ -57,18 +56,18 @@ def test_reach_separates_a_direction_the_launches_barely_reach():
     assert [x >= REACH_MIN for x in r] == [True, True, True, False]
 
 
-UVLM_LATERAL_2MS = complex(0.2296, 0.1010)
-"""Per wingbeat: the UVLM's unstable lateral oscillation at 2 m/s fitted from the perturbed nonlinear flights
-(results/free_flight/validation.json, `hawksim reproduce --only validation_uvlm`, 2026-12-01: 0.2296+0.1010i; the
-monodromy at step 1e-3 gave 0.2286+0.0987i)."""
+UVLM_LATERAL_2MS = 0.1186
+"""Per wingbeat: the UVLM's unstable lateral exponent at 2 m/s (a divergence on the sourced hawkmoth) fitted from the
+perturbed nonlinear flights (results/free_flight/validation.json, `hawksim reproduce --only validation_uvlm` on
+hawksim 0.3: 0.11857; the monodromy gave 0.1185). hawksim 0.2's hawkmoth had an oscillation, 0.2296+0.1010i."""
 
 
 @pytest.mark.slow
-@WAITS_FOR_REGENERATION
 def test_uvlm_floquet_flags_the_wake_mode_and_keeps_the_flight_mode():
-    """UVLM, 2 m/s: the lateral block has a real exponent 1.56 (|mu| 4.8) that no perturbed flight shows
-    (docs/free_flight.md) beside the oscillation the flights confirm; its reach (3e-4) flags the first unresolved
-    and keeps the second (0.29), within issue 19's 5 % of the flights."""
+    """UVLM, 2 m/s: the lateral block has a real exponent 1.23 (|mu| 3.4) that no perturbed flight shows
+    (the flights' fit there is the phase-locked 1.01+0.94i of a beat-to-beat oscillation, not this mode) beside the
+    divergence the flights confirm (0.1185 against 0.1186); the reach test flags the first unresolved and keeps the
+    second, within issue 19's 5 % of the flights."""
     from hawksim.flight.orbit import shipped_orbit
 
     o = shipped_orbit(2.0, "uvlm")
@@ -76,9 +75,9 @@ def test_uvlm_floquet_flags_the_wake_mode_and_keeps_the_flight_mode():
         pytest.skip("no converged shipped UVLM orbit at 2 m/s")
     fq = monodromy(o)
     ex, ok = fq.exponents_lat, fq.resolved_lat
-    osc = [i for i in range(4) if abs(ex[i].imag) > 1e-6 and ok[i]]
-    assert osc, (ex, ok)
-    assert min(abs(ex[i] - UVLM_LATERAL_2MS) for i in osc) <= TARGET * abs(UVLM_LATERAL_2MS)
+    kept = [i for i in range(4) if ok[i] and ex[i].real > 0]
+    assert kept, (ex, ok)
+    assert min(abs(ex[i] - UVLM_LATERAL_2MS) for i in kept) <= TARGET * abs(UVLM_LATERAL_2MS)
     assert not all(ok), "the wake mode should be flagged unresolved"
-    assert all(abs(ex[i]) < 1.0 for i in range(4) if ok[i])  # no resolved exponent near the spurious 1.56
-    assert all(fq.resolved_long[:2])  # the two unstable longitudinal modes (0.835, 0.156) are resolved
+    assert all(abs(ex[i]) < 1.0 for i in range(4) if ok[i])  # no resolved exponent near the spurious 1.23
+    assert all(fq.resolved_long[:2])  # the two unstable longitudinal modes (0.926, 0.182) are resolved
