@@ -1,6 +1,6 @@
 """The three-backend comparison (issue 21, item 6; hawksim.paper.backends): the committed results/backends.json holds
-every backend at 0, 1 and 2 m/s (the UVLM's hover orbit with its prescribed far wake), its table is the one the module makes
-from it, and the Floquet column lists a complex pair once."""
+every backend at 0, 1 and 2 m/s (the UVLM's hover orbit with its prescribed far wake), its table is the one the
+module makes from it, and the Floquet column lists a complex pair once."""
 
 import json
 from pathlib import Path
