@@ -28,7 +28,8 @@ def add_network_args(p, default: str | None) -> None:
     """``--network NAME|FILE`` (a family of :data:`NETWORK_FAMILIES` or a network file) and the deprecated
     ``--model FILE`` (the same as ``--network FILE``), mutually exclusive."""
     which = p.add_mutually_exclusive_group()
-    which.add_argument("--network", metavar="NAME|FILE", default=default, help=NETWORK_HELP + f" (default: {default or 'shipped'})")
+    which.add_argument("--network", metavar="NAME|FILE", default=default,
+                       help=NETWORK_HELP + f" (default: {default or 'shipped'})")
     which.add_argument("--model", help="deprecated spelling of --network FILE")
 
 

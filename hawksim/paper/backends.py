@@ -12,8 +12,8 @@ At 0, 1 and 2 m/s, for the quasi-steady model, the per-step surrogate of the UVL
   quasi-steady flight's);
 * the Floquet multipliers of the orbit: quasi-steady and UVLM from the validation
   (results/free_flight/validation.json, `hawksim reproduce --only validation` / ``validation_uvlm``; the UVLM's with
-  their ``resolved`` flag; its hover orbit flies the prescribed far wake, docs/free_flight.md), the surrogate's from the monodromy on its augmented state (body and
-  record of calls, :func:`hawksim.stability.history_floquet.history_monodromy`; a memoryless network's from its
+  their ``resolved`` flag; its hover orbit flies the prescribed far wake, docs/free_flight.md), the surrogate's
+  from the monodromy on its augmented state (body and record of calls, :func:`hawksim.stability.history_floquet.history_monodromy`; a memoryless network's from its
   shipped control model's monodromy, hawksim/insects/hawkmoth/data/control_models_surrogate.json);
 * controlled flights under the LQR at each backend's default rate (per beat; the surrogate per half-stroke,
   :func:`hawksim.control.schedule.default_rate`; :func:`hawksim.control.closed_loop.fly_closed_loop`): quasi-steady
@@ -307,8 +307,8 @@ def markdown(res: dict) -> str:
         lines.append(f"| {r['speed']:g} | {r['aero']} | {orb} | {lp} | {mu} | {hold} | {ctl} | {gust} | {wall} |")
     lines.append("")
     lines.append(f"`hawksim reproduce --only backends`, {res['date']}, load average {res['loadavg_start'][0]:.1f} to "
-                 f"{res['loadavg_end'][0]:.1f}. L+ of the orbit beat is 1 by periodicity (a check); far wake: the orbit "
-                 "flies the UVLM's prescribed far wake (docs/free_flight.md). Floquet: the two "
+                 f"{res['loadavg_end'][0]:.1f}. L+ of the orbit beat is 1 by periodicity (a check); far wake: the "
+                 "orbit flies the UVLM's prescribed far wake (docs/free_flight.md). Floquet: the two "
                  "largest distinct |mu| per beat of each system (c: a complex pair; *: flagged not resolved by the "
                  "UVLM's reach test). Trim holds: open-loop beats from the orbit beat within "
                  f"{HOLD_SPEED} m/s and {HOLD_PITCH_DEG} deg of it (+: every beat flown). Controlled: issue 20's "
