@@ -13,8 +13,9 @@ At 0, 1 and 2 m/s, for the quasi-steady model, the per-step surrogate of the UVL
 * the Floquet multipliers of the orbit: quasi-steady and UVLM from the validation
   (results/free_flight/validation.json, `hawksim reproduce --only validation` / ``validation_uvlm``; the UVLM's with
   their ``resolved`` flag; its hover orbit flies the prescribed far wake, docs/free_flight.md), the surrogate's
-  from the monodromy on its augmented state (body and record of calls, :func:`hawksim.stability.history_floquet.history_monodromy`; a memoryless network's from its
-  shipped control model's monodromy, hawksim/insects/hawkmoth/data/control_models_surrogate.json);
+  from the monodromy on its augmented state (body and record of calls,
+  :func:`hawksim.stability.history_floquet.history_monodromy`; a memoryless network's from its shipped control
+  model's monodromy, hawksim/insects/hawkmoth/data/control_models_surrogate.json);
 * controlled flights under the LQR at each backend's default rate (per beat; the surrogate per half-stroke,
   :func:`hawksim.control.schedule.default_rate`; :func:`hawksim.control.closed_loop.fly_closed_loop`): quasi-steady
   and surrogate flown here (100 beats from the orbit, 100 from a perturbed start, 30 with a 0.5 m/s lateral gust over
