@@ -82,10 +82,16 @@ def test_a_forward_flight_spec_carries_its_speed_and_data_sets_refuse_it():
 @pytest.mark.slow
 def test_a_committed_uvlm_forward_trim_still_balances_on_the_uvlm():
     """The lowest-speed balanced row of results/forward_flight/uvlm_trims.json, run again on the UVLM at its
-    resolution: within its tolerance, P+ as stored (~3 s)."""
+    resolution for the hawkmoth it was searched on (hawksim 0.2's, ``Morphology.hawksim_0_2()``: the trims wait for
+    their re-run on the sourced one, docs/forward_flight.md): within its tolerance, P+ as stored (~3 s)."""
+    from hawksim.insect.insect import Insect
+    from hawksim.insect.morphology import Morphology
+
     data = json.loads((ROOT / "results/forward_flight/uvlm_trims.json").read_text())
     res = Resolution(**data["resolution"])
     r = next(r for r in data["rows"] if r["converged"])
-    a = run(Kinematics.from_edge(r["kinematics"]), r["speed"], res, forward_speed=r["forward_speed"]).averages
+    old = Insect(morphology=Morphology.hawksim_0_2())
+    a = run(Kinematics.from_edge(r["kinematics"]), r["speed"], res, forward_speed=r["forward_speed"],
+            insect=old).averages
     assert _residual(a) <= r["tolerance"]
     assert a.P_plus == pytest.approx(r["P_plus"], rel=1e-6)
