@@ -392,16 +392,18 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
                 J[:, j] = (F(zj)[0] - r) / h_fd
             dz = np.linalg.solve(J, -r)
             lam = min(1.0, MAX_STEP / np.abs(dz).max())
-            for _ in range(11):
+            for halvings in range(11):
+                if halvings:
+                    lam /= 2
                 try:
                     rn, bn = F(z + lam * dz)
                 except (ValueError, FloatingPointError):  # e.g. the UVLM refuses a far-off flight
                     rn, bn = np.full(6, np.inf), None
                 if np.abs(rn).max() < hist[-1]:
                     break
-                lam /= 2
             if bn is None:
                 break
+            # the step evaluated last, with its own residual (when every halving fails, the last, smallest one)
             z, r, b = z + lam * dz, rn, bn
             hist.append(float(np.abs(r).max()))
             if log is not None:
