@@ -69,7 +69,7 @@ def compare(studies: dict) -> dict:
                                float(np.ptp(slow) / np.ptp(fast))})
     imag = [m["oscillatory"][0][1] if m["oscillatory"] else 0.0 for m in lon_m]
     out["long_imag_falls"] = (all(np.diff(imag) <= 0), {"long_oscillatory_imag": imag})
-    lat_shape = [(len(m["oscillatory"]), [r for r in m["real"] if r < 0].__len__(),
+    lat_shape = [(len(m["oscillatory"]), sum(r < 0 for r in m["real"]),
                   bool(m["oscillatory"]) and m["oscillatory"][0][0] > 0) for m in lat_m]
     out["lat_structure"] = (all(s == (1, 2, True) for s in lat_shape),
                             {"oscillatory_pairs, stable_real, oscillatory_unstable": lat_shape})
