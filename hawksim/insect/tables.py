@@ -25,7 +25,7 @@ from pathlib import Path
 MANIFEST = "manifest.toml"
 """The manifest's file name in an insect folder's ``data/``."""
 
-KINDS = ("trim", "orbit", "control_model", "network", "step_network")
+KINDS = ("trim", "orbit", "control_model", "network", "step_network", "forward_trim")
 """Kinds of shipped file: held-body trim table, free-body orbit table, one-beat control models, cycle-mean network
 (per speed or speed-input), per-step network."""
 

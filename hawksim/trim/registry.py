@@ -67,7 +67,7 @@ def shipped_table(name: str) -> dict | None:
     it."""
     from hawksim.insect.tables import table_status
 
-    for kind in ("trim", "orbit", "control_model"):
+    for kind in ("trim", "orbit", "control_model", "forward_trim"):
         path, _ = table_status(default_insect(), kind, name=name)
         if path is not None:
             return json.loads(path.read_text())

@@ -13,6 +13,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from hawksim.backends.averages import OUTPUTS, CycleAverages
 from hawksim.insect.kinematics import PARAM_NAMES, TABLE3_DEG, TABLE3_SPEEDS, Kinematics
 from hawksim.trim.point import Trim
 
@@ -59,3 +60,40 @@ def shipped_trim(speed: float, aero: str = "uvlm") -> Trim:
 def trim_kinematics(speed: float, aero: str = "uvlm") -> Kinematics:
     """The kinematics of :func:`shipped_trim` at ``speed`` [m/s] on ``aero``, SI (angles in radians, f in Hz)."""
     return shipped_trim(speed, aero).kinematics
+
+
+FORWARD_TRIM_TABLE = "forward_trim_table_quasi_steady.json"
+"""The default hawkmoth's shipped minimum-power trims in level forward flight (quasi-steady, U = 0-5 m/s:
+``python -m scripts.studies.forward_trims --from results/forward_flight/qs_trims.json --ship ...``, its rows'
+searches recorded in the file; docs/forward_flight.md)."""
+
+
+def forward_trim(forward_speed: float, aero: str = "quasi-steady") -> Trim:
+    """The shipped minimum-power trim in level flight at ``forward_speed`` [m/s] (a row of
+    :data:`FORWARD_TRIM_TABLE`, exactly that speed: no interpolation), held-body averages in ``averages``.
+    ValueError naming ``forward_speed`` where the table has no balanced trim there (5 m/s: none balanced within
+    Table 2's bounds) or ``aero`` where it is not the quasi-steady model (the only forward table shipped)."""
+    from hawksim.trim.registry import shipped_table
+
+    if aero != "quasi-steady":
+        raise ValueError(f"aero {aero!r}: the shipped forward-flight trims are the quasi-steady model's "
+                         "(hawksim trim --forward-speed U searches others)")
+    data = shipped_table(FORWARD_TRIM_TABLE)
+    rows = {} if data is None else {float(r["forward_speed"]): r for r in data["rows"] if r["converged"]}
+    row = rows.get(float(forward_speed))
+    if row is None:
+        raise ValueError(f"forward_speed {forward_speed:g} m/s: no shipped balanced forward-flight trim there (they "
+                         f"are at {', '.join(f'{u:g}' for u in sorted(rows)) or 'no speed'} m/s)")
+    return Trim(float(row["speed"]), Kinematics.from_edge(row["kinematics"]), model=aero,
+                source=f"hawksim forward trim table ({data['source']})",
+                averages=CycleAverages(**{k: float(row[k]) for k in (*OUTPUTS, "power_W")}),
+                tolerance=float(row["tolerance"]), search_seed=row["seed"], converged=True,
+                forward_speed=float(forward_speed))
+
+
+def forward_trim_speeds() -> tuple[float, ...]:
+    """Forward speeds [m/s] of the shipped balanced forward-flight trims (:func:`forward_trim`)."""
+    from hawksim.trim.registry import shipped_table
+
+    data = shipped_table(FORWARD_TRIM_TABLE)
+    return tuple(sorted(float(r["forward_speed"]) for r in (data or {"rows": []})["rows"] if r["converged"]))

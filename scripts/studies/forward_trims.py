@@ -26,6 +26,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from hawksim import __version__
+from hawksim.atomic import write_text
 from hawksim.backends.held import body_averages
 from hawksim.flight.lift_coefficient import mean_lift_coefficient, mid_downstroke_incidence
 from hawksim.trim.model_search import BALANCE_RESOLUTION, SEARCH_CONFIG, SEARCH_RESOLUTION, trim_on_model
@@ -132,6 +133,20 @@ def plot(data: dict, path: Path) -> None:
                               "hawksim.flight.lift_coefficient.")
 
 
+SHIPPED_KEYS = ("forward_speed", "speed", "kinematics", "L_plus", "D_plus", "M_plus", "P_plus", "power_W", "converged",
+                "tolerance", "seed", "penalty", "chosen_from")
+
+
+def shipped(data: dict, command: str) -> dict:
+    """The shipped forward-trim table of a best-of file ``data``: per row the kinematics (edge units), the held-body
+    averages, whether it balanced and the search that found it (its seed and command)."""
+    return {"source": "quasi-steady minimum-power trims in level forward flight (GA + Nelder-Mead on Eq. 3, "
+                      "docs/forward_flight.md)", "command": command, "made_from": data["command"],
+            "sources": data.get("sources", [data["command"]]), "hawksim_version": __version__,
+            "created": time.strftime("%Y-%m-%d"), "aero": "quasi-steady",
+            "rows": [{k: r[k] for k in SHIPPED_KEYS} for r in data["rows"]]}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--speeds", type=float, nargs="+", default=list(SPEEDS), help="forward speeds U [m/s]")
@@ -144,6 +159,9 @@ def main() -> None:
     ap.add_argument("--plot", type=Path, help="draw the figure to this PNG (and PDF)")
     ap.add_argument("--markdown", action="store_true", help="print the docs' table instead of the JSON")
     ap.add_argument("--best-of", type=Path, nargs="+", help="merge these files: per speed the lowest-P+ balanced trim")
+    ap.add_argument("--ship", type=Path, metavar="PATH", help="also write the shipped table (the rows' kinematics and "
+                    "averages, the sources' commands): hawksim/insects/hawkmoth/data/forward_trim_table_quasi_steady"
+                    ".json, read by hawksim.trim.tables.forward_trim")
     a = ap.parse_args()
     if a.best_of:
         data = best_of(a.best_of)
@@ -166,6 +184,9 @@ def main() -> None:
                 a.out.write_text(json.dumps(data, indent=1))
     if a.plot is not None:
         plot(data, a.plot)
+    if a.ship is not None:
+        write_text(a.ship, json.dumps(shipped(data, " ".join(["python -m scripts.studies.forward_trims",
+                                                              *sys.argv[1:]])), indent=1) + "\n")
     print(markdown(data) if a.markdown else json.dumps(data))
 
 

@@ -41,6 +41,7 @@ from pathlib import Path
 from hawksim import __version__
 from hawksim.atomic import write_text
 from hawksim.insect.kinematics import Kinematics
+from hawksim.insect.morphology import Morphology
 from hawksim.trim.balance import TRIM_RESOLUTION, balance_on_uvlm
 from hawksim.trim.model_search import REFINE_DIFF_STEP, REFINE_PENALTY, REFINE_RADIUS, refine_on_model
 from scripts.studies.forward_trims import trim_row
@@ -211,7 +212,8 @@ def main() -> None:
     else:
         header = {"command": " ".join(["python -m scripts.studies.forward_uvlm_trims", *sys.argv[1:]]),
                   "hawksim_version": __version__, "created": time.strftime("%Y-%m-%d"),
-                  "resolution": TRIM_RESOLUTION.to_dict(), "method": "refine_on_model (trust-region SLP on P+ + mu "
+                  "morphology": Morphology().name, "resolution": TRIM_RESOLUTION.to_dict(),
+                  "method": "refine_on_model (trust-region SLP on P+ + mu "
                   "x residuals; then balance_on_uvlm where outside the tolerance)", "diff_step": REFINE_DIFF_STEP,
                   "mu": REFINE_PENALTY, "radius": list(REFINE_RADIUS), "max_evals": a.max_evals, "rows": []}
         for U in a.speeds if a.polish else ():
