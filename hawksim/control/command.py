@@ -16,23 +16,33 @@ CONTROL_CHOICES = ("lqr", "clqr", "none")
 beat, quasi-steady or surrogate); none: open loop."""
 
 
-def parse_profile(text: str) -> list[tuple[float, int]]:
-    """``SPEED:BEATS,SPEED:BEATS,...`` (m/s, wingbeats) -> [(speed, beats)]."""
+def parse_forward_profile(text: str) -> list[tuple[float, int]]:
+    """``U:BEATS,U:BEATS,...`` (forward speeds [m/s] within :data:`hawksim.condition.FORWARD_SPEED_RANGE`,
+    wingbeats) -> [(forward speed, beats)]."""
+    from hawksim.condition import FORWARD_SPEED_RANGE
+
+    return parse_profile(text, FORWARD_SPEED_RANGE, "--forward-profile")
+
+
+def parse_profile(text: str, bounds: tuple[float, float] = SPEED_RANGE,
+                  option: str = "--ascent-profile") -> list[tuple[float, int]]:
+    """``SPEED:BEATS,SPEED:BEATS,...`` (m/s within ``bounds``, wingbeats) -> [(speed, beats)]; ValueError naming
+    ``option``."""
     out = []
-    lo, hi = SPEED_RANGE
+    lo, hi = bounds
     for item in filter(None, (s.strip() for s in text.split(","))):
         v, sep, n = item.partition(":")
         try:
             speed, beats = float(v), int(n)
         except ValueError:
-            raise ValueError(f"--ascent-profile item {item!r} is not SPEED:BEATS (m/s, wingbeats)") from None
+            raise ValueError(f"{option} item {item!r} is not SPEED:BEATS (m/s, wingbeats)") from None
         if not sep or not math.isfinite(speed) or not (lo <= speed <= hi):
-            raise ValueError(f"--ascent-profile item {item!r}: speed must be in [{lo:g}, {hi:g}] m/s")
+            raise ValueError(f"{option} item {item!r}: speed must be in [{lo:g}, {hi:g}] m/s")
         if beats < 1:
-            raise ValueError(f"--ascent-profile item {item!r}: beats must be >= 1")
+            raise ValueError(f"{option} item {item!r}: beats must be >= 1")
         out.append((speed, beats))
     if not out:
-        raise ValueError(f"--ascent-profile {text!r} is empty; expected SPEED:BEATS,...")
+        raise ValueError(f"{option} {text!r} is empty; expected SPEED:BEATS,...")
     return out
 
 

@@ -311,6 +311,9 @@ class ConstrainedSchedule(Schedule):
         if insect is not None and insect != default_insect():  # its wing models and plans use Table 2's box
             raise ValueError(f"insect {insect.name!r}: the constrained LQR is designed for the default hawkmoth only "
                              "(control another insect with control='lqr')")
+        if kw.get("axis", "vertical") != "vertical":
+            raise ValueError("axis: the constrained LQR flies vertical ascent only (a forward-flight schedule takes "
+                             "the LQR, Schedule(axis='forward'))")
         super().__init__(v_lo, v_hi, **kw)
         self.horizon = int(horizon)
         self.envelope = envelope

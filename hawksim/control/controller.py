@@ -74,7 +74,9 @@ class LQR:
     controller's: ``'beat'`` per wingbeat, ``'half-stroke'`` per half-stroke), flown from ``speed`` [m/s] toward the
     commanded speed of each beat: ``profile`` [(speed [m/s], beats)] (:func:`profile_speeds`; default ``speed``
     throughout) through a speed reference rate-limited to ``speed_rate`` [m/s per beat] (default the backend
-    descriptor's ``speed_rate``, else :data:`SPEED_RATE`).
+    descriptor's ``speed_rate``, else :data:`SPEED_RATE`). The speeds are along the schedule's :attr:`axis`: vertical
+    speeds, or forward speeds on a forward-flight schedule (whose hold point then moves forward at the speed
+    reference, :meth:`hold_velocity`).
 
     ``feedback=False``: the schedule's reference is followed for the record (speed reference, pitch error,
     commands in the per-beat rows) but the wings keep ``kinematics`` (default the start's): the open-loop flight of
@@ -120,11 +122,17 @@ class LQR:
     _schedule = Schedule
 
     @property
+    def axis(self) -> str:
+        """What ``speed``, the profile and the speed reference are: "vertical" speeds V or "forward" speeds U (the
+        schedule's :attr:`~hawksim.control.schedule.Schedule.axis`)."""
+        return getattr(self.schedule, "axis", "vertical")
+
+    @property
     def point(self):
         """The schedule's periodic orbit at the start speed (:class:`hawksim.flight.orbit.Orbit`), the operating
         point to fly this controller from; ValueError if the start speed is between the schedule's grid speeds."""
         for p in self.schedule.points:
-            if p.speed == self.speed:
+            if p.at(self.axis) == self.speed:
                 return p.orbit
         raise ValueError(f"speed={self.speed:g} m/s is between the schedule's orbits "
                          f"({', '.join(f'{p.speed:g}' for p in self.schedule.points)} m/s): fly_closed_loop starts "
@@ -165,6 +173,20 @@ class LQR:
                                    record=obs.record)
 
     # ---- optional members -------------------------------------------------------------------------
+    def hold_velocity(self) -> np.ndarray | None:
+        """The velocity (2,) [m/s] (stability X forward, Y right) at which the held horizontal point moves from this
+        update on: (U_ref, 0) on a forward schedule (the speed reference), None on a vertical one (the point stays
+        where the flight started)."""
+        return np.array([self.v_ref, 0.0]) if self.axis == "forward" else None
+
+    def pitch_reference(self) -> float | None:
+        """The beat's reference body pitch [rad] (the mean over its updates of the orbits' mean pitch at the speed
+        reference) on a forward-flight schedule, None on a vertical one (its departure test keeps the first beat's
+        pitch)."""
+        if self.axis != "forward" or not self._beat["pitch"]:
+            return None
+        return float(sum(self._beat["pitch"]) / len(self._beat["pitch"]))
+
     def speed_reference(self) -> float:
         self.speed_references.append(self.v_ref)
         return self.v_ref
@@ -187,9 +209,11 @@ class LQR:
 
         applied = [edge_command(kin, command_of(kin, np.asarray(ls), np.asarray(rs)))
                    for kin, (ls, rs) in zip(self._beat["kin"], row["wings"], strict=True)]
+        along = row["mean_forward_speed"] if self.axis == "forward" else row["mean_vertical_speed"]
         out = {"beat": k, "speed_command": float(cmd), "speed_reference": self.v_ref,
                "mean_vertical_speed": row["mean_vertical_speed"],
-               "speed_error": float(row["mean_vertical_speed"] - cmd),
+               **({"mean_forward_speed": row["mean_forward_speed"]} if self.axis == "forward" else {}),
+               "speed_error": float(along - cmd),
                "pitch_error_deg": float(np.rad2deg(pitch_of(pitch).mean() - pitch_ref)),
                "roll_deg": row["roll_deg"], "yaw_deg": row["yaw_deg"],
                "horizontal_offset_m": row["horizontal_offset_m"], "horizontal_drift_m": row["horizontal_drift_m"],

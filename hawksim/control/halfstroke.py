@@ -71,6 +71,10 @@ def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray,
         backend, every = make_orbit_backend(orbit.aero, symmetric=False, insect=orbit.insect)
         sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True,
                                   aero_every=every)
+        if orbit.forward_speed:  # the body's own loads, as on the forward orbit's flights
+            from hawksim.insect.body_aero import BodyAero
+
+            sim.body_aero = BodyAero.of(orbit.insect.morphology)
         sat = None
     lp, rp = (Kinematics.from_array(p if sat is None else sat(p)) for p in wing_kinematics(kin, du_prev))
     sim.set_wings(lp, rp)

@@ -13,6 +13,12 @@ shipped network only) at :func:`surrogate_schedule_speeds` (0, 0.5, 1, 1.5, 2 m/
 insects/hawkmoth/data/control_models_surrogate.json (``hawksim reproduce --only control_surrogate``; without it the
 derivatives are recomputed, ~5 s per speed).
 
+Forward flight (issue 51): a schedule over the forward speed U in level flight (``axis="forward"``), its orbits
+solved at :data:`FORWARD_SCHEDULE_SPEEDS` (0-4 m/s, quasi-steady) from the shipped forward trims (U = 0: the hover
+orbit of the forward table's hover trim, solved without the body's loads as vertical flight is), the body's own loads
+on their flights and the hold point moving forward at the reference U
+(:meth:`hawksim.control.controller.LQR.hold_velocity`).
+
 Per beat the gains are :func:`hawksim.control.lqr.lqr_gain` of the one-beat map; per half-stroke
 :func:`hawksim.control.lqr.periodic_lqr_gains` of the two half-stroke maps (a gain for phase 0 and one for
 phase 0.5), with a sensing delay of d wingbeats counted as 2 d half-strokes and the commands weighted
@@ -23,7 +29,7 @@ from __future__ import annotations
 
 import contextlib
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -102,6 +108,34 @@ the 0 -> 1 m/s reference ramp (0.2 m/s per beat), drives theta0 to Table 2's -25
 perturbation peaks stay below the per-beat controller's (``scripts/studies/control_rate_study.py``,
 docs/control.md "Per beat or per half-stroke")."""
 
+AXES = ("vertical", "forward")
+"""What a schedule's grid runs over: the vertical speed V (forward speed 0; the paper's ascent) or the forward speed U
+(level flight, V = 0)."""
+
+FORWARD_SCHEDULE_SPEEDS = (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)
+"""Forward speeds [m/s] of the forward-flight schedule's orbits (level flight, quasi-steady): each solved from
+:func:`hawksim.trim.tables.forward_trim_kinematics` (the shipped trims at whole m/s, interpolated in between; the
+orbit solve balances them through f and phi0). Half-metre steps: with the orbits at whole m/s only, the references
+interpolated between them (the minimum-power kinematics change by up to 46 deg in beta and 49 deg in alpha_a between
+neighbours) were too far from any equilibrium and the hover-to-4 m/s profile departed near 1.7 m/s (measured,
+docs/forward_flight.md)."""
+
+FORWARD_PHI0_ROOM = float(U_MAX["phi0"])
+"""[rad] The room a forward-flight schedule's orbit keeps between phi0 and its Table 2 bounds: Bryson's acceptable
+phi0 command (:data:`hawksim.control.lqr.U_MAX`, 3 deg). Where the orbit solved through f and phi0 ends closer (the
+minimum-power trims at 2-4 m/s sit on phi0 = -25 deg; the orbits at 1.5-2.5 m/s end at -23.5 to -25.8 deg), phi0 is
+set that far inside the bound and the orbit solved through f and theta0 instead
+(:func:`hawksim.flight.orbit.periodic_orbit`'s ``moment_parameter``; P+ rises by up to 6 %). Model choice, from a
+measurement: with the orbits on or past the bound the LQR drove phi0 onto it from 1.5 m/s and the hover-to-4 m/s
+profile departed near 2 m/s (docs/forward_flight.md)."""
+
+SCHEDULE_ORBIT_FLOOR = 1e-6
+"""A forward-flight orbit whose Newton solve stalls above its backend's tolerance but at or below this normalized
+residual is a schedule point all the same (model choice, from a measurement: the quasi-steady orbit at 4 m/s stalls at
+1.85e-7 against the tolerance 1e-8, every backtracking halving failing, restarted from its own answer with the same
+floor, results/forward_flight/orbits.json; the per-beat LQR about it holds 100 beats). A residual above it is refused
+(FloatingPointError)."""
+
 # Which backends have half-stroke maps (a state settable, or a record kept, at phase 0.5) and why not: their
 # descriptors' ``half_stroke``; their shipped one-beat control derivatives in ``hawksim/data`` (produced by
 # ``hawksim reproduce --only control_uvlm`` / ``control_surrogate``, copied from ``results/control/``): their
@@ -123,6 +157,12 @@ class SchedulePoint:
     half: HalfStrokeModel | None = None
     long_half: Gain | None = None
     lat_half: Gain | None = None
+    forward_speed: float = 0.0
+    """The orbit's forward speed U [m/s] (``speed`` is its vertical one)."""
+
+    def at(self, axis: str) -> float:
+        """The point's place [m/s] on a schedule's ``axis`` (:data:`AXES`): its forward speed or its vertical one."""
+        return self.forward_speed if axis == "forward" else self.speed
 
     def gains(self, phase: int) -> tuple[Gain, Gain]:
         """(long, lat) at update ``phase`` (0; per half-stroke also 1 = phase 0.5)."""
@@ -139,13 +179,17 @@ class SchedulePoint:
         """(body state (9,) SI, horizontal offset (2,) [m] from the hold point) of the orbit at ``phase``."""
         if phase == 0:
             return self.orbit.initial_state.as_array(), np.zeros(2)
+        if self.forward_speed:  # the hold point has moved U T / 2 forward over the first half
+            moved = 0.5 * self.forward_speed * self.orbit.kinematics.period
+            return self.half.x_half, self.half.pos_half - np.array([moved, 0.0])
         return self.half.x_half, self.half.pos_half
 
     def to_json(self) -> dict:
         def mu(g):
             return [[float(z.real), float(z.imag)] for z in g.multipliers if abs(z) > 1e-12]
 
-        out = {"speed": self.speed, "aero": self.orbit.aero, "rate": self.rate, "orbit_f_hz": self.orbit.kinematics.f,
+        out = {"speed": self.speed, **({"forward_speed": self.forward_speed} if self.forward_speed else {}),
+               "aero": self.orbit.aero, "rate": self.rate, "orbit_f_hz": self.orbit.kinematics.f,
                "orbit_residual": self.orbit.residual,
                "open_loop_max_multiplier": float(max(
                    np.abs(self.long.open_loop).max(),
@@ -214,7 +258,35 @@ def insect_key(insect: Insect | None) -> tuple:
     return (json.dumps(insect.to_dict(), sort_keys=True),)
 
 
-def _orbit_and_model(speed: float, aero: str, model, log, insect: Insect | None = None) -> tuple[Orbit, BeatMapModel]:
+def _forward_orbit_and_model(speed: float, forward_speed: float, aero: str, model, log,
+                             insect: Insect | None) -> tuple[Orbit, BeatMapModel]:
+    """The orbit at (``forward_speed``, ``speed``) from the shipped forward trim there, and its one-beat model."""
+    from hawksim.trim.tables import forward_trim_kinematics
+
+    key = point_key(speed, aero, insect, model, "forward", float(forward_speed))
+    if key not in _POINTS:
+        if insect_key(insect) or descriptor(aero).shipped_orbits_only:
+            raise ValueError(f"forward_speed {forward_speed:g} m/s: a forward-flight schedule flies the default "
+                             f"hawkmoth's quasi-steady orbits (not {aero!r} or another insect; fly a given orbit with "
+                             "Schedule.of_orbit)")
+        kin = forward_trim_kinematics(forward_speed)
+        orb = periodic_orbit(speed, aero, model=model, log=log, forward_speed=forward_speed, kinematics=kin)
+        lo, hi = orbit_bounds(orb, "phi0")
+        if not lo + FORWARD_PHI0_ROOM <= orb.kinematics.phi0 <= hi - FORWARD_PHI0_ROOM:  # keep room to command phi0
+            kin = replace(kin, phi0=float(np.clip(orb.kinematics.phi0, lo + FORWARD_PHI0_ROOM, hi - FORWARD_PHI0_ROOM)))
+            orb = periodic_orbit(speed, aero, model=model, log=log, forward_speed=forward_speed, kinematics=kin,
+                                 moment_parameter="theta0")
+        if not (orb.converged or orb.residual <= SCHEDULE_ORBIT_FLOOR):
+            raise FloatingPointError(f"the periodic orbit at {forward_speed:g} m/s forward did not converge "
+                                     f"({orb.residual:.1e})")
+        _POINTS[key] = (orb, linearize(orb, model=model))
+    return _POINTS[key]
+
+
+def _orbit_and_model(speed: float, aero: str, model, log, insect: Insect | None = None,
+                     forward_speed: float = 0.0, axis: str = "vertical") -> tuple[Orbit, BeatMapModel]:
+    if forward_speed or axis == "forward":
+        return _forward_orbit_and_model(speed, forward_speed, aero, model, log, insect)
     key = point_key(speed, aero, insect, model)
     desc = descriptor(aero)
     if key not in _POINTS:
@@ -243,18 +315,23 @@ def _orbit_and_model(speed: float, aero: str, model, log, insect: Insect | None 
 
 def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", model=None, log=None,
                    x_max=None, u_max=None, rate: str = "beat", command_weight: float | None = None,
-                   insect: Insect | None = None) -> SchedulePoint:
+                   insect: Insect | None = None, forward_speed: float = 0.0,
+                   axis: str = "vertical") -> SchedulePoint:
     """Orbit, linearization and LQR gains at ``speed`` [m/s] for a sensing ``delay`` [wingbeats] and update
     ``rate`` (:data:`RATES`); orbits and linear models are cached per process and per insect. ``x_max``/``u_max``
     override Bryson's bounds (:mod:`hawksim.control.lqr`); ``command_weight`` multiplies R of the half-stroke design
     (default :data:`HALF_STROKE_COMMAND_WEIGHT`). ``insect``: the insect controlled (default
     :func:`hawksim.insect.folder.default_insect`): its own orbit (solved here: backends of shipped orbits only take
-    the default insect, ValueError otherwise), linearized on its MJCF (``model`` must be its MJCF if given)."""
+    the default insect, ValueError otherwise), linearized on its MJCF (``model`` must be its MJCF if given).
+    ``forward_speed`` U [m/s] > 0 or ``axis="forward"``: the orbit at (U, ``speed``) from the shipped forward
+    trims' kinematics at U (:func:`hawksim.trim.tables.forward_trim_kinematics`; the quasi-steady model and the
+    default insect only; at U = 0 the forward table's hover trim)."""
     if rate not in RATES:
         raise ValueError(f"--control-rate {rate!r}: choose {', '.join(RATES)}")
     if rate == "half-stroke":
         descriptor(aero).half_stroke.require("rate='half-stroke'", aero)
-    orb, lin = _orbit_and_model(speed, aero, model, log, insect)
+    orb, lin = _orbit_and_model(speed, aero, model, log, insect, forward_speed, axis)
+    fw = ("forward", float(forward_speed)) if forward_speed or axis == "forward" else ()
     if rate == "beat" and orb.record is not None:  # a history network: the per-beat design on the augmented state
         key = point_key(speed, aero, insect, model, "records")
         if key not in _POINTS:
@@ -265,8 +342,8 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     sym = symmetric_inputs(orb) if descriptor(aero).drop_bound_channels else None
     long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
     if rate == "beat":
-        return SchedulePoint(float(speed), orb, lin, long, lat)
-    key = point_key(speed, aero, insect, model, "half-stroke")
+        return SchedulePoint(float(speed), orb, lin, long, lat, forward_speed=float(forward_speed))
+    key = point_key(speed, aero, insect, model, "half-stroke", *fw)
     if key not in _HALF:
         _HALF[key] = linearize_half_stroke(orb, model=model)
     h = _HALF[key]
@@ -276,7 +353,7 @@ def schedule_point(speed: float, *, delay: int = 0, aero: str = "quasi-steady", 
     gl = periodic_lqr_gain(h, "long", d, x_max, um, inputs=sym)  # theta0 out where it sits on its bound
     gt = periodic_lqr_gain(h, "lat", d, x_max, um)
     return SchedulePoint(float(speed), orb, lin, gl[0], gt[0], rate="half-stroke", half=h, long_half=gl[1],
-                         lat_half=gt[1])
+                         lat_half=gt[1], forward_speed=float(forward_speed))
 
 
 ONE_SIDED_DROPPED = tuple(d.name for d in BUILTINS if d.drop_bound_channels)
@@ -292,6 +369,15 @@ keep all four channels; the UVLM's shipped design is left as it was measured."""
 BOUND_TOL = 1e-3
 """A parameter within this [rad; f: Hz] of a Table 2 bound counts as on it (the surrogate's orbits have theta0 at
 24.997-25.000 deg)."""
+
+
+def orbit_bounds(orbit: Orbit, name: str) -> tuple[float, float]:
+    """(lower, upper) bound [rad; f: Hz] of the kinematic parameter ``name`` for the orbit's insect."""
+    from hawksim.insect.kinematics import PARAM_NAMES
+
+    lo, hi = orbit.insect.bounds_si()
+    j = PARAM_NAMES.index(name)
+    return float(lo[j]), float(hi[j])
 
 
 def symmetric_inputs(orbit: Orbit) -> tuple[int, ...]:
@@ -314,12 +400,19 @@ class Schedule:
     """Gain schedule over the ascent speed: :class:`SchedulePoint` at the grid speeds needed for [v_lo, v_hi]
     (``speeds``: default :func:`schedule_speeds` of ``aero``); a range outside the grid's is refused (ValueError).
     ``rate``: :data:`RATES`; ``delay`` [wingbeats]; ``insect`` (default
-    :func:`hawksim.insect.folder.default_insect`, kept as :attr:`insect`); the rest as :func:`schedule_point`."""
+    :func:`hawksim.insect.folder.default_insect`, kept as :attr:`insect`); the rest as :func:`schedule_point`.
+    ``axis="forward"``: the grid runs over the forward speed U in level flight instead (v_lo, v_hi and ``speeds`` are
+    forward speeds; default grid :data:`FORWARD_SCHEDULE_SPEEDS`, quasi-steady, the default insect);
+    :attr:`axis` says which, and every speed the schedule takes (:meth:`reference`, :meth:`command`) is on it."""
 
     def __init__(self, v_lo: float, v_hi: float, *, delay: int = 0, aero: str = "quasi-steady", model=None,
                  log=None, speeds=None, x_max=None, u_max=None, rate: str = "beat",
-                 command_weight: float | None = None, insect: Insect | None = None):
-        if speeds is None:
+                 command_weight: float | None = None, insect: Insect | None = None, axis: str = "vertical"):
+        if axis not in AXES:
+            raise ValueError(f"axis {axis!r}: choose {', '.join(AXES)}")
+        if speeds is None and axis == "forward":
+            speeds = FORWARD_SCHEDULE_SPEEDS
+        elif speeds is None:
             speeds = schedule_speeds(aero)
         if not len(speeds):
             raise ValueError(f"no {aero} control schedule: no shipped {aero} orbit for this network "
@@ -332,26 +425,32 @@ class Schedule:
         hi = sp[min(len(sp) - 1, np.searchsorted(sp, v_hi, side="left"))]
         self.delay = int(delay)
         self.rate = rate
+        self.axis = axis
         self.insect = default_insect() if insect is None else insect
         self.per_beat = HALVES if rate == "half-stroke" else 1
-        self.points = [schedule_point(v, delay=delay, aero=aero, model=model, log=log, x_max=x_max, u_max=u_max,
-                                      rate=rate, command_weight=command_weight, insect=insect)
+        fw = axis == "forward"
+        self.points = [schedule_point(0.0 if fw else v, delay=delay, aero=aero, model=model, log=log, x_max=x_max,
+                                      u_max=u_max, rate=rate, command_weight=command_weight, insect=insect,
+                                      forward_speed=v if fw else 0.0, axis=axis)
                        for v in sp if lo - 1e-12 <= v <= hi + 1e-12]
-        self.speeds = np.array([p.speed for p in self.points])
+        self.speeds = np.array([p.at(axis) for p in self.points])
 
     @classmethod
     def of_orbit(cls, orbit: Orbit, *, delay: int = 0, model=None, x_max=None, u_max=None) -> Schedule:
         """A one-point per-beat schedule about a given periodic orbit (a forward-flight one, issue 51: no grid of
         shipped or solved forward orbits exists): its linear model (:func:`hawksim.control.derivatives.linearize`,
         differenced here) and LQR gains as :func:`schedule_point` makes them; every speed reference is that orbit's.
-        The orbit's insect must be the default one or the model its MJCF (``model``)."""
+        The orbit's insect must be the default one or the model its MJCF (``model``). The axis is "forward" for an
+        orbit with a forward speed (the LQR's speed is then U), else "vertical"."""
         lin = linearize(orbit, model=model)
         sym = symmetric_inputs(orbit) if descriptor(orbit.aero).drop_bound_channels else None
         long, lat = lqr_gain(lin, "long", delay, x_max, u_max, inputs=sym), lqr_gain(lin, "lat", delay, x_max, u_max)
         self = cls.__new__(cls)
         self.delay, self.rate, self.insect, self.per_beat = int(delay), "beat", orbit.insect, 1
-        self.points = [SchedulePoint(float(orbit.speed), orbit, lin, long, lat)]
-        self.speeds = np.array([float(orbit.speed)])
+        self.axis = "forward" if orbit.forward_speed else "vertical"
+        self.points = [SchedulePoint(float(orbit.speed), orbit, lin, long, lat,
+                                     forward_speed=float(orbit.forward_speed))]
+        self.speeds = np.array([self.points[0].at(self.axis)])
         return self
 
     def weights(self, v: float) -> list[tuple[float, SchedulePoint]]:

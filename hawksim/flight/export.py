@@ -177,6 +177,10 @@ def flight_file_bytes(result: FlightResult, beats: list[dict], *, command: list[
             "speed_references_m_s": (None if result.speed_references is None
                                      else [float(v) for v in result.speed_references]),
             "beat_log": result.beat_log,
+            **({"forward_speed_target_m_s": result.forward_speed_target} if result.forward_speed_target else {}),
+            **({"reference_axis": result.reference_axis, "pitch_references_deg": [float(v) for v in
+                                                                                 result.pitch_references]}
+               if result.pitch_references is not None else {}),
             "insect": result.insect.to_dict(),
             "insect_units": "SI (kg, m); P0_W [W]; bounds_deg: f [Hz], the angles [deg] "
                             "(hawksim.insect.insect.Insect.to_dict)",

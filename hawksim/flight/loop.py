@@ -117,6 +117,11 @@ class Controller(Protocol):
       the beat's :class:`hawksim.flight.simulator.StepBatch` list, one per update (default that row).
     - ``speed_reference()`` [m/s]: the speed the beat is flown to (default the operating point's speed), recorded
       per beat for the departure test.
+    - ``axis``: what the speed references are, ``"vertical"`` (default) or ``"forward"`` speeds.
+    - ``pitch_reference()`` [rad] or None: the beat's reference body pitch, recorded per beat for the departure test
+      where given (a forward-flight schedule's).
+    - ``hold_velocity()`` (2,) [m/s] or None: the velocity (stability X, Y) the held horizontal point moves at from
+      this update on (default: it stays, or moves at the forward speed flown).
 
     The shipped implementations: :class:`hawksim.control.controller.NoControl`, :class:`hawksim.control.controller.
     LQR` (per beat or per half-stroke) and :class:`hawksim.control.controller.ConstrainedLQR`;
@@ -190,7 +195,7 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
     if gusts and controller is None:
         raise ValueError("gusts: a flight in wind runs on the controlled plant; pass a controller (NoControl for "
                          "the operating point's kinematics)")
-    batches, rows, refs = [], [], []
+    batches, rows, refs, pitch_refs = [], [], [], []
     if controller is not None:
         from hawksim.flight.orbit import backend_record
 
@@ -208,8 +213,12 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
 
         controller.reset(point)
         hold, t_hold = stability_position(sim.d.qpos[:3]), float(sim.d.time)
+        hold_velocity = getattr(controller, "hold_velocity", None)
+        moving = {}  # a controller's moving hold point: where it was at time t and its velocity since
 
         def held():  # the hold point; in forward flight it moves forward at U (stability X is world x)
+            if moving:
+                return moving["at"] + moving["v"] * (float(sim.d.time) - moving["t"])
             if not forward_speed:
                 return hold
             return hold + np.array([forward_speed * (float(sim.d.time) - t_hold), 0.0])
@@ -222,12 +231,13 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
                   for i in range(keep)]
         beat_row = getattr(controller, "beat_row", _default_row)
         speed_ref = getattr(controller, "speed_reference", None)
+        pitch_ref = getattr(controller, "pitch_reference", None)
     if progress is not None and controller is not None:
         progress(0, cycles)
     end_t = end_pos = None
     try:
         for k in range(1, int(cycles) + 1):
-            t0, z0 = sim.d.time, sim.d.qpos[2]
+            t0, x0_, z0 = sim.d.time, sim.d.qpos[0], sim.d.qpos[2]
             if controller is not None:
                 air = sum((g.at(k) for g in gusts), np.zeros(3))
                 sim.air_v = air
@@ -238,6 +248,9 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
                     obs = Observation(beat=k, half=seg, time=float(sim.d.time), state=x_s, position=pos_s,
                                       record=rec_s, past=tuple(flown), past_sent=tuple(sent), point=point)
                     lp, rp = _wings(controller.update(obs), controller)
+                    v_hold = hold_velocity() if hold_velocity is not None else None
+                    if v_hold is not None:  # the hold point moves on at the controller's velocity from here
+                        moving.update(at=held(), t=float(sim.d.time), v=np.asarray(v_hold, float))
                     ls, rs = saturate(lp, insect), saturate(rp, insect)
                     saturated |= bool(max(np.abs(ls - lp).max(), np.abs(rs - rp).max()) > SATURATION_TOL)
                     wings.append((ls, rs))
@@ -265,8 +278,12 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
                 x, pos = sensed[-1][0], sensed[-1][1]
                 att = attitude_of(R)
                 refs.append(float(speed_ref()) if speed_ref is not None else float(speed))
+                p_ref = pitch_ref() if pitch_ref is not None else None
+                if p_ref is not None:
+                    pitch_refs.append(float(np.rad2deg(p_ref)))
                 rows.append(beat_row({
                     "beat": k, "mean_vertical_speed": float((sim.d.qpos[2] - z0) / (sim.d.time - t0)),
+                    "mean_forward_speed": float((sim.d.qpos[0] - x0_) / (sim.d.time - t0)),
                     "mean_pitch_deg": float(np.rad2deg(pitch_of(R).mean())),
                     "roll_deg": float(np.rad2deg(att[:, 1].mean())), "yaw_deg": float(np.rad2deg(att[:, 2].mean())),
                     "horizontal_offset_m": [float(pos[0]), float(pos[1])],
@@ -298,7 +315,9 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
         wall_time_s=wall,
         extras=extras, trim_source=source, end_t=end_t, end_pos=end_pos, aero_every=sim.aero_every, insect=insect,
         beat_log=rows if controller is not None else None,
-        speed_references=np.array(refs) if controller is not None else None, forward_speed_target=float(forward_speed))
+        speed_references=np.array(refs) if controller is not None else None, forward_speed_target=float(forward_speed),
+        reference_axis=getattr(controller, "axis", "vertical"),
+        pitch_references=np.array(pitch_refs) if pitch_refs else None)
 
 
 def fly(point, backend=None, cycles: int | None = None, *, controller: Controller | None = None,
@@ -405,11 +424,14 @@ def fly(point, backend=None, cycles: int | None = None, *, controller: Controlle
             if hasattr(backend, "bind"):
                 backend.bind(sim)
         sim.set_wings(kin, kin)
-    if forward_speed:  # the body's own loads act in forward flight, as in the orbit's flights (hawksim.flight.orbit)
+    # the body's own loads act in forward flight, as in the orbit's flights (hawksim.flight.orbit), and on a
+    # forward-flight schedule's flights from hover on (its grid's orbits at U > 0 have them)
+    if forward_speed or getattr(controller, "axis", "vertical") == "forward":
         from hawksim.condition import check_forward_backend
         from hawksim.insect.body_aero import BodyAero
 
-        check_forward_backend(aero if aero is not None else getattr(sim.backend, "name", ""), forward_speed)
+        if forward_speed:  # (a forward schedule's backends are checked where its orbits are solved)
+            check_forward_backend(aero if aero is not None else getattr(sim.backend, "name", ""), forward_speed)
         sim.body_aero = BodyAero.of(insect.morphology)
     name = getattr(sim.backend, "name", aero)
     deg = np.pi / 180

@@ -242,11 +242,17 @@ def orbit_residual(kin: Kinematics, speed: float, b: Beats, warm: int, morph: Mo
     return np.array([dx[0] / U, dx[2] / U, dx[4] * T, dx[7], mx / U, (mv[2] - speed) / U])
 
 
+MOMENT_PARAMETERS = ("phi0", "alpha0", "theta0")
+"""The kinematic parameters a periodic-orbit solve may balance the mean pitching moment with (its sixth unknown,
+radians): phi0 (the mean sweep, the default) or, where phi0 is wanted elsewhere (e.g. off a Table 2 bound), the
+mean feathering alpha0 or the mean deviation theta0."""
+
+
 def unpack_unknowns(z: np.ndarray, base: Kinematics, f_ref: float,
-                    morph: Morphology | None = None) -> tuple[Kinematics, np.ndarray]:
-    """Normalized unknowns z = (u/U, w/U, q T, theta, f/f_ref, phi0) -> (kinematics, launch state (9,)) (``morph``:
-    the insect's morphology of :func:`scales`)."""
-    kin = replace(base, f=float(z[4] * f_ref), phi0=float(z[5]))
+                    morph: Morphology | None = None, moment_parameter: str = "phi0") -> tuple[Kinematics, np.ndarray]:
+    """Normalized unknowns z = (u/U, w/U, q T, theta, f/f_ref, phi0 (or ``moment_parameter``)) -> (kinematics,
+    launch state (9,)) (``morph``: the insect's morphology of :func:`scales`)."""
+    kin = replace(base, f=float(z[4] * f_ref), **{moment_parameter: float(z[5])})
     U, T = scales(kin, morph)
     x = np.zeros(9)
     x[0], x[2], x[4], x[7] = z[0] * U, z[1] * U, z[2] / T, z[3]
@@ -281,7 +287,8 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
                    tol: float | None = None, max_iter: int = 20, warm_beats: int | None = None,
                    model: mujoco.MjModel | None = None, x0: np.ndarray | None = None, log=None,
                    fd_step: float | None = None, insect: Insect | None = None,
-                   far_wake: FarWake | None | str = "auto", forward_speed: float = 0.0) -> Orbit:
+                   far_wake: FarWake | None | str = "auto", forward_speed: float = 0.0,
+                   moment_parameter: str = "phi0") -> Orbit:
     """Newton shooting for the symmetric periodic orbit at ascent ``speed`` [m/s] and ``forward_speed`` [m/s]
     (:mod:`hawksim.condition`; default 0, vertical flight).
 
@@ -320,7 +327,12 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     shipped: start from a trim of :func:`hawksim.trim.model_search.trim_on_model`, ValueError naming
     ``forward_speed`` otherwise), and a network backend (trained on vertical flight only) is refused
     (:func:`hawksim.condition.check_forward_backend`). The orbit carries ``forward_speed``.
+
+    ``moment_parameter`` (:data:`MOMENT_PARAMETERS`): the parameter solved with f instead of phi0 (then phi0
+    stays at the start's); ValueError naming it otherwise.
     """
+    if moment_parameter not in MOMENT_PARAMETERS:
+        raise ValueError(f"moment_parameter {moment_parameter!r}: choose one of {', '.join(MOMENT_PARAMETERS)}")
     from hawksim.condition import check_forward_backend, check_forward_speed
 
     t_start = time.perf_counter()
@@ -360,18 +372,18 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
         x0 = initial_guess(base, speed, fl, 0, forward_speed)
     morph = insect.morphology  # the velocity unit is this insect's wing speed
     U, T = scales(base, morph)
-    z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, base.phi0])
+    z = np.array([x0[0] / U, x0[2] / U, x0[4] * T, x0[7], 1.0, getattr(base, moment_parameter)])
     rec = None  # the record the flights start with (a delay orbit's; None: no record)
 
     def F(zz):
-        kin, x = unpack_unknowns(zz, base, f_ref, morph)
+        kin, x = unpack_unknowns(zz, base, f_ref, morph, moment_parameter)
         b = fl.fly(kin, x, warm + 1, chi, record=rec)
         return orbit_residual(kin, speed, b, warm, morph, forward_speed), b
 
     def met(rr, zz) -> bool:
         if tol is not None:
             return float(np.abs(rr).max()) <= tol
-        kin_, _ = unpack_unknowns(zz, base, f_ref, morph)
+        kin_, _ = unpack_unknowns(zz, base, f_ref, morph, moment_parameter)
         return desc.orbit_tolerance.met(rr, *scales(kin_, morph))
 
     hist: list[float] = []
@@ -424,7 +436,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
             z, r, b, it = newton(z, it)
         if log is not None:
             log(f"record: max change over the periodic beat {change:.2e}")
-    kin, x_launch = unpack_unknowns(z, base, f_ref, morph)
+    kin, x_launch = unpack_unknowns(z, base, f_ref, morph, moment_parameter)
     floor = 0.0
     if warm > 0:
         bf = fl.fly(kin, x_launch, warm + 2, chi)

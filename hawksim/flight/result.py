@@ -79,6 +79,14 @@ class FlightResult:
     forward_speed_target: float = 0.0
     """The forward speed U [m/s] flown to (:mod:`hawksim.condition`; 0: vertical flight), which the horizontal speed
     of :meth:`departed_at_beat` is tested against; in the summary only where nonzero."""
+    reference_axis: str = "vertical"
+    """What :attr:`speed_references` are: vertical speeds (the ascent's) or "forward" speeds (a forward-flight
+    schedule's, :attr:`hawksim.control.schedule.Schedule.axis`: the horizontal speed is tested against them, the
+    vertical one against :attr:`speed_target`)."""
+    pitch_references: np.ndarray | None = None
+    """A flight under a forward-flight schedule: each beat's reference body pitch (beats,) [deg] (the orbits' mean
+    pitch interpolated at the speed reference), which the pitch of :meth:`departed_at_beat` is tested against (the
+    body angle changes by tens of degrees from hover to 4 m/s); None otherwise."""
 
     @property
     def body_R(self) -> np.ndarray:
@@ -148,18 +156,30 @@ class FlightResult:
         beat)."""
         beats = self.beats() if beats is None else beats
         ref = beats[0]
-        r = self.speed_references
+        r, pr = self.speed_references, self.pitch_references
+        forward = r is not None and self.reference_axis == "forward"
+
+        def outside(v, k):  # how far v is outside this beat's and the previous beat's reference (the first beat's:
+            # the start's, the forward target)
+            a = r[min(k - 1, len(r) - 1)]
+            c = r[max(0, min(k - 2, len(r) - 1))] if k > 1 or not forward else self.forward_speed_target
+            return max(min(a, c) - v, v - max(a, c), 0.0)
+
+        def pitch_off(b, k):  # against the first beat's, or (a forward schedule) against the reference's change
+            if pr is None:
+                return b["pitch_deg"] - ref["pitch_deg"]
+            return (b["pitch_deg"] - pr[min(k - 1, len(pr) - 1)]) - (ref["pitch_deg"] - pr[0])
+
         for k, b in enumerate(beats, 1):
             vz = b["mean_vertical_speed"]
-            if r is None:
-                off = abs(vz - self.speed_target)
+            off = outside(vz, k) if r is not None and not forward else abs(vz - self.speed_target)
+            if forward:
+                vh = outside(b["horizontal_speed"], k)
             else:
-                a, c = r[min(k - 1, len(r) - 1)], r[max(0, min(k - 2, len(r) - 1))]
-                off = max(min(a, c) - vz, vz - max(a, c), 0.0)
-            vh = b["horizontal_speed"] - self.forward_speed_target if self.forward_speed_target else \
-                b["horizontal_speed"]
-            if (off > DEPARTURE_SPEED or abs(vh) > DEPARTURE_SPEED
-                    or any(abs(b[a] - ref[a]) > DEPARTURE_ANGLE_DEG for a in ("pitch_deg", "roll_deg", "yaw_deg"))):
+                vh = b["horizontal_speed"] - self.forward_speed_target if self.forward_speed_target else \
+                    b["horizontal_speed"]
+            if (off > DEPARTURE_SPEED or abs(vh) > DEPARTURE_SPEED or abs(pitch_off(b, k)) > DEPARTURE_ANGLE_DEG
+                    or any(abs(b[a] - ref[a]) > DEPARTURE_ANGLE_DEG for a in ("roll_deg", "yaw_deg"))):
                 return k
         return None
 
@@ -267,4 +287,8 @@ class FlightResult:
                    end_pos=None if end_pos is None else np.array(end_pos, dtype=float), aero_every=int(aero_every),
                    insect=insect, beat_log=meta.get("beat_log"),
                    speed_references=None if meta.get("speed_references_m_s") is None
-                   else np.array(meta["speed_references_m_s"], dtype=float))
+                   else np.array(meta["speed_references_m_s"], dtype=float),
+                   forward_speed_target=float(meta.get("forward_speed_target_m_s", 0.0)),
+                   reference_axis=meta.get("reference_axis", "vertical"),
+                   pitch_references=None if meta.get("pitch_references_deg") is None
+                   else np.array(meta["pitch_references_deg"], dtype=float))

@@ -97,3 +97,21 @@ def forward_trim_speeds() -> tuple[float, ...]:
 
     data = shipped_table(FORWARD_TRIM_TABLE)
     return tuple(sorted(float(r["forward_speed"]) for r in (data or {"rows": []})["rows"] if r["converged"]))
+
+
+def forward_trim_kinematics(forward_speed: float) -> Kinematics:
+    """The quasi-steady forward-flight kinematics at ``forward_speed`` [m/s]: the shipped trim's there
+    (:func:`forward_trim`), between two shipped speeds the parameters interpolated linearly (as
+    :func:`shipped_trim` does in vertical flight; not a balanced trim: a periodic-orbit solve balances it through f
+    and phi0). ValueError naming ``forward_speed`` outside the shipped balanced range (0-4 m/s)."""
+    speeds = forward_trim_speeds()
+    u = float(forward_speed)
+    if not speeds or not (speeds[0] <= u <= speeds[-1]):
+        raise ValueError(f"forward_speed {forward_speed:g} m/s is outside the shipped forward trims' range "
+                         f"[{speeds[0]:g}, {speeds[-1]:g}] m/s" if speeds else "no shipped forward trims")
+    if u in speeds:
+        return forward_trim(u).kinematics
+    i = int(np.searchsorted(speeds, u)) - 1
+    a, b = forward_trim(speeds[i]).kinematics.as_array(), forward_trim(speeds[i + 1]).kinematics.as_array()
+    w = (u - speeds[i]) / (speeds[i + 1] - speeds[i])
+    return Kinematics.from_array((1 - w) * a + w * b)
