@@ -8,6 +8,7 @@ The public names below are imported on first use.
 Modules:
 
 - ``uvlm``: the unsteady vortex-lattice method (free wake, vortex-core growth, leading-edge suction, loads).
+- ``uvlm_config``: the UVLM's constants and switches (:class:`UVLMConfig`).
 - ``wake``: the shed wake's rows of vortex rings.
 - ``mesh``: wing meshes of a planform.
 - ``lattice``, ``lattice_lanes``, ``biot_savart``: induced velocities of vortex lattices (the kernels).

@@ -7,6 +7,7 @@ its open-loop wrapper of the older signature, keeps the name out of this package
 Modules:
 
 - ``simulator``: the flight loop (RK4 + computed torque on the wing joints, the backend's loads each update).
+- ``steps``: what the flight loop's steps produce (:class:`StepBatch`, one step's ``StepRecord``).
 - ``native``, ``network_kernel``, ``mujoco_abi``: the compiled control callback and the per-step network in it.
 - ``body_state``: the body's 9-state chart (velocities, rates, attitude) and reading/writing it in MuJoCo.
 - ``start``: the start on the trim's periodic path and named perturbations.

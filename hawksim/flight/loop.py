@@ -114,7 +114,7 @@ class Controller(Protocol):
     - ``sensed_before_start(half)``: the (state, position, record) taken as sensed before the start at update
       ``half`` (default the start).
     - ``beat_row(row, steps)``: the per-beat row of :attr:`FlightResult.beat_log` given the loop's measured one and
-      the beat's :class:`hawksim.flight.simulator.StepBatch` list, one per update (default that row).
+      the beat's :class:`hawksim.flight.steps.StepBatch` list, one per update (default that row).
     - ``speed_reference()`` [m/s]: the speed the beat is flown to (default the operating point's speed), recorded
       per beat for the departure test.
     - ``axis``: what the speed references are, ``"vertical"`` (default) or ``"forward"`` speeds.
