@@ -31,6 +31,13 @@ SPEED_RATE = 0.2
 some backends; a rate-limited prefilter: a step of 1 m/s is far outside the linear model)."""
 
 
+FORWARD_SPEED_RATE = 0.05
+"""Largest change of a forward-flight schedule's speed reference per wingbeat [m/s] (about 1.3-1.9 m/s^2 at 25-37
+Hz). Model choice, from a measurement (scripts/studies/forward_control.py, docs/forward_flight.md): at
+:data:`SPEED_RATE` (0.2 m/s per beat, about half a g) the hover-to-4 m/s profile saturated f and alpha0 and departed
+in its 7th beat; at 0.05 it holds there and back."""
+
+
 def profile_speeds(profile: list[tuple[float, int]] | None, speed: float, beats: int) -> np.ndarray:
     """Commanded speed (beats,) per wingbeat: the profile's (speed, beats) pieces in turn, its last speed held
     after it (or ``speed`` throughout without a profile)."""
@@ -74,9 +81,9 @@ class LQR:
     controller's: ``'beat'`` per wingbeat, ``'half-stroke'`` per half-stroke), flown from ``speed`` [m/s] toward the
     commanded speed of each beat: ``profile`` [(speed [m/s], beats)] (:func:`profile_speeds`; default ``speed``
     throughout) through a speed reference rate-limited to ``speed_rate`` [m/s per beat] (default the backend
-    descriptor's ``speed_rate``, else :data:`SPEED_RATE`). The speeds are along the schedule's :attr:`axis`: vertical
-    speeds, or forward speeds on a forward-flight schedule (whose hold point then moves forward at the speed
-    reference, :meth:`hold_velocity`).
+    descriptor's ``speed_rate``, else :data:`SPEED_RATE`; on a forward-flight schedule :data:`FORWARD_SPEED_RATE`).
+    The speeds are along the schedule's :attr:`axis`: vertical speeds, or forward speeds on a forward-flight schedule
+    (whose hold point then moves forward at the speed reference, :meth:`hold_velocity`).
 
     ``feedback=False``: the schedule's reference is followed for the record (speed reference, pitch error,
     commands in the per-beat rows) but the wings keep ``kinematics`` (default the start's): the open-loop flight of
@@ -98,6 +105,8 @@ class LQR:
             aero = schedule.points[0].orbit.aero
             desc = descriptor(aero)
             speed_rate = desc.speed_rate if desc.speed_rate is not None else SPEED_RATE
+            if getattr(schedule, "axis", "vertical") == "forward":
+                speed_rate = FORWARD_SPEED_RATE
         self.speed_rate = float(speed_rate)
         self.feedback = bool(feedback)
         self.kinematics = kinematics
