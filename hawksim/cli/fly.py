@@ -231,12 +231,13 @@ def _check_forward_fly(args) -> None:
     asked = [f"--{k.replace('_', '-')}" for k in ("ascent_profile", "rrd") if getattr(args, k, None)]
     if args.control == "clqr":
         asked.append("--control clqr")
-    if args.control == "lqr" and args.aero != "quasi-steady":
-        asked.append(f"--control lqr --aero {args.aero}")
+    if args.control == "lqr" and args.aero != "quasi-steady" and not args.kinematics_given:
+        asked.append(f"--control lqr --aero {args.aero} without --kinematics (the forward-flight schedule is "
+                     "quasi-steady; the UVLM flies the per-beat LQR about the orbit of given kinematics)")
     if asked or args.start == "trim" or args.steps_per_cycle != STEPS_PER_CYCLE:
         what = ", ".join(asked) or "--start trim or --steps-per-cycle"
-        raise UsageError(f"--forward-speed {u:g} flies open loop or under --control lqr (quasi-steady) from the "
-                         f"periodic orbit only (not yet with {what}; docs/forward_flight.md)")
+        raise UsageError(f"--forward-speed {u:g} flies open loop or under --control lqr from the periodic orbit only "
+                         f"(not yet with {what}; docs/forward_flight.md)")
     scheduled = [f"--{k.replace('_', '-')}" for k in ("forward_profile", "gust") if getattr(args, k, None)]
     if args.control_rate == "half-stroke":
         scheduled.append("--control-rate half-stroke")

@@ -11,6 +11,7 @@ orbits at :data:`hawksim.control.schedule.FORWARD_SCHEDULE_SPEEDS`). Measured he
   :data:`hawksim.control.controller.SPEED_RATE`), with where it departed and the commands then.
 
     python -m scripts.studies.forward_control --out results/forward_flight/control.json
+    python -m scripts.studies.forward_control --from results/forward_flight/control.json --markdown
 """
 
 from __future__ import annotations
@@ -61,6 +62,39 @@ def holds(sch: Schedule, beats: int) -> list[dict]:
     return rows
 
 
+def markdown(d: dict) -> str:
+    """The docs' tables: the holds, the gusts, the profiles."""
+    lines = ["| U [m/s] | rate | orbit P+ | closed-loop spectral radius (lon, lat) | departed | largest pitch error "
+             "[deg] | last beat: forward speed error [m/s], pitch error, roll [deg] | beats saturated |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in d["holds"]:
+        last = r["last"]
+        lines.append(f"| {r['forward_speed']:g} | {r['rate']} | {r['orbit_P_plus']:.3f} | "
+                     f"{r['closed_loop_spectral_radius'][0]:.3f}, {r['closed_loop_spectral_radius'][1]:.3f} | "
+                     f"{'beat ' + str(r['departed_at_beat']) if r['departed_at_beat'] else 'no'} | "
+                     f"{r['largest_pitch_error_deg']:.2f} | {last['forward_speed_error']:+.1e}, "
+                     f"{last['pitch_error_deg']:+.3f}, {last['roll_deg']:+.3f} | {r['saturated_beats']} |")
+    lines += ["", "| gust at 3 m/s (0.5 m/s, beat 5) | departed | largest pitch error [deg] | largest roll [deg] | "
+              "beat 40: forward speed error [m/s], pitch error, roll [deg], sideways offset [mm] |",
+              "|---|---|---|---|---|"]
+    for g in d["gusts"]:
+        last = g["last"]
+        lines.append(f"| {g['from']} | {'beat ' + str(g['departed_at_beat']) if g['departed_at_beat'] else 'no'} | "
+                     f"{g['largest_pitch_error_deg']:.2f} | {g['largest_roll_deg']:.2f} | "
+                     f"{last['forward_speed_error']:+.1e}, {last['pitch_error_deg']:+.3f}, {last['roll_deg']:+.3f}, "
+                     f"{1e3 * last['horizontal_offset_m'][1]:+.1f} |")
+    lines += ["", "| profile | speed rate [m/s per beat] | departed | largest pitch error [deg] | largest roll [deg] | "
+              "beats saturated | last beat: forward speed [m/s] |", "|---|---|---|---|---|---|---|"]
+    for p in d["profiles"]:
+        dep = "no" if p["departed_at_beat"] is None else (
+            f"beat {p['departed_at_beat']} (reference {p['at_departure']['speed_reference']:.2f} m/s, flying "
+            f"{p['at_departure']['mean_forward_speed']:.2f})")
+        lines.append(f"| 0 -> {p['top']:g} -> 0 m/s | {p['speed_rate']:g} | {dep} | {p['largest_pitch_error_deg']:.2f}"
+                     f" | {p['largest_roll_deg']:.2f} | {p['saturated_beats']} of {p['beats']} | "
+                     f"{p['last']['mean_forward_speed']:.4f} |")
+    return "\n".join(lines)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--beats", type=int, default=100)
@@ -68,8 +102,16 @@ def main() -> None:
     ap.add_argument("--speed-rates", type=float, nargs="*", default=[FORWARD_SPEED_RATE, SPEED_RATE],
                     help="the profiles' speed-reference rates [m/s per beat]")
     ap.add_argument("--profile-tops", type=float, nargs="*", default=[4.0])
-    ap.add_argument("--out", type=Path, required=True)
+    ap.add_argument("--out", type=Path, help="write the JSON here")
+    ap.add_argument("--from", dest="source", type=Path, help="read the JSON instead of computing")
+    ap.add_argument("--markdown", action="store_true", help="print the docs' tables")
     a = ap.parse_args()
+    if a.source is not None:
+        d = json.loads(a.source.read_text())
+        print(markdown(d) if a.markdown else json.dumps(d))
+        return
+    if a.out is None:
+        ap.error("--out or --from is required")
     t0 = time.time()
     sch = Schedule(0.0, 4.0, axis="forward")
     out = {"command": " ".join(["python -m scripts.studies.forward_control", *sys.argv[1:]]),
