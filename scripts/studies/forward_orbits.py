@@ -58,11 +58,13 @@ exponent ln(mu) is matched within this relative error (the criterion docs/free_f
 "unstable exponents within ~10 %")."""
 
 
-def start_kinematics(aero: str, forward_speed: float):
-    """The kinematics (SI) the orbit starts from: the quasi-steady trim's row, or the UVLM balance's, at U."""
+def start_kinematics(aero: str, forward_speed: float, path: Path | None = None):
+    """The kinematics (SI) the orbit starts from: the quasi-steady trim's row, or the UVLM balance's, at U (or the
+    row at U of ``path``, e.g. the UVLM minimum-power trims of scripts/studies/forward_uvlm_trims.py)."""
     from hawksim.insect.kinematics import Kinematics
 
-    path = QS_TRIMS if aero == "quasi-steady" else UVLM_BALANCE
+    if path is None:
+        path = QS_TRIMS if aero == "quasi-steady" else UVLM_BALANCE
     rows = {float(r["forward_speed"]): r for r in json.loads(path.read_text())["rows"]}
     if forward_speed not in rows:
         raise ValueError(f"no row at forward_speed {forward_speed:g} m/s in {path}")
@@ -108,12 +110,14 @@ def rejudge(doc: dict) -> None:
             r["systems"][name] = _system(mu, s["reach"], r["A"][name])
 
 
-def run(aero: str, forward_speed: float, *, validate: bool = True, averaged: bool = True, log=print) -> dict:
-    """One row: orbit, Floquet, averaged model, (quasi-steady) perturbed flights."""
+def run(aero: str, forward_speed: float, *, validate: bool = True, averaged: bool = True, log=print,
+        start_from: Path | None = None) -> dict:
+    """One row: orbit, Floquet, averaged model, (quasi-steady) perturbed flights (the orbit solved from
+    :func:`start_kinematics`)."""
     from hawksim.flight.orbit import periodic_orbit
     from hawksim.stability.floquet import monodromy, quasi_steady_system
 
-    kin0, src = start_kinematics(aero, forward_speed)
+    kin0, src = start_kinematics(aero, forward_speed, start_from)
     t0 = time.perf_counter()
     solve = {"tol": UVLM_TOL, "max_iter": UVLM_MAX_ITER} if aero == "uvlm" else {}
     orbit = periodic_orbit(0.0, aero, kinematics=kin0, forward_speed=forward_speed,
@@ -327,6 +331,8 @@ def main(argv=None) -> int:
     ap.add_argument("--speeds", type=float, nargs="+", default=[])
     ap.add_argument("--out", type=Path, default=OUT)
     ap.add_argument("--force", action="store_true", help="recompute rows already in --out")
+    ap.add_argument("--start-from", type=Path, help="start the orbits from this trims JSON's rows (default: the "
+                    "quasi-steady trims, or the UVLM balance for --aero uvlm)")
     ap.add_argument("--no-flights", action="store_true", help="skip the perturbed flights (quasi-steady)")
     ap.add_argument("--no-averaged", action="store_true", help="skip the averaged model (UVLM: 14 held runs)")
     ap.add_argument("--flights-of", type=float, nargs="+", default=[], metavar="U",
@@ -349,7 +355,7 @@ def main(argv=None) -> int:
             log(f"{a.aero} U={U:g}: in {a.out}, skipped")
             continue
         row = run(a.aero, U, validate=not a.no_flights and a.aero == "quasi-steady", averaged=not a.no_averaged,
-                  log=log)
+                  log=log, start_from=a.start_from)
         doc = load(a.out)  # another process may have written meanwhile
         doc["rows"] = [r for r in doc["rows"] if not (r["aero"] == a.aero and r["forward_speed"] == U)] + [row]
         save(a.out, doc)
