@@ -11,7 +11,8 @@ docs/forward_flight.md), re-run and compared with what is shipped and recorded.
    multiplier of each block within :data:`MU_RTOL`. Without that file (an installed package) the orbits are
    written uncompared.
 
-Deterministic (no random process). About a minute on the shared 2-core host (the 1 m/s orbit takes most of it).
+Deterministic (no random process). 20 s on the shared 2-core host at load 2 (`hawksim reproduce --only
+forward_flight`, a fresh cache, 2026-12-07).
 """
 
 from __future__ import annotations

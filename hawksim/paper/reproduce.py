@@ -190,7 +190,7 @@ def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
         done["backends"] = write_backends(out_dir, log=log)
     if "forward_flight" in only:
         log("forward_flight (the shipped quasi-steady forward trims re-flown; orbits and Floquet at 1-3 m/s against "
-            "results/forward_flight/orbits.json; about a minute) ...")
+            "results/forward_flight/orbits.json; 20 s) ...")
         from hawksim.paper.forward import forward_flight_all
 
         done["forward_flight"] = forward_flight_all(out_dir / "forward_flight", log=log)
