@@ -57,7 +57,8 @@ LOCAL_SEARCH = ("uvlm",)
 DEFAULT_MAX_EVALS = 60
 """``--max-evals`` of ``--aero uvlm``: the UVLM runs of the local search (the forward UVLM trims' study's,
 ``scripts.studies.forward_uvlm_trims.MAX_EVALS``: about 6 steps of 8 runs; 5-15 min on the shared 2-core host at
-:data:`hawksim.trim.balance.TRIM_RESOLUTION`); a balance of up to 30 runs follows where no run balanced."""
+:data:`hawksim.trim.balance.TRIM_RESOLUTION`); where no run balanced, the balance follows
+(`balance_on_uvlm`: 30 runs and a restart of 20, as in the study)."""
 
 MAX_EVALS = 10_000
 """Largest ``--max-evals`` (days of UVLM runs)."""
@@ -190,8 +191,9 @@ def cmd_model_trim(args) -> dict:
 def cmd_local_trim(args) -> dict:
     """The UVLM's local minimum-power trim at ``--speed`` and ``--forward-speed`` (:func:`hawksim.trim.model_search.
     refine_on_model` at :data:`hawksim.trim.balance.TRIM_RESOLUTION`, or the resolution options given, at most
-    ``--max-evals`` runs, then a balance of up to 30 where no run balanced) from the shipped quasi-steady forward trim
-    at U (:func:`hawksim.cli.args.default_forward_kinematics`) or ``--kinematics``. A run's averages on stderr."""
+    ``--max-evals`` runs, then the balance, 30 + 20 runs, where no run balanced) from the shipped quasi-steady
+    forward trim at U (:func:`hawksim.cli.args.default_forward_kinematics`) or ``--kinematics``. Each search run's
+    averages on stderr."""
     import sys
 
     import numpy as np
@@ -274,8 +276,8 @@ def register(sub) -> None:
                         "search's start (default: the shipped quasi-steady forward trim at --forward-speed, level "
                         "flight at 0-4 m/s)")
     p.add_argument("--max-evals", type=positive_int_arg("max-evals", MAX_EVALS),
-                   help=f"with --aero uvlm: UVLM runs of the local search ({DEFAULT_MAX_EVALS}; then a balance of up "
-                        "to 30 where none balanced)")
+                   help=f"with --aero uvlm: UVLM runs of the local search ({DEFAULT_MAX_EVALS}; then the UVLM balance, "
+                        "30 + 20 runs, where none balanced)")
     add_resolution_args(p, trim_res, "with --aero uvlm; default; --cycles: all but the first averaged")
     add_insect_arg(p, "; the GA searches its bounds_deg (inside Table 2, the network's training box; "
                         "its morphology must be the hawkmoth's) and P+ is in its reference power; with --free-flight "

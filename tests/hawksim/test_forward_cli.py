@@ -133,6 +133,20 @@ def test_trim_free_flight_uvlm_at_3_m_s_from_the_shipped_trim(capsys):
     assert out["mean_velocity"][0] == pytest.approx(3.0, abs=1e-3)
 
 
+@pytest.mark.slow
+def test_stability_floquet_uvlm_at_3_m_s_from_the_shipped_trim(capsys):
+    """`stability --floquet --aero uvlm --forward-speed 3` without --kinematics: the orbit above, its monodromy and
+    the UVLM's averaged model; the control derivatives null with the note saying why. Measured (this command,
+    2026-12-07, 2.6 min with --workers 1): largest resolved |mu| 1.2044 (longitudinal), lateral 1.048 resolved
+    and 3.79 unresolved (reach 6e-4)."""
+    assert main(["stability", "--speed", "0", "--forward-speed", "3", "--aero", "uvlm", "--floquet", "--workers", "1",
+                 "--json", "--no-progress"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["orbit"]["converged"] and "shipped forward trim at 3 m/s" in out["start"]
+    assert out["control_derivatives"] is None and "minutes per orbit" in out["control_derivatives_note"]
+    assert out["floquet"]["max_abs_resolved_multiplier"] == pytest.approx(1.2044, rel=2e-3)
+
+
 def test_trim_uvlm_forward_coarse_and_tiny_budget(capsys):
     """`trim --aero uvlm` at 2 m/s on a coarse lattice (2 x 3 rings, 20 steps, 2 beats) with 3 search runs: the
     start is the shipped quasi-steady trim, the JSON has the quasi-steady forward trim's fields, progress on
