@@ -127,14 +127,16 @@ def check_forward_condition(args) -> None:
 
 def default_forward_kinematics(args) -> None:
     """Where ``args.kinematics`` is None, set it to the kinematics of the shipped quasi-steady minimum-power trim in
-    level flight at ``args.forward_speed`` U [m/s] (:func:`hawksim.trim.tables.forward_trim`; the same start for
-    every backend, as the UVLM's forward orbits are solved from quasi-steady trims or their balances) and
-    ``args.kinematics_source`` to where it came from (``args.kinematics_source`` is "given (--kinematics)" where
-    ``--kinematics`` was given). UsageError (exit 2, one line naming ``--forward-speed``) where no balanced trim is
-    shipped at (U, ``args.speed``): in climb (the shipped trims are level), at 5 m/s (none balanced within Table 2's
-    bounds) or at a speed between the table's rows (no interpolation)."""
+    level flight at ``args.forward_speed`` U [m/s] (:func:`hawksim.trim.tables.forward_trim`; between two shipped
+    speeds the parameters interpolated linearly, :func:`hawksim.trim.tables.forward_trim_kinematics`, as the
+    forward-flight schedule's orbits start: not a balanced trim, an orbit solve balances it through f and phi0; the
+    same start for every backend, as the UVLM's forward orbits are solved from quasi-steady trims) and
+    ``args.kinematics_source`` to where it came from ("given (--kinematics)" where ``--kinematics`` was given).
+    UsageError (exit 2, one line naming ``--forward-speed``) where no shipped trim covers (U, ``args.speed``): in a
+    climb (the shipped trims are level) and above the last balanced one (5 m/s: none balanced within Table 2's
+    bounds)."""
     from hawksim.trim.registry import shipped_table
-    from hawksim.trim.tables import FORWARD_TRIM_TABLE, forward_trim
+    from hawksim.trim.tables import FORWARD_TRIM_TABLE, forward_trim_kinematics
 
     if args.kinematics is not None:
         args.kinematics_source = "given (--kinematics)"
@@ -149,11 +151,17 @@ def default_forward_kinematics(args) -> None:
     if u in rows and not rows[u]["converged"]:
         raise UsageError(f"--forward-speed {u:g}: no shipped forward trim there (none balanced within Table 2's "
                          f"bounds: the search's best residual {_residual(rows[u]):.3f}); give --kinematics")
-    if u not in balanced:
+    if not balanced or not balanced[0] <= u <= balanced[-1]:
         raise UsageError(f"--forward-speed {u:g}: no shipped forward trim there (none balanced within Table 2 is "
-                         f"shipped at that speed; they are at {speeds} m/s); give --kinematics")
-    args.kinematics = forward_trim(u).kinematics
-    args.kinematics_source = f"the shipped forward trim at {u:g} m/s ({FORWARD_TRIM_TABLE})"
+                         f"shipped above {balanced[-1] if balanced else 0:g} m/s; they are at {speeds} m/s); give "
+                         "--kinematics")
+    args.kinematics = forward_trim_kinematics(u)
+    if u in balanced:
+        args.kinematics_source = f"the shipped forward trim at {u:g} m/s ({FORWARD_TRIM_TABLE})"
+    else:
+        lo, hi = max(k for k in balanced if k < u), min(k for k in balanced if k > u)
+        args.kinematics_source = (f"the shipped forward trims at {lo:g} and {hi:g} m/s interpolated to {u:g} m/s "
+                                  f"({FORWARD_TRIM_TABLE}; not a balanced trim)")
     if not getattr(args, "no_progress", False):
         import sys
 

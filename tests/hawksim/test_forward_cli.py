@@ -42,6 +42,16 @@ def test_without_kinematics_the_start_is_the_shipped_forward_trim(u):
     assert given.kinematics == forward_trim(1.0).kinematics and given.kinematics_source == "given (--kinematics)"
 
 
+def test_between_the_shipped_speeds_the_start_is_interpolated():
+    """At 2.5 m/s the start is the shipped 2 and 3 m/s trims' mean (hawksim.trim.tables.forward_trim_kinematics,
+    as the forward-flight schedule's orbits start), said in its source."""
+    a = _args(forward_speed=2.5)
+    check_forward_condition(a)
+    mean = 0.5 * (forward_trim(2.0).kinematics.as_array() + forward_trim(3.0).kinematics.as_array())
+    assert a.kinematics.as_array() == pytest.approx(mean, rel=1e-12)
+    assert "interpolated" in a.kinematics_source and "not a balanced trim" in a.kinematics_source
+
+
 @pytest.mark.parametrize("argv, needle", [
     (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "5"], "none balanced within Table 2"),
     (["stability", "--speed", "0", "--forward-speed", "5", "--aero", "uvlm"], "none balanced within Table 2"),
@@ -50,7 +60,7 @@ def test_without_kinematics_the_start_is_the_shipped_forward_trim(u):
     (["trim", "--speed", "0", "--forward-speed", "5", "--free-flight", "--aero", "quasi-steady"],
      "none balanced within Table 2"),
     (["trim", "--speed", "0", "--forward-speed", "5", "--aero", "uvlm"], "none balanced within Table 2"),
-    (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "2.5"], "no shipped forward trim there"),
+    (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "4.5"], "none balanced within Table 2 is shipped"),
     (["stability", "--speed", "1", "--forward-speed", "2", "--aero", "quasi-steady"], "level flight"),
     (["trim", "--speed", "0", "--forward-speed", "2", "--free-flight", "--aero", "surrogate"], "--aero surrogate"),
 ])
