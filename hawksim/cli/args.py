@@ -109,19 +109,69 @@ def add_forward_speed_arg(p, extra: str = "") -> None:
 
 def check_forward_condition(args) -> None:
     """UsageError (exit 2, one line) where ``args.forward_speed`` > 0 cannot be had: a network backend (``--aero``
-    trained on vertical flight only, :data:`hawksim.condition.FORWARD_FLIGHT_BACKENDS`), no ``--kinematics`` (no
-    forward trim is shipped), or ``--insect`` (forward flight is the default hawkmoth's)."""
+    trained on vertical flight only, :data:`hawksim.condition.FORWARD_FLIGHT_BACKENDS`; ``args.aero`` None is the
+    UVLM, `trim --free-flight`'s default), or ``--insect`` (forward flight is the default hawkmoth's). Without
+    ``--kinematics`` the start is the shipped forward trim at U (:func:`default_forward_kinematics`: it sets
+    ``args.kinematics``, or refuses where none is shipped)."""
     from hawksim.condition import FORWARD_FLIGHT_BACKENDS
 
     u = args.forward_speed
-    if args.aero not in FORWARD_FLIGHT_BACKENDS:
-        raise UsageError(f"--forward-speed {u:g}: --aero {args.aero} was trained on vertical flight only; forward "
+    aero = args.aero or "uvlm"
+    if aero not in FORWARD_FLIGHT_BACKENDS:
+        raise UsageError(f"--forward-speed {u:g}: --aero {aero} was trained on vertical flight only; forward "
                          f"flight takes --aero {' or '.join(FORWARD_FLIGHT_BACKENDS)}")
-    if args.kinematics is None:
-        raise UsageError(f"--forward-speed {u:g} needs --kinematics (no forward-flight trim is shipped; `hawksim trim "
-                         f"--aero quasi-steady --speed {args.speed:g} --forward-speed {u:g}` searches one)")
     if getattr(args, "insect", None) is not None:
         raise UsageError(f"--forward-speed {u:g} with --insect: not yet (forward flight is the default hawkmoth's)")
+    default_forward_kinematics(args)
+
+
+def default_forward_kinematics(args) -> None:
+    """Where ``args.kinematics`` is None, set it to the kinematics of the shipped quasi-steady minimum-power trim in
+    level flight at ``args.forward_speed`` U [m/s] (:func:`hawksim.trim.tables.forward_trim`; between two shipped
+    speeds the parameters interpolated linearly, :func:`hawksim.trim.tables.forward_trim_kinematics`, as the
+    forward-flight schedule's orbits start: not a balanced trim, an orbit solve balances it through f and phi0; the
+    same start for every backend, as the UVLM's forward orbits are solved from quasi-steady trims) and
+    ``args.kinematics_source`` to where it came from ("given (--kinematics)" where ``--kinematics`` was given).
+    UsageError (exit 2, one line naming ``--forward-speed``) where no shipped trim covers (U, ``args.speed``): in a
+    climb (the shipped trims are level) and above the last balanced one (5 m/s: none balanced within Table 2's
+    bounds)."""
+    from hawksim.trim.registry import shipped_table
+    from hawksim.trim.tables import FORWARD_TRIM_TABLE, forward_trim_kinematics
+
+    if args.kinematics is not None:
+        args.kinematics_source = "given (--kinematics)"
+        return
+    u, v = args.forward_speed, args.speed
+    rows = {float(r["forward_speed"]): r for r in (shipped_table(FORWARD_TRIM_TABLE) or {"rows": []})["rows"]}
+    balanced = sorted(k for k, r in rows.items() if r["converged"])
+    speeds = ", ".join(f"{k:g}" for k in balanced)
+    if v:
+        raise UsageError(f"--forward-speed {u:g} at --speed {v:g}: the shipped forward trims are level flight (--speed "
+                         f"0, at {speeds} m/s); give --kinematics")
+    if u in rows and not rows[u]["converged"]:
+        raise UsageError(f"--forward-speed {u:g}: no shipped forward trim there (none balanced within Table 2's "
+                         f"bounds: the search's best residual {_residual(rows[u]):.3f}); give --kinematics")
+    if not balanced or not balanced[0] <= u <= balanced[-1]:
+        raise UsageError(f"--forward-speed {u:g}: no shipped forward trim there (none balanced within Table 2 is "
+                         f"shipped above {balanced[-1] if balanced else 0:g} m/s; they are at {speeds} m/s); give "
+                         "--kinematics")
+    args.kinematics = forward_trim_kinematics(u)
+    if u in balanced:
+        args.kinematics_source = f"the shipped forward trim at {u:g} m/s ({FORWARD_TRIM_TABLE})"
+    else:
+        lo, hi = max(k for k in balanced if k < u), min(k for k in balanced if k > u)
+        args.kinematics_source = (f"the shipped forward trims at {lo:g} and {hi:g} m/s interpolated to {u:g} m/s "
+                                  f"({FORWARD_TRIM_TABLE}; not a balanced trim)")
+    if not getattr(args, "no_progress", False):
+        import sys
+
+        print(f"hawksim {getattr(args, 'command', '')}: --forward-speed {u:g} without --kinematics: from "
+              f"{args.kinematics_source}", file=sys.stderr)
+
+
+def _residual(row: dict) -> float:
+    """max(|L+ - 1|, |D+|, |M+|) of a trim table's row."""
+    return max(abs(row["L_plus"] - 1.0), abs(row["D_plus"]), abs(row["M_plus"]))
 
 
 def refuse_forward_speed(args, command: str, why: str) -> None:

@@ -12,7 +12,8 @@ from hawksim.cli.reproduce_report import render_reproduce
 from hawksim.paper.reproduce import STEPS
 
 EXPECTED_MINUTES = {"uvlm_table4": 1, "stability": 5, "stability_table3": 5, "orbits": 15, "validation": 2,
-                    "validation_uvlm": 30, "control_uvlm": 10, "control_surrogate": 1, "backends": 5, "trim": 10}
+                    "validation_uvlm": 30, "control_uvlm": 10, "control_surrogate": 1, "backends": 5, "trim": 10,
+                    "forward_flight": 1}
 """Rough wall time of each step on 2 cores [min], for the start-up line only (the measurements behind them:
 docs/performance.md, "Figures moved from docstrings"; validation_uvlm is a guess: it has not been run in full)."""
 

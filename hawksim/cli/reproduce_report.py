@@ -34,6 +34,11 @@ def _failures(name: str, value) -> list[str]:
             speeds = [v for v, ok in t["converged"].items() if not ok]
             if speeds:
                 bad.append(f"{aero} orbit NOT converged at {', '.join(speeds)} m/s")
+    if name == "forward_flight":
+        if not value["trims_agree"]:
+            bad.append("a shipped forward trim does NOT re-fly to its table's averages within its tolerance")
+        if value["orbits_agree"] is False:
+            bad.append("a forward orbit or its Floquet multipliers do NOT agree with the study's (orbits.json)")
     if name == "trim":
         conv = value.get("balanced_converged") or []
         if not all(conv):
@@ -60,6 +65,9 @@ def _produced(name: str, value) -> str:
         return f"{value['path']}, {value['table']}"
     if name == "trim":
         return f"{value['dir']} ({len(value['figures'])} figures)"
+    if name == "forward_flight":
+        return (f"{value['path']} (trims re-flown; orbits " + ("not compared: no results/forward_flight/orbits.json"
+                                                                if value["orbits_agree"] is None else "compared") + ")")
     return ", ".join(str(v) for v in value.values())
 
 

@@ -23,7 +23,8 @@ def _averaged(args, kin, client=None) -> dict:
         point = OperatingPoint(float(args.speed), kin, aero="quasi-steady", body="held", source=args.trim_source or "",
                                **({} if insect is None else {"insect": insect}), **fwd)
         if insect is None:
-            return {"speed": args.speed, **fwd, "aero": args.aero, "trim": {"kinematics": kin.to_edge()},
+            return {"speed": args.speed, **fwd, "aero": args.aero,
+                    "trim": {"kinematics": kin.to_edge(), **({"source": args.trim_source} if fwd else {})},
                     **averaged_json(averaged_model(point))}
         return {"speed": args.speed, "aero": args.aero, "insect": insect.name,
                 "trim": {"kinematics": kin.to_edge(), "source": args.trim_source},
@@ -51,7 +52,8 @@ def cmd_stability(args) -> dict:
     if insect is not None and args.aero != "quasi-steady":
         raise UsageError(f"--insect takes --aero quasi-steady (the {args.aero} stability analysis is the default "
                          "hawkmoth's)")
-    args.trim_source = "given (--kinematics)" if kin is not None else None
+    args.trim_source = getattr(args, "kinematics_source", None) or ("given (--kinematics)" if kin is not None
+                                                                    else None)
     out_orbit = None
     if args.floquet:
         from hawksim.control.linearization import linearize
@@ -78,7 +80,8 @@ def cmd_stability(args) -> dict:
         args.trim_source = "the insect's periodic orbit (solved here)"
         # issue 20: the control derivatives (B matrices) beside the monodromy: the surrogate's and the UVLM's
         # shipped models (hawksim reproduce --only control_surrogate / control_uvlm) about the shipped orbit, else
-        # differenced here (quasi-steady and surrogate: seconds; the UVLM's take minutes: none)
+        # differenced here (quasi-steady and surrogate: seconds; the UVLM's take minutes: none); in forward flight
+        # (issue 51) the quasi-steady one-beat map about the forward orbit, as `fly --control lqr` designs on
         from hawksim.control.schedule import shipped_control_model
 
         desc = descriptor(args.aero)
@@ -86,14 +89,19 @@ def cmd_stability(args) -> dict:
         if desc.control_model_table is not None and args.kinematics is None and insect is None:
             lin = shipped_control_model(args.speed, args.aero)
             source = f"shipped: hawksim/insects/hawkmoth/data/{desc.control_model_table}"
-        if lin is None and desc.linearize_cost == "seconds" and not args.forward_speed:  # (forward: item 5)
+        if lin is None and desc.linearize_cost == "seconds":
             lin, source = linearize(orbit, map="beat"), "differenced here (hawksim.control.derivatives.linearize)"
-        control = None if lin is None else {**lin.to_json(), "source": source}
+        control = None if lin is None else {**lin.to_json(), "source": source, **(
+            {"forward_speed": args.forward_speed} if args.forward_speed else {})}
         chart = ("level heading axes (u, v horizontal; the averaged A's eigenvectors are in body-fixed stability "
                  "axes: u_b = u - w_e theta, v_b = v + w_e phi" + (", w_b = w + u_e theta)" if args.forward_speed
                                                                    else ")"))
         out_orbit = {"orbit": orbit_json(orbit, given=args.kinematics), "control_derivatives": control,
                      "floquet": {**floquet_json(fl), "chart": chart}}
+        if control is None and args.forward_speed:
+            out_orbit["control_derivatives_note"] = (
+                f"null: the {args.aero} one-beat control derivatives take minutes per orbit and none is shipped about "
+                "a forward orbit (docs/forward_flight.md)")
         if orbit.record is not None:  # a history network: the flight's modes are the augmented map's
             from hawksim.stability.report import history_floquet_json
 
@@ -124,7 +132,8 @@ def cmd_stability(args) -> dict:
     else:
         with dask_client(args.scheduler, args.workers) as client:
             out = _averaged(args, kin, client)
-    return {**out, **(out_orbit or {})}
+    start = {"start": args.kinematics_source} if args.forward_speed else {}  # given, or the shipped forward trim
+    return {**out, **start, **(out_orbit or {})}
 
 
 def solved_note(orbit, given) -> dict | None:

@@ -36,7 +36,8 @@ def render(out: dict) -> str:
     """The stability summary (module docstring)."""
     kin = (out.get("trim") or {}).get("kinematics") or (out.get("orbit") or {}).get("kinematics") or {}
     kin_text = ", ".join(f"{k} {v:.4g}" for k, v in kin.items())
-    lines = [f"hawksim stability: {out['aero']} model at {out['speed']:g} m/s"
+    fwd = f", {out['forward_speed']:g} m/s forward" if out.get("forward_speed") else ""
+    lines = [f"hawksim stability: {out['aero']} model at {out['speed']:g} m/s{fwd}"
              + (f"; kinematics {kin_text} (f in Hz, angles in deg)" if kin_text else "")]
     if "longitudinal" in out:
         lines.append("  cycle-averaged model, eigenvalues (nondimensional, paper Eqs. 6-12):")

@@ -1,16 +1,18 @@
 """`hawksim trim`: minimum-power trim on the surrogate (GA + Nelder-Mead), optionally checked by the UVLM; with
-``--aero quasi-steady`` the same search on the quasi-steady model itself (any ``--forward-speed``); with
-``--free-flight`` the free body's periodic orbit."""
+``--aero quasi-steady`` the same search on the quasi-steady model itself (any ``--forward-speed``); with ``--aero
+uvlm`` the UVLM's local minimum-power trim from the shipped quasi-steady forward trim (or ``--kinematics``); with
+``--free-flight`` the free body's periodic orbit (at ``--forward-speed`` from the shipped forward trim or
+``--kinematics``)."""
 
 from __future__ import annotations
 
 import math
 
-from hawksim.cli.args import (MAX_POPULATION, add_forward_speed_arg, add_insect_arg, positive_int_arg,
-                              refuse_forward_speed, seed_arg, speed_arg)
+from hawksim.cli.args import (MAX_POPULATION, add_forward_speed_arg, add_insect_arg, add_resolution_args,
+                              parse_kinematics, positive_int_arg, seed_arg, speed_arg)
 from hawksim.cli.predict import add_network_args, network_choice
 from hawksim.cli.progress import progress_for
-from hawksim.backends.registry import names
+from hawksim.backends.registry import descriptor, names
 from hawksim.cli.trim_report import render_trim
 
 DEFAULT_POPULATION = 100_000
@@ -24,17 +26,45 @@ def cmd_free_flight(args) -> dict:
     from hawksim.cli.stability import orbit_json
     from hawksim.flight.orbit import periodic_orbit
 
+    from hawksim.cli.args import check_forward_condition
+
+    if args.forward_speed:  # forward flight (issue 51): from the shipped forward trim at U, or --kinematics
+        check_forward_condition(args)
     log = None if args.no_progress else (lambda m: print(f"orbit: {m}", file=sys.stderr))
-    orbit = periodic_orbit(args.speed, args.aero or "uvlm", log=log, insect=getattr(args, "insect", None))
-    if not orbit.converged:
-        print(f"hawksim trim: the periodic orbit did not converge (residual {orbit.residual:.2e}, "
-              f"{orbit.iterations} iterations): 'converged' is false", file=sys.stderr)
-    return orbit_json(orbit)
+    orbit = periodic_orbit(args.speed, args.aero or "uvlm", kinematics=args.kinematics, log=log,
+                           insect=getattr(args, "insect", None),
+                           **({"forward_speed": args.forward_speed} if args.forward_speed else {}))
+    tol = descriptor(orbit.aero).orbit_tolerance
+    tol_text = (f"{tol.residual:g} (normalized)" if tol.velocity is None
+                else f"{tol.velocity:g} m/s and {tol.rate:g} rad/s")
+    if not orbit.converged:  # reported, not raised (exit 0, as in vertical flight): the nearest state found
+        print(f"hawksim trim: the periodic orbit did not converge (residual {orbit.residual:.2e}, tolerance "
+              f"{tol_text}, {orbit.iterations} iterations): 'converged' is false", file=sys.stderr)
+    out = orbit_json(orbit, given=args.kinematics) | {"tolerance": tol_text}
+    if getattr(args, "kinematics_source", None):
+        out["start"] = args.kinematics_source
+    return out
 
 
 MODEL_SEARCH = ("quasi-steady",)
-"""The models ``--aero`` searches on without ``--free-flight`` (:func:`hawksim.trim.model_search.trim_on_model`; a
-UVLM search would take days at a run's seconds)."""
+"""The models ``--aero`` searches on without ``--free-flight`` by the population search
+(:func:`hawksim.trim.model_search.trim_on_model`; a UVLM population search would take hours per condition)."""
+
+LOCAL_SEARCH = ("uvlm",)
+"""The models ``--aero`` trims on without ``--free-flight`` by the local search from a start
+(:func:`hawksim.trim.model_search.refine_on_model`)."""
+
+DEFAULT_MAX_EVALS = 60
+"""``--max-evals`` of ``--aero uvlm``: the UVLM runs of the local search (the forward UVLM trims' study's,
+``scripts.studies.forward_uvlm_trims.MAX_EVALS``: about 6 steps of 8 runs; 5-15 min on the shared 2-core host at
+:data:`hawksim.trim.balance.TRIM_RESOLUTION`); where no run balanced, the balance follows
+(`balance_on_uvlm`: 30 runs and a restart of 20, as in the study)."""
+
+MAX_EVALS = 10_000
+"""Largest ``--max-evals`` (days of UVLM runs)."""
+
+UVLM_ONLY = ("max_evals", "n_chord", "n_span", "steps_per_cycle", "cycles")
+"""Options of ``--aero uvlm``'s local trim alone."""
 
 NETWORK_ONLY = ("model", "network", "verify", "balance")
 """Options of the surrogate trim that a search on a model (``--aero`` without ``--free-flight``) does not use."""
@@ -49,23 +79,36 @@ def _refuse_ignored(args) -> None:
     """UsageError naming the first option given that the chosen trim does not use."""
     from hawksim.cli.args import UsageError
 
+    for name in UVLM_ONLY:
+        if getattr(args, name, None) is not None and (args.free_flight or args.aero not in LOCAL_SEARCH):
+            raise UsageError(f"--{name.replace('_', '-')} applies to --aero {' or '.join(LOCAL_SEARCH)} without "
+                             "--free-flight only (the UVLM's local trim search)")
+    if args.kinematics is not None and not args.free_flight and args.aero not in LOCAL_SEARCH:
+        raise UsageError("--kinematics applies to --free-flight (the orbit's start) or --aero "
+                         f"{' or '.join(LOCAL_SEARCH)} (the local search's start) only")
     if args.free_flight:
-        refuse_forward_speed(args, "trim --free-flight", "by the free-body orbits yet")
         for name in SURROGATE_ONLY:
             if getattr(args, name, None) not in (None, False):
                 raise UsageError(f"--{name} does not apply to --free-flight: the free body's periodic orbit uses "
                                  "--aero's model, no surrogate network and no GA")
     elif args.aero is not None:
-        if args.aero not in MODEL_SEARCH:
+        if args.aero not in MODEL_SEARCH + LOCAL_SEARCH:
             raise UsageError(f"--aero {args.aero} does not apply without --free-flight: the trim searches on the "
-                             f"surrogate network (no --aero) or on the {', '.join(MODEL_SEARCH)} model")
+                             f"surrogate network (no --aero) or on the {', '.join(MODEL_SEARCH + LOCAL_SEARCH)} "
+                             "model")
+        if args.aero in LOCAL_SEARCH and getattr(args, "insect", None) is not None:
+            raise UsageError(f"--insect with --aero {args.aero}: not yet (its start is the default hawkmoth's "
+                             "shipped forward trim)")
+        if args.aero in LOCAL_SEARCH and args.population is not None:
+            raise UsageError(f"--population does not apply to --aero {args.aero}: a local search (--max-evals), "
+                             "no GA")
         for name in NETWORK_ONLY:
             if getattr(args, name, None) not in (None, False):
                 raise UsageError(f"--{name} does not apply to --aero {args.aero}: the search runs on that model "
                                  "and balances on it")
     elif args.forward_speed:
-        raise UsageError(f"--forward-speed {args.forward_speed:g} needs --aero quasi-steady: the surrogate network "
-                         "covers vertical flight only")
+        raise UsageError(f"--forward-speed {args.forward_speed:g} needs --aero quasi-steady or uvlm (or "
+                         "--free-flight): the surrogate network covers vertical flight only")
     elif getattr(args, "insect", None) is not None:
         for name in ("verify", "balance"):
             if getattr(args, name, False):
@@ -77,6 +120,8 @@ def cmd_trim(args) -> dict:
     _refuse_ignored(args)
     if args.free_flight:
         return cmd_free_flight(args)
+    if args.aero in LOCAL_SEARCH:
+        return cmd_local_trim(args)
     if args.aero is not None:
         return cmd_model_trim(args)
     path, network = network_choice(args)
@@ -143,6 +188,45 @@ def cmd_model_trim(args) -> dict:
         {} if insect is None else {"insect": insect.name})
 
 
+def cmd_local_trim(args) -> dict:
+    """The UVLM's local minimum-power trim at ``--speed`` and ``--forward-speed`` (:func:`hawksim.trim.model_search.
+    refine_on_model` at :data:`hawksim.trim.balance.TRIM_RESOLUTION`, or the resolution options given, at most
+    ``--max-evals`` runs, then the balance, 30 + 20 runs, where no run balanced) from the shipped quasi-steady
+    forward trim at U (:func:`hawksim.cli.args.default_forward_kinematics`) or ``--kinematics``. Each search run's
+    averages on stderr."""
+    import sys
+
+    import numpy as np
+
+    from hawksim.cli.args import default_forward_kinematics, resolution_from
+    from hawksim.insect.folder import default_insect
+    from hawksim.trim.balance import TRIM_RESOLUTION
+    from hawksim.trim.model_search import refine_on_model
+    from hawksim.trim.search import R_PENALTY, fitness
+
+    from dataclasses import replace
+
+    default_forward_kinematics(args)
+    base = TRIM_RESOLUTION  # --cycles: all but the first beat averaged, as TRIM_RESOLUTION's 4 and 3
+    res = resolution_from(args, base if args.cycles is None else replace(base, cycles=args.cycles,
+                                                                          average_cycles=max(1, args.cycles - 1)))
+    max_evals = args.max_evals or DEFAULT_MAX_EVALS
+    progress = None
+    if not args.no_progress:
+        def progress(n, a):
+            print(f"trim ({args.aero}) search run {n} of at most {max_evals}: L+ {a.L_plus:.4f} D+ {a.D_plus:.4f} "
+                  f"M+ {a.M_plus:.4f} P+ {a.P_plus:.4f}", file=sys.stderr, flush=True)
+    r = refine_on_model(args.kinematics, args.speed, res, forward_speed=args.forward_speed, max_evals=max_evals,
+                        progress=progress)
+    lo, hi = default_insect().bounds_si()
+    f = fitness(np.array([r.averages.as_tuple()]), np.array([r.kinematics.as_array()]), r=R_PENALTY, lo=lo, hi=hi)
+    if not r.converged:
+        print(f"hawksim trim: the {args.aero} trim did not balance within {r.tolerance:g} (its residuals are in the "
+              "result): 'converged' is false", file=sys.stderr)
+    return trim_json(replace(r, fitness=float(f[0]))) | {"start_source": args.kinematics_source,
+                                                        "max_evals": max_evals, "resolution": res.to_dict()}
+
+
 def trim_json(r) -> dict:
     """The JSON of a trim searched and balanced on a model (:func:`hawksim.trim.model_search.trim_on_model`): its
     kinematics (Hz, deg), body angle, averages, the search's optimum before the balance and the body's share of
@@ -161,9 +245,16 @@ def trim_json(r) -> dict:
 
 
 def register(sub) -> None:
+    from dataclasses import replace
+
+    from hawksim.backends.resolution import DEFAULT
+
+    trim_res = replace(DEFAULT, cycles=4, average_cycles=3)  # hawksim.trim.balance.TRIM_RESOLUTION (not imported
+    # here: it imports the backends, and every command registers its parser)
     p = sub.add_parser("trim", help="minimum-power trim on the surrogate (GA + Nelder-Mead, paper Eq. 3)")
     p.add_argument("--speed", type=speed_arg, required=True, help="ascent speed V [m/s], 0 to 2")
-    add_forward_speed_arg(p, "; with --aero quasi-steady only (the search on that model)")
+    add_forward_speed_arg(p, "; with --aero quasi-steady or uvlm (the search on that model), or --free-flight (the "
+                             "orbit at (U, V) from the shipped forward trim at U or --kinematics)")
     add_network_args(p, None)
     p.add_argument("--seed", type=seed_arg, help="seed of the GA (0)")
     p.add_argument("--population", type=positive_int_arg("population", MAX_POPULATION),
@@ -176,8 +267,18 @@ def register(sub) -> None:
                         "frees f and phi0 and the body state at phase 0)")
     p.add_argument("--aero", choices=names(having="orbits"),
                    help="with --free-flight: the aerodynamic model (default uvlm); without it: search the "
-                        "minimum-power trim on that model itself (quasi-steady only: GA + Nelder-Mead, a population of "
-                        "80 unless --population, then balanced to |residuals| <= 0.01; minutes)")
+                        "minimum-power trim on that model itself (quasi-steady: GA + Nelder-Mead, a population of "
+                        "80 unless --population, then balanced to |residuals| <= 0.01; minutes; uvlm: the local "
+                        "search from the shipped quasi-steady forward trim at --forward-speed or --kinematics, "
+                        "at most --max-evals runs; 5-15 min)")
+    p.add_argument("--kinematics", type=parse_kinematics,
+                   help="with --free-flight: the orbit's start (f and phi0 are solved); with --aero uvlm: the local "
+                        "search's start (default: the shipped quasi-steady forward trim at --forward-speed, level "
+                        "flight at 0-4 m/s)")
+    p.add_argument("--max-evals", type=positive_int_arg("max-evals", MAX_EVALS),
+                   help=f"with --aero uvlm: UVLM runs of the local search ({DEFAULT_MAX_EVALS}; then the UVLM balance, "
+                        "30 + 20 runs, where none balanced)")
+    add_resolution_args(p, trim_res, "with --aero uvlm; default; --cycles: all but the first averaged")
     add_insect_arg(p, "; the GA searches its bounds_deg (inside Table 2, the network's training box; "
                         "its morphology must be the hawkmoth's) and P+ is in its reference power; with --free-flight "
                         "its own periodic orbit (any morphology)")

@@ -46,6 +46,8 @@ def render_trim(out: dict) -> str:
     """`hawksim trim`'s summary (the surrogate's minimum-power trim; module docstring)."""
     if "initial_state" in out:
         return render_orbit(out)
+    if "search_optimum" in out:
+        return render_model_trim(out)
     from hawksim.trim.search import GAConfig
 
     max_gen = GAConfig().max_generations
@@ -76,6 +78,29 @@ def render_trim(out: dict) -> str:
     return "\n".join(lines)
 
 
+def render_model_trim(out: dict) -> str:
+    """`hawksim trim --aero MODEL`'s summary: the trim searched and balanced on that model itself
+    (hawksim.cli.trim.trim_json's object: the quasi-steady population search or the UVLM's local search)."""
+    fwd = f", {out['forward_speed']:g} m/s forward" if out.get("forward_speed") else ""
+    how = (f"local search from {out['start_source']}, at most {out['max_evals']} runs" if "max_evals" in out
+           else f"GA (seed {out['seed']}, population {out['population']}) and Nelder-Mead, then balanced")
+    bounds = on_bounds(out["kinematics"])
+    start = out["search_optimum"]
+    lines = [f"hawksim trim: minimum-power trim at {out['speed']:g} m/s ascent{fwd} on the {out['model']} model "
+             f"({how})",
+             line("kinematics", f"{kinematics_text(out['kinematics'])}; body angle chi {num(out['chi'])} deg"),
+             line("bounds", ("ON A BOUND of Table 2: " + ", ".join(bounds)) if bounds
+                  else "inside Table 2's bounds"),
+             line("balance", balance_text(out)),
+             line("power", f"P+ {num(out['P_plus'])} (the start's or search optimum's {num(start['P_plus'])})"),
+             line("search", f"{out['evaluations']} runs, {out['wall_time_s']:.1f} s: {out['source']}")]
+    if "body" in out:
+        b = out["body"]
+        lines.append(line("body", f"L+ {num(b['L_plus'], 3)}, D+ {num(b['D_plus'], 3)}, M+ {num(b['M_plus'], 3)} "
+                                  "(its share of the averages)"))
+    return "\n".join(lines)
+
+
 def render_orbit(out: dict) -> str:
     """`hawksim trim --free-flight`'s summary: the periodic orbit (hawksim.cli.stability.orbit_json's object)."""
     s = out["initial_state"]
@@ -83,8 +108,9 @@ def render_orbit(out: dict) -> str:
     v = ", ".join(f"{x:.3f}".replace("-0.000", "0.000") for x in out["mean_velocity"])
     floor = f" (the wake's beat-to-beat floor {num(out['floor'], 2)})" if out.get("floor") else ""
     return "\n".join([
-        f"hawksim trim --free-flight: periodic orbit of the free body at {out['speed']:g} m/s ascent, "
-        f"{out['aero']} aerodynamics",
+        f"hawksim trim --free-flight: periodic orbit of the free body at {out['speed']:g} m/s ascent"
+        + (f", {out['forward_speed']:g} m/s forward" if out.get("forward_speed") else "")
+        + f", {out['aero']} aerodynamics",
         line("kinematics", f"{kinematics_text(out['kinematics'])}; body angle chi {num(out['chi_deg'])} deg "
                            "(f and phi0 solved)"),
         line("residual", f"{num(out['residual'], 2)} after {out['iterations']} Newton iterations: {conv}{floor}"),

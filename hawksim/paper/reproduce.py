@@ -3,7 +3,9 @@
 What it produces (each step skips with a note if a piece it needs is missing, e.g. no shipped surrogate):
 * ``uvlm_table4.json``: Table 3's kinematics evaluated by our UVLM next to the paper's Table 4;
 * ``stability/``: per-speed stability reports and the studies of Figs. 15-19 (JSON + PDF + 300 dpi PNG);
-* ``trim/``: the trim tables (Tables 3-4) and Figs. 9, 11, 13, 14 when the trim pipeline is available.
+* ``trim/``: the trim tables (Tables 3-4) and Figs. 9, 11, 13, 14 when the trim pipeline is available;
+* ``forward_flight/``: the shipped forward trims re-flown and the quasi-steady forward orbits checked against the
+  study (:mod:`hawksim.paper.forward`; issue 51, beyond the paper).
 """
 
 from __future__ import annotations
@@ -141,7 +143,7 @@ def control_models_all(out_dir: Path, log=print, aero: str = "uvlm", speeds=None
 
 
 STEPS = ("uvlm_table4", "stability", "stability_table3", "orbits", "validation", "validation_uvlm", "control_uvlm",
-         "control_surrogate", "backends", "trim")
+         "control_surrogate", "backends", "trim", "forward_flight")
 """Parts of `hawksim reproduce`, in the order they run."""
 
 
@@ -186,6 +188,12 @@ def run_all(out_dir: Path, log=print, only: tuple[str, ...] = STEPS) -> dict:
         from hawksim.paper.backends import write_backends
 
         done["backends"] = write_backends(out_dir, log=log)
+    if "forward_flight" in only:
+        log("forward_flight (the shipped quasi-steady forward trims re-flown; orbits and Floquet at 1-3 m/s against "
+            "results/forward_flight/orbits.json; 20 s) ...")
+        from hawksim.paper.forward import forward_flight_all
+
+        done["forward_flight"] = forward_flight_all(out_dir / "forward_flight", log=log)
     if "trim" not in only:
         return done
     from hawksim.backends.network import SHIPPED_SPEEDS, shipped_path

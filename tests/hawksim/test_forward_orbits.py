@@ -120,7 +120,7 @@ KIN = _edge(_trim())
       "--kinematics", KIN], "--aero surrogate-mean"),
     (["stability", "--speed", "0", "--forward-speed", "2", "--aero", "surrogate", "--floquet", "--kinematics", KIN],
      "--aero surrogate"),
-    (["stability", "--speed", "0", "--forward-speed", "2", "--aero", "uvlm"], "--kinematics"),
+    (["stability", "--speed", "0", "--forward-speed", "5", "--aero", "uvlm"], "none balanced within Table 2"),
     (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "2", "--kinematics", KIN, "--control", "clqr"],
      "--control clqr"),
     (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "2", "--kinematics", KIN, "--control", "lqr",
