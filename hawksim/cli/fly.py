@@ -320,7 +320,7 @@ def _fly_forward(args, progress) -> dict:
         result = fly(orbit, cycles=args.cycles, perturb=perturb, model=model, progress=steps, keep_extras_every=0)
     out = result.summary()
     if controller is not None:
-        out["control"] = {"kind": "lqr", "rate": schedule.rate, "delay": delay, "axis": "forward",
+        out["control"] = {"mode": "lqr", "update_rate": schedule.rate, "delay_beats": delay, "axis": "forward",
                           "profile": [[v, n] for v, n in profile or []],
                           "gusts": [{"velocity": list(map(float, g.velocity)), "start": g.start, "beats": g.beats}
                                     for g in args.gust or ()],

@@ -160,8 +160,11 @@ def render(out: dict) -> str:
     from hawksim.insect.folder import default_insect
 
     name = out.get("insect", default_insect().name)
-    lines = [f"hawksim fly: {name}, {out['aero']} aerodynamics, {out['speed_target']:g} m/s ascent, "
-             f"{out['cycles']} wingbeats, {how}"]
+    fwd = out.get("forward_speed")
+    if ctl is not None and ctl.get("profile"):
+        how += ", forward-speed profile " + ", ".join(f"{v:g} m/s for {n}" for v, n in ctl["profile"])
+    lines = [f"hawksim fly: {name}, {out['aero']} aerodynamics, {out['speed_target']:g} m/s ascent"
+             + (f", {fwd:g} m/s forward" if fwd else "") + f", {out['cycles']} wingbeats, {how}"]
     st = out.get("start") or {}
     lines.append(f"  start      {st.get('source', out.get('trim_source'))}")
     lines.append(f"             f {k['f']:.4g} Hz, phi0 {k['phi0']:.3g} deg, phi_a {k['phi_a']:.3g} deg, beta "
@@ -170,7 +173,10 @@ def render(out: dict) -> str:
         lines.append(f"  note       {st['note']}")
     beats = out["beats"]
     dep = out["departed_at_beat"]
-    if dep is None:
+    if dep is None and ctl is not None and ctl.get("axis") == "forward":
+        lines.append(f"  verdict    held: all {len(beats)} beat means within 0.1 m/s of the speed references and 10 "
+                     "deg of the reference pitch's change and the first beat's roll and yaw")
+    elif dep is None:
         lines.append(f"  verdict    held: all {len(beats)} beat means within 0.1 m/s of the target and 10 deg of the "
                      "first beat's attitude")
     else:
