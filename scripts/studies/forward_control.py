@@ -12,6 +12,7 @@ orbits at :data:`hawksim.control.schedule.FORWARD_SCHEDULE_SPEEDS`). Measured he
 
     python -m scripts.studies.forward_control --out results/forward_flight/control.json
     python -m scripts.studies.forward_control --from results/forward_flight/control.json --markdown
+    python -m scripts.studies.forward_control --plot docs/images/forward_profile.png
 """
 
 from __future__ import annotations
@@ -95,6 +96,44 @@ def markdown(d: dict) -> str:
     return "\n".join(lines)
 
 
+def plot_profile(sch: Schedule, path: Path, top: float = 4.0, rate: float = FORWARD_SPEED_RATE) -> dict:
+    """Fly hover -> ``top`` -> hover at ``rate`` and draw the forward speed against its reference and command, the
+    pitch error and the commands per beat; returns the flight's summary."""
+    from hawksim import plotting
+
+    n = int(round(top / rate))
+    ctl = LQR(sch, 0.0, profile=[(top, n + 20), (0.0, n + 40)], speed_rate=rate)
+    r = fly(ctl.point, cycles=2 * n + 60, controller=ctl)
+    b = r.beat_log
+    k = [x["beat"] for x in b]
+    with plotting.style():
+        plt = plotting.pyplot()
+        fig, ax = plt.subplots(1, 3, figsize=(plotting.WIDE, 3.0))
+        ax[0].plot(k, [x["speed_command"] for x in b], ":", color="grey", label="command")
+        ax[0].plot(k, [x["speed_reference"] for x in b], "--", color="C0", label="reference (0.05 m/s per beat)")
+        ax[0].plot(k, [x["mean_forward_speed"] for x in b], "-", color="k", label="flown (beat mean)")
+        ax[0].set(xlabel="wingbeat", ylabel="forward speed U [m/s]", title="forward speed")
+        ax[0].legend(loc="lower center")
+        ax[1].plot(k, [x["pitch_error_deg"] for x in b], "-", color="k", label="pitch error")
+        ax[1].plot(k, [x["mean_vertical_speed"] * 100 for x in b], "-", color="C1", label="vertical speed [cm/s]")
+        ax[1].set(xlabel="wingbeat", ylabel="deg; cm/s", title="pitch error, vertical speed")
+        ax[1].legend(loc="upper right")
+        for key, label in (("phi0_deg", "phi0"), ("alpha0_deg", "alpha0"), ("theta0_deg", "theta0")):
+            ax[2].plot(k, [x["commands"][key] for x in b], label=label)
+        ax[2].axhline(-25.0, ls=":", color="grey", label="Table 2 bound")
+        f = ax[2].twinx()
+        f.plot(k, [x["commands"]["f_hz"] for x in b], color="k", lw=0.8, label="f [Hz] (right)")
+        f.set(ylabel="f [Hz]")
+        ax[2].set(xlabel="wingbeat", ylabel="deg", title="commands")
+        ax[2].legend(loc="lower left")
+        f.legend(loc="upper right")
+        plotting.panel_letters(ax)
+        plotting.save(fig, path, title="The LQR on the forward-flight schedule: hover to 4 m/s and back",
+                      caption="Quasi-steady, level flight; schedule orbits every 0.5 m/s from the shipped forward "
+                              "trims; python -m scripts.studies.forward_control --plot " + str(path))
+    return _summary(r, 0.0)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--beats", type=int, default=100)
@@ -105,7 +144,11 @@ def main() -> None:
     ap.add_argument("--out", type=Path, help="write the JSON here")
     ap.add_argument("--from", dest="source", type=Path, help="read the JSON instead of computing")
     ap.add_argument("--markdown", action="store_true", help="print the docs' tables")
+    ap.add_argument("--plot", type=Path, help="instead: fly the hover -> 4 m/s -> hover profile and draw it here")
     a = ap.parse_args()
+    if a.plot is not None:
+        print(json.dumps(plot_profile(Schedule(0.0, 4.0, axis="forward"), a.plot)))
+        return
     if a.source is not None:
         d = json.loads(a.source.read_text())
         print(markdown(d) if a.markdown else json.dumps(d))

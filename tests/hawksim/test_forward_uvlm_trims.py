@@ -95,3 +95,18 @@ def test_a_committed_uvlm_forward_trim_still_balances_on_the_uvlm():
             insect=old).averages
     assert _residual(a) <= r["tolerance"]
     assert a.P_plus == pytest.approx(r["P_plus"], rel=1e-6)
+
+
+@pytest.mark.slow
+def test_the_sourced_hawkmoths_uvlm_forward_trims_balance_on_the_uvlm():
+    """Every balanced row of results/forward_flight/uvlm_trims_sourced.json (1-4 m/s, the default hawkmoth), run
+    again on the UVLM at its resolution: within its tolerance, P+ as stored (~3 s a row)."""
+    data = json.loads((ROOT / "results/forward_flight/uvlm_trims_sourced.json").read_text())
+    assert data["morphology"] == "sourced"
+    res = Resolution(**data["resolution"])
+    rows = [r for r in data["rows"] if r["converged"]]
+    assert [r["forward_speed"] for r in rows] == [1.0, 2.0, 3.0, 4.0]
+    for r in rows:
+        a = run(Kinematics.from_edge(r["kinematics"]), r["speed"], res, forward_speed=r["forward_speed"]).averages
+        assert _residual(a) <= r["tolerance"], r["forward_speed"]
+        assert a.P_plus == pytest.approx(r["P_plus"], rel=1e-6), r["forward_speed"]
