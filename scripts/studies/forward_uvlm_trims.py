@@ -99,6 +99,9 @@ def _rank(r: dict) -> tuple:
 
 def speed_row(U: float, V: float, kins: dict[str, Kinematics], max_evals: int) -> dict:
     """Refine from every start; the best balanced answer (else the smallest residual) with every start's outcome."""
+    if not kins:
+        raise SystemExit(f"forward_uvlm_trims: no start at U = {U:g} m/s (the starts asked for are not in their "
+                         "files: 'previous'/'next'/'self' read --out)")
     tried = []
     for name, kin in kins.items():
         t = refine_on_model(kin, V, TRIM_RESOLUTION, forward_speed=U, max_evals=max_evals,
