@@ -221,9 +221,9 @@ def _check_forward_fly(args) -> None:
     check_forward_condition`). Two kinds fly: from the shipped forward trims (no ``--kinematics``), open loop from the
     periodic orbit at ``--forward-speed`` or under ``--control lqr`` on the forward-flight schedule (level flight,
     its orbits at :data:`hawksim.control.schedule.FORWARD_SCHEDULE_SPEEDS`: per beat or per half-stroke, with
-    ``--forward-profile``, ``--gust`` and ``--sensing-delay``); from given ``--kinematics``, open loop or under the
-    per-beat LQR about that one orbit. Not yet: the constrained LQR, a recording, the trim start, another step
-    count, the UVLM under control."""
+    ``--forward-profile``, ``--gust`` and ``--sensing-delay``); from given ``--kinematics`` (or with ``--aero
+    uvlm``), open loop or under the per-beat LQR about that one orbit (``--gust`` too). Not yet: the constrained LQR,
+    a recording, the trim start, another step count, a UVLM forward schedule."""
     args.kinematics_given = args.kinematics is not None
     check_forward_condition(args)
     u = args.forward_speed
@@ -231,25 +231,27 @@ def _check_forward_fly(args) -> None:
     asked = [f"--{k.replace('_', '-')}" for k in ("ascent_profile", "rrd") if getattr(args, k, None)]
     if args.control == "clqr":
         asked.append("--control clqr")
-    if args.control == "lqr" and args.aero != "quasi-steady" and not args.kinematics_given:
-        asked.append(f"--control lqr --aero {args.aero} without --kinematics (the forward-flight schedule is "
-                     "quasi-steady; the UVLM flies the per-beat LQR about the orbit of given kinematics)")
+    if args.aero != "quasi-steady" and (profile or args.control_rate == "half-stroke"):
+        asked.append(f"--aero {args.aero} with --forward-profile or --control-rate half-stroke (the forward-flight "
+                     "schedule is quasi-steady; the UVLM flies the per-beat LQR about one orbit)")
     if asked or args.start == "trim" or args.steps_per_cycle != STEPS_PER_CYCLE:
         what = ", ".join(asked) or "--start trim or --steps-per-cycle"
         raise UsageError(f"--forward-speed {u:g} flies open loop or under --control lqr from the periodic orbit only "
                          f"(not yet with {what}; docs/forward_flight.md)")
-    scheduled = [f"--{k.replace('_', '-')}" for k in ("forward_profile", "gust") if getattr(args, k, None)]
+    scheduled = [f"--{k.replace('_', '-')}" for k in ("forward_profile",) if getattr(args, k, None)]
     if args.control_rate == "half-stroke":
         scheduled.append("--control-rate half-stroke")
-    if scheduled and args.control is None:
+    if (scheduled or args.gust) and args.control is None:
         args.control = "lqr"
+    if args.gust and args.control != "lqr":
+        raise UsageError(f"--gust with --forward-speed flies under --control lqr only (got --control {args.control})")
     if args.sensing_delay is not None and args.control != "lqr":
         raise UsageError(f"--sensing-delay applies to a controlled flight only (--control lqr); this forward flight is "
                          f"open loop (--control {args.control or 'none'})")
     if scheduled and args.control != "lqr":
         raise UsageError(f"{scheduled[0]} with --forward-speed flies under --control lqr only (got --control "
                          f"{args.control})")
-    if (scheduled or args.control == "lqr") and not args.kinematics_given:
+    if (scheduled or args.control == "lqr") and not args.kinematics_given and args.aero == "quasi-steady":
         from hawksim.control.schedule import FORWARD_SCHEDULE_SPEEDS
 
         grid = ", ".join(f"{v:g}" for v in FORWARD_SCHEDULE_SPEEDS)
@@ -288,7 +290,7 @@ def _fly_forward(args, progress) -> dict:
     model = load_model(args.model) if args.model is not None else None
     u, profile = args.forward_speed, getattr(args, "forward_profile", None)
     delay = args.sensing_delay or 0
-    scheduled = args.control == "lqr" and not args.kinematics_given
+    scheduled = args.control == "lqr" and not args.kinematics_given and args.aero == "quasi-steady"
     if scheduled:  # the forward-flight schedule over the speeds flown, its orbits solved and linearized here
         speeds = [u] + [v for v, _ in profile or []]
         with stage_for(args, "fly: solving and linearizing the forward-flight schedule's orbits") as st:

@@ -123,8 +123,8 @@ KIN = _edge(_trim())
     (["stability", "--speed", "0", "--forward-speed", "5", "--aero", "uvlm"], "none balanced within Table 2"),
     (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "2", "--kinematics", KIN, "--control", "clqr"],
      "--control clqr"),
-    (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "2", "--control", "lqr", "--aero", "uvlm"],
-     "--control lqr --aero uvlm without --kinematics"),
+    (["fly", "--speed", "0", "--cycles", "2", "--forward-speed", "2", "--forward-profile", "3:2", "--aero", "uvlm"],
+     "the forward-flight schedule is quasi-steady"),
 ])
 def test_cli_refuses_unsupported_forward_flights_exit_2_one_line(argv, needle, capsys):
     assert main([*argv, "--json", "--no-progress"]) == 2
