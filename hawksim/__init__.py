@@ -38,7 +38,7 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, {
     "hawksim.flight.points": ("find_operating_point",),
     "hawksim.stability.linear_model": ("LinearModel",),
     "hawksim.trim.tables": ("trim_kinematics",),
-    "hawksim.flight.loop": ("fly", "Controller"),
+    "hawksim.flight.loop": ("fly", "Controller", "Gust"),
     "hawksim.flight.result": ("FlightResult",),
     "hawksim.flight.orbit": ("Orbit", "periodic_orbit", "shipped_orbit", "fly_orbit"),
     "hawksim.stability.floquet": ("Floquet", "monodromy"),

@@ -24,7 +24,7 @@ PACKAGES = ("hawksim", "hawksim.insect", "hawksim.backends", "hawksim.trim", "ha
 TOP_LEVEL = {"fly", "periodic_orbit", "shipped_orbit", "fly_orbit", "monodromy", "linearize", "fly_closed_loop",
              "table3_kinematics", "Kinematics", "Morphology", "load_insect", "default_insect", "Insect", "Trim",
              "trim_kinematics", "load_model", "make_backend", "flight_backend", "FlightResult", "Orbit", "Floquet",
-             "OperatingPoint", "find_operating_point", "LinearModel", "Controller"}
+             "OperatingPoint", "find_operating_point", "LinearModel", "Controller", "Gust"}
 """The flat top level."""
 
 ANGLES_STATED = ("fly", "periodic_orbit", "shipped_orbit", "monodromy", "linearize", "fly_closed_loop",

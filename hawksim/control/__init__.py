@@ -10,7 +10,8 @@ Modules:
 - ``halfstroke``: the same per half-stroke.
 - ``lqr``: discrete Riccati gains, delay augmentation.
 - ``constrained``: LQR plans that stay within Table 2's kinematic bounds.
-- ``schedule``: the gain schedule over the ascent speed, and the shipped control models.
+- ``schedule``: the gain schedule over the ascent speed (or the forward speed, ``axis="forward"``), and the shipped
+  control models.
 - ``closed_loop``: the scheduled controlled flight (``fly_closed_loop``, a wrapper of the one flight loop).
 - ``surrogate``: the per-step surrogate backend that follows the controller's kinematics.
 - ``command``: ``hawksim fly --control``'s option handling.
