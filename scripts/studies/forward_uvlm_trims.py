@@ -12,7 +12,9 @@ aero``'s lattice and 40 steps a beat, 4 beats with the last 3 averaged), from ea
 - ``previous``, ``next``: the UVLM trim found at the nearest lower (higher) speed in the output file, where it
   exists (a continuation in speed; the row records which start it came from);
 - ``self``: the row already in the output at U (a search continued where one stopped on its budget; the better of
-  the two rows is kept, with every candidate).
+  the two rows is kept, with every candidate);
+- ``file:PATH``: the row at U of another trims file (e.g. hawksim 0.2's hawkmoth's, results/forward_flight/
+  uvlm_trims.json).
 
 Per speed the row is the start's answer of lowest P+ among the balanced ones (none balanced: the smallest residual),
 with the table's quantities (``scripts.studies.forward_trims.trim_row``: f, stroke amplitude, beta, chi, the mean
@@ -76,6 +78,8 @@ def starts(U: float, names, out: Path | None) -> dict[str, Kinematics]:
             r = _rows(UVLM_BALANCE).get(U)
         elif name == "self":
             r = (_rows(out) if out is not None else {}).get(U)
+        elif name.startswith("file:"):  # the row at U of another trims file (e.g. another hawkmoth's)
+            r = _rows(Path(name.removeprefix("file:"))).get(U)
         else:  # the UVLM trim found at the nearest lower ("previous") or higher ("next") speed
             done = _rows(out) if out is not None else {}
             near = [u for u in done if (u < U if name == "previous" else u > U)]
@@ -83,6 +87,13 @@ def starts(U: float, names, out: Path | None) -> dict[str, Kinematics]:
         if r is not None:
             found[name] = Kinematics.from_edge(r["kinematics"])
     return found
+
+
+def _start_name(text: str) -> str:
+    """A --starts item: one of STARTS or file:PATH (an existing file)."""
+    if text in STARTS or (text.startswith("file:") and Path(text.removeprefix("file:")).is_file()):
+        return text
+    raise argparse.ArgumentTypeError(f"{text!r}: choose {', '.join(STARTS)} or file:PATH of an existing file")
 
 
 def _progress(label: str):
@@ -202,7 +213,8 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--speeds", type=float, nargs="+", default=list(SPEEDS), help="forward speeds U [m/s]")
     ap.add_argument("--vertical-speed", type=float, default=0.0, help="V [m/s] (0: level flight)")
-    ap.add_argument("--starts", nargs="+", choices=STARTS, default=["qs", "balance"])
+    ap.add_argument("--starts", nargs="+", type=_start_name, default=["qs", "balance"],
+                    help=f"{', '.join(STARTS)}, or file:PATH (the row at U of another trims file)")
     ap.add_argument("--max-evals", type=int, default=MAX_EVALS, help="UVLM runs of one start's search")
     ap.add_argument("--polish", type=int, metavar="RUNS", help="instead of searching: balance the unbalanced rows of "
                     "--out (at --speeds) once more from their kinematics, with this many UVLM runs")
