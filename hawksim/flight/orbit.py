@@ -323,10 +323,11 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     every flight from it starts with it.
 
     Forward flight (``forward_speed`` > 0, the module docstring): the mean-velocity residual is (U, 0, V), the body's
-    loads act, the wake is free (``far_wake`` "auto" gives None); ``kinematics`` is required (no forward trim is
-    shipped: start from a trim of :func:`hawksim.trim.model_search.trim_on_model`, ValueError naming
-    ``forward_speed`` otherwise), and a network backend (trained on vertical flight only) is refused
-    (:func:`hawksim.condition.check_forward_backend`). The orbit carries ``forward_speed``.
+    loads act, the wake is free (``far_wake`` "auto" gives None); without ``kinematics`` the start is the default
+    insect's shipped forward trims in level flight (:func:`hawksim.trim.tables.forward_start`, 0-4 m/s; ValueError
+    naming ``forward_speed`` elsewhere: give kinematics, e.g. a trim of
+    :func:`hawksim.trim.model_search.trim_on_model`), and a network backend (trained on vertical flight only) is
+    refused (:func:`hawksim.condition.check_forward_backend`). The orbit carries ``forward_speed``.
 
     ``moment_parameter`` (:data:`MOMENT_PARAMETERS`): the parameter solved with f instead of phi0 (then phi0
     stays at the start's); ValueError naming it otherwise.
@@ -339,10 +340,11 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     desc = descriptor(aero)
     desc.orbits.require("a periodic orbit", aero)
     forward_speed = check_forward_speed(forward_speed)
-    if forward_speed > 0 and kinematics is None:
-        raise ValueError(f"forward_speed {forward_speed:g} m/s needs kinematics (no forward-flight trim is shipped; "
-                         "search one with hawksim.trim.model_search.trim_on_model)")
     check_forward_backend(aero, forward_speed)
+    if forward_speed > 0 and kinematics is None:  # the shipped forward trims (ValueError outside them)
+        from hawksim.trim.tables import forward_start
+
+        kinematics = forward_start(forward_speed, speed, insect)
     insect = default_insect() if insect is None else insect
     guess = (shipped_orbit(speed, desc.orbit_guess, insect=insect)  # the surrogate mimics the UVLM
              if desc.orbit_guess and not forward_speed else None)

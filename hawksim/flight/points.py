@@ -23,11 +23,11 @@ def find_operating_point(speed: float, *, aero: str = "quasi-steady", body: str 
     """The operating point of ``insect`` (default :func:`hawksim.insect.folder.default_insect`) at ascent
     ``speed`` [m/s] (and ``forward_speed`` [m/s], :mod:`hawksim.condition`) on the aerodynamic model ``aero``.
 
-    Forward flight (forward_speed > 0) starts from given ``kinematics`` (search a trim with
-    :func:`hawksim.trim.model_search.trim_on_model`; nothing is shipped): the held-body point at them, or the free
-    body's periodic orbit solved from them (:func:`hawksim.flight.orbit.periodic_orbit` with ``forward_speed``;
-    quasi-steady and UVLM backends only, :func:`hawksim.condition.check_forward_backend`); ValueError naming
-    ``forward_speed`` without kinematics (docs/forward_flight.md).
+    Forward flight (forward_speed > 0) starts from given ``kinematics`` or, without them, from the default insect's
+    shipped forward trims in level flight (:func:`hawksim.trim.tables.forward_start`: 0-4 m/s, ValueError naming
+    ``forward_speed`` elsewhere): the held-body point at them, or the free body's periodic orbit solved from them
+    (:func:`hawksim.flight.orbit.periodic_orbit` with ``forward_speed``; quasi-steady and UVLM backends only,
+    :func:`hawksim.condition.check_forward_backend`; docs/forward_flight.md).
 
     ``body="free"``: the periodic orbit of the free body: the shipped one where the registry holds it
     (``shipped``, no ``kinematics``: :func:`shipped_point`), else solved by Newton shooting
@@ -39,9 +39,10 @@ def find_operating_point(speed: float, *, aero: str = "quasi-steady", body: str 
         raise ValueError(f"body must be one of {BODIES}, got {body!r}")
     ins = default_insect() if insect is None else insect
     forward_speed = check_forward_speed(forward_speed)
-    if forward_speed > 0 and kinematics is None:
-        raise ValueError(f"forward_speed {forward_speed:g} m/s needs kinematics (no forward-flight trim nor orbit is "
-                         "shipped); search a trim with hawksim.trim.model_search.trim_on_model")
+    if forward_speed > 0 and kinematics is None:  # the shipped forward trims (ValueError outside them)
+        from hawksim.trim.tables import forward_start
+
+        kinematics = forward_start(forward_speed, speed, insect)
     if body == "held":
         if solve:
             raise ValueError(f"body='held' takes no orbit-solve keywords (got {', '.join(sorted(solve))})")

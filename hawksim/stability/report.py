@@ -10,10 +10,14 @@ def stability_report(speed: float, *, kinematics=None, client=None, progress=Non
     """The CLI contract's JSON for one ascent speed (also used by the studies of `hawksim reproduce`); client: a
     dask.distributed client whose workers run the UVLM cases
     (:func:`hawksim.stability.derivatives.dimensional_derivatives`). ``forward_speed`` [m/s] > 0 (forward flight,
-    :mod:`hawksim.condition`) needs ``kinematics`` (no forward trim is shipped); the JSON then carries
-    ``forward_speed``."""
+    :mod:`hawksim.condition`) starts from ``kinematics`` or, without them, the shipped forward trims
+    (:func:`hawksim.trim.tables.forward_start`: level flight, 0-4 m/s; ValueError naming ``forward_speed``
+    elsewhere); the JSON then carries ``forward_speed``."""
+    forward_source = None
     if forward_speed and kinematics is None:
-        raise ValueError(f"forward_speed {forward_speed:g} m/s needs kinematics (no forward-flight trim is shipped)")
+        from hawksim.trim.tables import forward_start
+
+        kinematics, forward_source = forward_start(forward_speed, speed), "shipped forward trims"
     from hawksim.stability.derivatives import dimensional_derivatives, mass_properties
     from hawksim.stability.system import (LAT_DERIVATIVES, LONG_DERIVATIVES, about_centre_of_mass, modes_json,
                                           nondimensional_system)
@@ -27,7 +31,8 @@ def stability_report(speed: float, *, kinematics=None, client=None, progress=Non
     d, A_long, A_lat, scalars = nondimensional_system(kin, speed, runs.derivatives, mp, **fwd)
     return {
         "speed": speed, **fwd,
-        "trim": {"kinematics": kin.to_edge(), "source": trim.source if kinematics is None else "given"},
+        "trim": {"kinematics": kin.to_edge(),
+                 "source": trim.source if kinematics is None else forward_source or "given"},
         "longitudinal": {"derivatives": {k: d[k] for k in LONG_DERIVATIVES}, **modes_json(A_long)},
         "lateral": {"derivatives": {k: d[k] for k in LAT_DERIVATIVES}, **modes_json(A_lat)},
         "derivatives_dimensional": about_centre_of_mass(runs.derivatives, mp.body_cg),

@@ -115,3 +115,20 @@ def forward_trim_kinematics(forward_speed: float) -> Kinematics:
     a, b = forward_trim(speeds[i]).kinematics.as_array(), forward_trim(speeds[i + 1]).kinematics.as_array()
     w = (u - speeds[i]) / (speeds[i + 1] - speeds[i])
     return Kinematics.from_array((1 - w) * a + w * b)
+
+
+def forward_start(forward_speed: float, speed: float = 0.0, insect=None) -> Kinematics:
+    """The kinematics a forward-flight operating point starts from when none are given: the default insect's shipped
+    trims in level flight (:func:`forward_trim_kinematics`, 0-4 m/s). ValueError naming ``forward_speed`` elsewhere
+    (a climb, ``speed`` != 0; above 4 m/s, where none balanced within Table 2; another insect)."""
+    from hawksim.insect.folder import default_insect
+
+    speeds = forward_trim_speeds()
+    if insect is not None and insect != default_insect():
+        raise ValueError(f"forward_speed {forward_speed:g} m/s: no shipped forward trim for insect {insect.name!r} "
+                         "(they are the default hawkmoth's); give kinematics (hawksim.trim.model_search.trim_on_model)")
+    if speed != 0 or not speeds or not (speeds[0] <= forward_speed <= speeds[-1]):
+        raise ValueError(f"forward_speed {forward_speed:g} m/s at {speed:g} m/s vertical: no shipped forward trim "
+                         f"there (level flight, {speeds[0]:g}-{speeds[-1]:g} m/s; none balanced within Table 2 above); "
+                         "give kinematics (hawksim.trim.model_search.trim_on_model)")
+    return forward_trim_kinematics(forward_speed)

@@ -98,7 +98,7 @@ def test_operating_point_carries_forward_speed_and_old_json_loads():
     assert "forward_speed" not in old  # vertical points write what they wrote before
     assert OperatingPoint.from_json(old).forward_speed == 0.0
     with pytest.raises(ValueError, match="forward_speed"):
-        find_operating_point(0.0, forward_speed=2.0)  # no kinematics: no shipped forward trim to solve an orbit from
+        find_operating_point(0.0, forward_speed=5.0)  # no kinematics and no shipped forward trim at 5 m/s
     with pytest.raises(ValueError, match="forward_speed"):
         OperatingPoint(0.0, kin, aero="quasi-steady", body="held", forward_speed=-1.0)
 

@@ -102,12 +102,20 @@ def test_forward_terms_of_the_averaged_model_and_the_chart():
 
 
 def test_library_refuses_forward_orbits_it_cannot_solve():
-    with pytest.raises(ValueError, match="forward_speed"):
-        periodic_orbit(0.0, forward_speed=U)  # no kinematics: no shipped forward trim
+    with pytest.raises(ValueError, match="forward_speed 5"):
+        periodic_orbit(0.0, forward_speed=5.0)  # no kinematics and no shipped forward trim there
+    with pytest.raises(ValueError, match="forward_speed 2"):
+        periodic_orbit(0.5, forward_speed=U)  # nor in a climb
     with pytest.raises(ValueError, match="forward_speed"):
         periodic_orbit(0.0, "surrogate", kinematics=_trim(), forward_speed=U)  # trained on vertical flight
-    with pytest.raises(ValueError, match="forward_speed"):
-        find_operating_point(0.0, forward_speed=U)
+    with pytest.raises(ValueError, match="forward_speed 5"):
+        find_operating_point(0.0, forward_speed=5.0)
+
+
+def test_library_starts_a_forward_orbit_from_the_shipped_trim(orbit):
+    # without kinematics the start is the shipped forward trim at U (the one the fixture was solved from)
+    p = find_operating_point(0.0, forward_speed=U)
+    assert p.free and p.forward_speed == U and p.residual == orbit.residual
 
 
 KIN = _edge(_trim())
