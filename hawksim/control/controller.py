@@ -98,6 +98,10 @@ class LQR:
         self.schedule = schedule
         self.rate = schedule.rate
         self.speed = float(speed)
+        sp = np.asarray(schedule.speeds, float)
+        if getattr(schedule, "axis", "vertical") == "forward" and not sp[0] - 1e-9 <= self.speed <= sp[-1] + 1e-9:
+            raise ValueError(f"speed {speed:g} m/s is outside the forward-flight schedule's {sp[0]:g} to {sp[-1]:g} "
+                             "m/s (on a forward schedule the LQR's speed is the forward speed U)")
         self.profile = profile
         if speed_rate is None:
             from hawksim.backends.registry import descriptor

@@ -140,7 +140,8 @@ SCHEDULE_ORBIT_FLOOR = 1e-6
 """A forward-flight orbit whose Newton solve stalls above its backend's tolerance but at or below this normalized
 residual is a schedule point all the same (model choice, from a measurement: the quasi-steady orbit at 4 m/s stalls at
 1.85e-7 against the tolerance 1e-8, every backtracking halving failing, restarted from its own answer with the same
-floor, results/forward_flight/orbits.json; the per-beat LQR about it holds 100 beats). A residual above it is refused
+floor, results/forward_flight/orbits.json; the per-beat LQR about it holds 100 beats, results/forward_flight/
+control.json). A residual above it is refused
 (FloatingPointError)."""
 
 # Which backends have half-stroke maps (a state settable, or a record kept, at phase 0.5) and why not: their

@@ -298,7 +298,8 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     ``trim_kinematics(speed, aero)`` or ``kinematics``; the other five parameters stay fixed). Equations:
     periodicity of (u, w, q, theta) over the measured beat and its mean velocity (0, 0, V) (world). Forward-
     difference Jacobian (6 extra flights per iteration), full Newton step with backtracking (halving while the
-    residual's max norm does not fall, at most 10 times). ``warm_beats``: beats before the measured one
+    residual's max norm does not fall, at most 10 times). A solve that does not converge returns the point of smallest
+    residual it evaluated, with that residual (``converged`` False). ``warm_beats``: beats before the measured one
     (default: the backend's ``warm_beats``: 0 for the quasi-steady backend and the surrogate,
     :data:`UVLM_WARM_BEATS` for the UVLM). ``tol``: the max abs normalized residual (default: the backend's
     ``orbit_tolerance``, :class:`hawksim.backends.registry.OrbitTolerance`). ``fd_step``: the Jacobian's step
@@ -393,6 +394,7 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     def newton(z, it):  # at most max_iter iterations per solve; ``it`` counts them all
         r, b = F(z)
         hist.append(float(np.abs(r).max()))
+        best = (z, r, b)  # the point of smallest residual evaluated: the answer of a solve that does not converge
         if log is not None:
             log(f"start: max|residual| {hist[-1]:.3e}" if len(hist) == 1 else
                 f"record updated: max|residual| {hist[-1]:.3e}")
@@ -420,8 +422,12 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
             # the step evaluated last, with its own residual (when every halving fails, the last, smallest one)
             z, r, b = z + lam * dz, rn, bn
             hist.append(float(np.abs(r).max()))
+            if np.abs(r).max() < np.abs(best[1]).max():
+                best = (z, r, b)
             if log is not None:
                 log(f"iteration {it}: max|residual| {hist[-1]:.3e} (step {lam:g})")
+        if not met(r, z):  # stalled: the best point it went through, with its own residual and flight
+            z, r, b = best
         return z, r, b, it
 
     z, r, b, it = newton(z, 0)
@@ -452,7 +458,8 @@ def periodic_orbit(speed: float, aero: str = "quasi-steady", *, kinematics: Kine
     return OperatingPoint(speed=float(speed), aero=aero, kinematics=kin, body="free",
                  source=f"Newton shooting on the one-wingbeat map of the free body ({aero})",
                  initial_state=BodyState.from_array(b.states[warm]),
-                 launch_state=BodyState.from_array(x_launch), warm_beats=warm, residual=hist[-1], residuals=r,
+                 launch_state=BodyState.from_array(x_launch), warm_beats=warm, residual=float(np.abs(r).max()),
+                 residuals=r,
                  mean_velocity=b.mean_velocity[warm], mean_pitch=float(b.mean_pitch[warm]),
                  P_plus=float(b.P_plus[warm]), iterations=it, converged=met(r, z) and change <= RECORD_TOL,
                  floor=floor, history=tuple(hist), wall_time_s=time.perf_counter() - t_start, chi_ref=chi,

@@ -216,7 +216,7 @@ def lqr_of_row(row: dict, *, log=print) -> dict:
     orbit = OperatingPoint.from_json(row["orbit"])
     t = time.perf_counter()
     sch = Schedule.of_orbit(orbit)
-    r = fly(orbit, cycles=LQR_BEATS, controller=LQR(sch, orbit.speed), perturb=LQR_PERTURBATION)
+    r = fly(orbit, cycles=LQR_BEATS, controller=LQR(sch, orbit.forward_speed), perturb=LQR_PERTURBATION)
     beats = r.beat_table()
     last = beats[-1]
     pt = sch.points[0]

@@ -51,6 +51,8 @@ def test_schedule_orbit_keeps_room_on_phi0(at_3):
     assert p.long.spectral_radius < 1.0 and p.lat.spectral_radius < 0.98
     inner = sorted(abs(p.long.multipliers))[-2]
     assert inner < 0.9
+    with pytest.raises(ValueError, match="forward speed U"):
+        LQR(at_3, 0.0)  # the vertical speed given where the forward one is meant
     with pytest.raises(ValueError, match="axis"):
         Schedule(0.0, 1.0, axis="sideways")
     with pytest.raises(ValueError, match="outside"):

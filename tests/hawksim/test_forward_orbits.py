@@ -192,12 +192,14 @@ def test_uvlm_forward_orbit_at_3_m_s_reproduces_the_study():
 
 def test_a_stalled_solve_returns_the_point_its_residual_belongs_to():
     """At 4 m/s the quasi-steady Newton solve stalls near 1.8e-7 (above the 1e-8 tolerance) with every backtracking
-    halving failing; the orbit it returns is the last point evaluated, and re-flying it gives the residual it reports
-    (before the fix the step taken was half the last one evaluated, paired with the other one's residual)."""
+    halving failing; the orbit it returns is the point of smallest residual it evaluated (measured 1.849e-7; the last
+    one evaluated had 5.3e-7), and re-flying it gives the residual it reports (before bda66b3 the step taken was half
+    the last one evaluated, paired with the other one's residual)."""
     from hawksim.flight.orbit import OrbitFlight, orbit_residual
 
     o = periodic_orbit(0.0, "quasi-steady", kinematics=_trim(u=4.0), forward_speed=4.0)
     assert not o.converged and o.residual > 1e-8  # measured: stalled, 20 iterations
+    assert o.residual == min(o.history) and o.residual < 2e-7
     b = OrbitFlight("quasi-steady", forward_speed=4.0).fly(o.kinematics, o.launch_state.as_array(),
                                                            o.warm_beats + 1, o.chi_ref)
     again = orbit_residual(o.kinematics, 0.0, b, o.warm_beats, forward_speed=4.0)
