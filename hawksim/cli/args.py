@@ -135,6 +135,7 @@ def default_forward_kinematics(args) -> None:
     UsageError (exit 2, one line naming ``--forward-speed``) where no shipped trim covers (U, ``args.speed``): in a
     climb (the shipped trims are level) and above the last balanced one (5 m/s: none balanced within Table 2's
     bounds)."""
+    from hawksim.cli.summary import balance_residual
     from hawksim.trim.registry import shipped_table
     from hawksim.trim.tables import FORWARD_TRIM_TABLE, forward_trim_kinematics
 
@@ -150,7 +151,7 @@ def default_forward_kinematics(args) -> None:
                          f"0, at {speeds} m/s); give --kinematics")
     if u in rows and not rows[u]["converged"]:
         raise UsageError(f"--forward-speed {u:g}: no shipped forward trim there (none balanced within Table 2's "
-                         f"bounds: the search's best residual {_residual(rows[u]):.3f}); give --kinematics")
+                         f"bounds: the search's best residual {balance_residual(rows[u]):.3f}); give --kinematics")
     if not balanced or not balanced[0] <= u <= balanced[-1]:
         raise UsageError(f"--forward-speed {u:g}: no shipped forward trim there (none balanced within Table 2 is "
                          f"shipped above {balanced[-1] if balanced else 0:g} m/s; they are at {speeds} m/s); give "
@@ -168,10 +169,6 @@ def default_forward_kinematics(args) -> None:
         print(f"hawksim {getattr(args, 'command', '')}: --forward-speed {u:g} without --kinematics: from "
               f"{args.kinematics_source}", file=sys.stderr)
 
-
-def _residual(row: dict) -> float:
-    """max(|L+ - 1|, |D+|, |M+|) of a trim table's row."""
-    return max(abs(row["L_plus"] - 1.0), abs(row["D_plus"]), abs(row["M_plus"]))
 
 
 def refuse_forward_speed(args, command: str, why: str) -> None:

@@ -54,12 +54,6 @@ LOCAL_SEARCH = ("uvlm",)
 """The models ``--aero`` trims on without ``--free-flight`` by the local search from a start
 (:func:`hawksim.trim.model_search.refine_on_model`)."""
 
-DEFAULT_MAX_EVALS = 60
-"""``--max-evals`` of ``--aero uvlm``: the UVLM runs of the local search (the forward UVLM trims' study's,
-``scripts.studies.forward_uvlm_trims.MAX_EVALS``: about 6 steps of 8 runs; 5-15 min on the shared 2-core host at
-:data:`hawksim.trim.balance.TRIM_RESOLUTION`); where no run balanced, the balance follows
-(`balance_on_uvlm`: 30 runs and a restart of 20, as in the study)."""
-
 MAX_EVALS = 10_000
 """Largest ``--max-evals`` (days of UVLM runs)."""
 
@@ -201,7 +195,7 @@ def cmd_local_trim(args) -> dict:
     from hawksim.cli.args import default_forward_kinematics, resolution_from
     from hawksim.insect.folder import default_insect
     from hawksim.trim.balance import TRIM_RESOLUTION
-    from hawksim.trim.model_search import refine_on_model
+    from hawksim.trim.model_search import REFINE_MAX_EVALS, refine_on_model
     from hawksim.trim.search import R_PENALTY, fitness
 
     from dataclasses import replace
@@ -210,7 +204,7 @@ def cmd_local_trim(args) -> dict:
     base = TRIM_RESOLUTION  # --cycles: all but the first beat averaged, as TRIM_RESOLUTION's 4 and 3
     res = resolution_from(args, base if args.cycles is None else replace(base, cycles=args.cycles,
                                                                           average_cycles=max(1, args.cycles - 1)))
-    max_evals = args.max_evals or DEFAULT_MAX_EVALS
+    max_evals = args.max_evals or REFINE_MAX_EVALS
     progress = None
     if not args.no_progress:
         def progress(n, a):
@@ -276,8 +270,8 @@ def register(sub) -> None:
                         "search's start (default: the shipped quasi-steady forward trim at --forward-speed, level "
                         "flight at 0-4 m/s)")
     p.add_argument("--max-evals", type=positive_int_arg("max-evals", MAX_EVALS),
-                   help=f"with --aero uvlm: UVLM runs of the local search ({DEFAULT_MAX_EVALS}; then the UVLM balance, "
-                        "30 + 20 runs, where none balanced)")
+                   help="with --aero uvlm: UVLM runs of the local search (default hawksim.trim.model_search."
+                        "REFINE_MAX_EVALS, 5-15 min; then the UVLM balance, 30 + 20 runs, where none balanced)")
     add_resolution_args(p, trim_res, "with --aero uvlm; default; --cycles: all but the first averaged")
     add_insect_arg(p, "; the GA searches its bounds_deg (inside Table 2, the network's training box; "
                         "its morphology must be the hawkmoth's) and P+ is in its reference power; with --free-flight "

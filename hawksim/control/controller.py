@@ -99,7 +99,7 @@ class LQR:
         self.rate = schedule.rate
         self.speed = float(speed)
         sp = np.asarray(schedule.speeds, float)
-        if getattr(schedule, "axis", "vertical") == "forward" and not sp[0] - 1e-9 <= self.speed <= sp[-1] + 1e-9:
+        if self.axis == "forward" and not sp[0] - 1e-9 <= self.speed <= sp[-1] + 1e-9:
             raise ValueError(f"speed {speed:g} m/s is outside the forward-flight schedule's {sp[0]:g} to {sp[-1]:g} "
                              "m/s (on a forward schedule the LQR's speed is the forward speed U)")
         self.profile = profile
@@ -109,7 +109,7 @@ class LQR:
             aero = schedule.points[0].orbit.aero
             desc = descriptor(aero)
             speed_rate = desc.speed_rate if desc.speed_rate is not None else SPEED_RATE
-            if getattr(schedule, "axis", "vertical") == "forward":
+            if self.axis == "forward":
                 speed_rate = FORWARD_SPEED_RATE
         self.speed_rate = float(speed_rate)
         self.feedback = bool(feedback)
@@ -198,7 +198,11 @@ class LQR:
         pitch)."""
         if self.axis != "forward" or not self._beat["pitch"]:
             return None
-        return float(sum(self._beat["pitch"]) / len(self._beat["pitch"]))
+        return self._beat_pitch()
+
+    def _beat_pitch(self) -> float:
+        """The mean over the beat's updates of the reference's mean pitch [rad]."""
+        return float(sum(self._beat["pitch"]) / self.per_beat)
 
     def speed_reference(self) -> float:
         self.speed_references.append(self.v_ref)
@@ -216,7 +220,7 @@ class LQR:
         command and reference, the speed and pitch errors against the reference and the commands in edge units."""
         k = row["beat"]
         cmd = self.command_at(k)
-        pitch_ref = sum(self._beat["pitch"]) / self.per_beat
+        pitch_ref = self._beat_pitch()
         pitch = np.concatenate([b.body_R for b in steps])
         from hawksim.frames import pitch_of
 

@@ -36,9 +36,9 @@ from hawksim.backends.registry import descriptor
 from hawksim.control.derivatives import (LAT_X, LONG_X, XI_NAMES, Snapshot, central_jacobians, normalized_xi,
                                          record_jacobians, xi_scale)
 from hawksim.frames import stability_position
-from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, ControlledSimulator, controlled_plant, saturate,
+from hawksim.control.plant import (ANTI_INPUTS, INPUTS, SYM_INPUTS, controlled_plant, saturate,
                                    wing_kinematics)
-from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, make_orbit_backend, read_body_state, set_body_state
+from hawksim.flight.orbit import STEPS_PER_CYCLE, Orbit, read_body_state, set_body_state
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.model import load_model
 from hawksim.stability.linear_model import LinearModel, record_names
@@ -64,18 +64,10 @@ def half_beat(orbit: Orbit, x0: np.ndarray, du_prev: np.ndarray, du: np.ndarray,
         return snapshot.beat(x0, du_prev, du, half=half, record=record)
     model = model if model is not None else load_model(morph=orbit.insect.morphology)
     kin = orbit.kinematics
-    if descriptor(orbit.aero).saturated_plant:  # the surrogate: its controlled plant, each wing clipped at Table 2
-        sim = controlled_plant(model, kin, orbit.aero, insect=orbit.insect)
-        sat = lambda p: saturate(p, orbit.insect)  # noqa: E731
-    else:
-        backend, every = make_orbit_backend(orbit.aero, symmetric=False, insect=orbit.insect)
-        sim = ControlledSimulator(model, kin, backend, steps_per_cycle=STEPS_PER_CYCLE, gravity=True,
-                                  aero_every=every)
-        if orbit.forward_speed:  # the body's own loads, as on the forward orbit's flights
-            from hawksim.insect.body_aero import BodyAero
-
-            sim.body_aero = BodyAero.of(orbit.insect.morphology)
-        sat = None
+    # the controlled plant (in forward flight with the body's own loads, as on the orbit's flights); the surrogate's
+    # with each wing clipped at Table 2
+    sim = controlled_plant(model, kin, orbit.aero, insect=orbit.insect, forward_speed=orbit.forward_speed)
+    sat = (lambda p: saturate(p, orbit.insect)) if descriptor(orbit.aero).saturated_plant else None
     lp, rp = (Kinematics.from_array(p if sat is None else sat(p)) for p in wing_kinematics(kin, du_prev))
     sim.set_wings(lp, rp)
     set_body_state(sim, x0, orbit.chi_ref, t=0.5 * lp.period if half else 0.0)

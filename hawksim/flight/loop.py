@@ -212,16 +212,14 @@ def run(sim, cycles: int, *, kinematics: Kinematics, speed: float, aero: str, so
                     backend_record(sim.backend, sim.aero_every) if feeds else None)
 
         controller.reset(point)
-        hold, t_hold = stability_position(sim.d.qpos[:3]), float(sim.d.time)
         hold_velocity = getattr(controller, "hold_velocity", None)
-        moving = {}  # a controller's moving hold point: where it was at time t and its velocity since
+        # the hold point: where it was at time t and its velocity since (stability X is world x): from the start at
+        # the forward speed flown (0: it stays), then at the controller's hold velocity where it gives one
+        moving = {"at": stability_position(sim.d.qpos[:3]), "t": float(sim.d.time),
+                  "v": np.array([float(forward_speed), 0.0])}
 
-        def held():  # the hold point; in forward flight it moves forward at U (stability X is world x)
-            if moving:
-                return moving["at"] + moving["v"] * (float(sim.d.time) - moving["t"])
-            if not forward_speed:
-                return hold
-            return hold + np.array([forward_speed * (float(sim.d.time) - t_hold), 0.0])
+        def held():
+            return moving["at"] + moving["v"] * (float(sim.d.time) - moving["t"])
         p0 = kinematics.as_array()
         flown = sent = [(p0, p0)] * keep
         now = (read_body_state(sim, frame()) if state0 is None else np.asarray(state0, float), np.zeros(2),

@@ -112,6 +112,13 @@ REFINE_PENALTY = 10.0
 with r = mu: an exact penalty once mu exceeds the balance's Lagrange multipliers, the change of P+ per unit of
 residual, ~1 at these trims; the value with which the quasi-steady search kept fast forward flight balanced)."""
 
+REFINE_MAX_EVALS = 60
+"""UVLM runs of one start's search in forward flight (`hawksim trim --aero uvlm`'s default ``--max-evals``,
+scripts/studies/forward_uvlm_trims.py's per start): about 6 steps of 8 runs and the rejected steps; model choice,
+sized to the shared host (4-8 s a run under load, 5-15 min a search at :data:`hawksim.trim.balance.TRIM_RESOLUTION`);
+on the quasi-steady model the search from these starts ends within 40-80 runs. Where no run balanced, the balance
+follows (30 + 20 runs)."""
+
 REFINE_RADIUS = (0.05, 0.2, 2e-3)
 """Trust region of :func:`refine_on_model` in the scaled parameters (fractions of each Table 2 range): initial,
 largest, and the radius below which it stops."""

@@ -108,7 +108,9 @@ def forward_trim_kinematics(forward_speed: float) -> Kinematics:
     u = float(forward_speed)
     if not speeds or not (speeds[0] <= u <= speeds[-1]):
         raise ValueError(f"forward_speed {forward_speed:g} m/s is outside the shipped forward trims' range "
-                         f"[{speeds[0]:g}, {speeds[-1]:g}] m/s" if speeds else "no shipped forward trims")
+                         f"[{speeds[0]:g}, {speeds[-1]:g}] m/s (none balanced within Table 2 above it); give "
+                         "kinematics (hawksim.trim.model_search.trim_on_model)" if speeds
+                         else "no shipped forward trims")
     if u in speeds:
         return forward_trim(u).kinematics
     i = int(np.searchsorted(speeds, u)) - 1
@@ -123,12 +125,10 @@ def forward_start(forward_speed: float, speed: float = 0.0, insect=None) -> Kine
     (a climb, ``speed`` != 0; above 4 m/s, where none balanced within Table 2; another insect)."""
     from hawksim.insect.folder import default_insect
 
-    speeds = forward_trim_speeds()
     if insect is not None and insect != default_insect():
         raise ValueError(f"forward_speed {forward_speed:g} m/s: no shipped forward trim for insect {insect.name!r} "
                          "(they are the default hawkmoth's); give kinematics (hawksim.trim.model_search.trim_on_model)")
-    if speed != 0 or not speeds or not (speeds[0] <= forward_speed <= speeds[-1]):
-        raise ValueError(f"forward_speed {forward_speed:g} m/s at {speed:g} m/s vertical: no shipped forward trim "
-                         f"there (level flight, {speeds[0]:g}-{speeds[-1]:g} m/s; none balanced within Table 2 above); "
-                         "give kinematics (hawksim.trim.model_search.trim_on_model)")
-    return forward_trim_kinematics(forward_speed)
+    if speed != 0:
+        raise ValueError(f"forward_speed {forward_speed:g} m/s at {speed:g} m/s vertical: the shipped forward trims "
+                         "are level flight; give kinematics (hawksim.trim.model_search.trim_on_model)")
+    return forward_trim_kinematics(forward_speed)  # (ValueError naming forward_speed outside their range)

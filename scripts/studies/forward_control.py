@@ -63,6 +63,10 @@ def holds(sch: Schedule, beats: int) -> list[dict]:
     return rows
 
 
+def _departed(r: dict) -> str:
+    return f"beat {r['departed_at_beat']}" if r["departed_at_beat"] else "no"
+
+
 def markdown(d: dict) -> str:
     """The docs' tables: the holds, the gusts, the profiles."""
     lines = ["| U [m/s] | rate | orbit P+ | closed-loop spectral radius (lon, lat) | departed | largest pitch error "
@@ -72,7 +76,7 @@ def markdown(d: dict) -> str:
         last = r["last"]
         lines.append(f"| {r['forward_speed']:g} | {r['rate']} | {r['orbit_P_plus']:.3f} | "
                      f"{r['closed_loop_spectral_radius'][0]:.3f}, {r['closed_loop_spectral_radius'][1]:.3f} | "
-                     f"{'beat ' + str(r['departed_at_beat']) if r['departed_at_beat'] else 'no'} | "
+                     f"{_departed(r)} | "
                      f"{r['largest_pitch_error_deg']:.2f} | {last['forward_speed_error']:+.1e}, "
                      f"{last['pitch_error_deg']:+.3f}, {last['roll_deg']:+.3f} | {r['saturated_beats']} |")
     lines += ["", "| gust at 3 m/s (0.5 m/s, beat 5) | departed | largest pitch error [deg] | largest roll [deg] | "
@@ -80,7 +84,7 @@ def markdown(d: dict) -> str:
               "|---|---|---|---|---|"]
     for g in d["gusts"]:
         last = g["last"]
-        lines.append(f"| {g['from']} | {'beat ' + str(g['departed_at_beat']) if g['departed_at_beat'] else 'no'} | "
+        lines.append(f"| {g['from']} | {_departed(g)} | "
                      f"{g['largest_pitch_error_deg']:.2f} | {g['largest_roll_deg']:.2f} | "
                      f"{last['forward_speed_error']:+.1e}, {last['pitch_error_deg']:+.3f}, {last['roll_deg']:+.3f}, "
                      f"{1e3 * last['horizontal_offset_m'][1]:+.1f} |")
@@ -96,14 +100,20 @@ def markdown(d: dict) -> str:
     return "\n".join(lines)
 
 
-def plot_profile(sch: Schedule, path: Path, top: float = 4.0, rate: float = FORWARD_SPEED_RATE) -> dict:
-    """Fly hover -> ``top`` -> hover at ``rate`` and draw the forward speed against its reference and command, the
-    pitch error and the commands per beat; returns the flight's summary."""
-    from hawksim import plotting
-
+def fly_profile(sch: Schedule, top: float, rate: float):
+    """Hover -> ``top`` [m/s] -> hover with the speed reference at ``rate`` [m/s per beat]: ``top / rate`` + 20 beats
+    commanded at ``top``, then 40 more than the ramp down at 0 (the flight's FlightResult)."""
     n = int(round(top / rate))
     ctl = LQR(sch, 0.0, profile=[(top, n + 20), (0.0, n + 40)], speed_rate=rate)
-    r = fly(ctl.point, cycles=2 * n + 60, controller=ctl)
+    return fly(ctl.point, cycles=2 * n + 60, controller=ctl)
+
+
+def plot_profile(sch: Schedule, path: Path, top: float = 4.0, rate: float = FORWARD_SPEED_RATE) -> dict:
+    """Fly :func:`fly_profile` and draw the forward speed against its reference and command, the pitch error and the
+    commands per beat; returns the flight's summary."""
+    from hawksim import plotting
+
+    r = fly_profile(sch, top, rate)
     b = r.beat_log
     k = [x["beat"] for x in b]
     with plotting.style():
@@ -171,9 +181,7 @@ def main() -> None:
         print(json.dumps(out["gusts"][-1]), file=sys.stderr, flush=True)
     out["profiles"] = []
     for top, rate in [(t, r) for t in a.profile_tops for r in a.speed_rates]:
-        n = int(round(top / rate))
-        ctl = LQR(sch, 0.0, profile=[(top, n + 20), (0.0, n + 40)], speed_rate=rate)
-        r = fly(ctl.point, cycles=2 * n + 60, controller=ctl)
+        r = fly_profile(sch, top, rate)
         s = _summary(r, 0.0)
         k = s["departed_at_beat"]
         if k is not None:

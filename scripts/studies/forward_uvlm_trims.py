@@ -45,7 +45,8 @@ from hawksim.atomic import write_text
 from hawksim.insect.kinematics import Kinematics
 from hawksim.insect.morphology import Morphology
 from hawksim.trim.balance import TRIM_RESOLUTION, balance_on_uvlm
-from hawksim.trim.model_search import REFINE_DIFF_STEP, REFINE_PENALTY, REFINE_RADIUS, refine_on_model
+from hawksim.trim.model_search import (REFINE_DIFF_STEP, REFINE_MAX_EVALS, REFINE_PENALTY, REFINE_RADIUS,
+                                       refine_on_model)
 from scripts.studies.forward_trims import trim_row
 
 SPEEDS = (1.0, 2.0, 3.0, 4.0, 5.0)
@@ -54,10 +55,6 @@ QS_TRIMS = Path("results/forward_flight/qs_trims.json")
 UVLM_BALANCE = Path("results/forward_flight/uvlm_balance.json")
 STARTS = ("qs", "balance", "previous", "next", "self")
 OUTPUTS = ("L_plus", "D_plus", "M_plus", "P_plus")
-MAX_EVALS = 60
-"""UVLM runs of one start's search (about 6 steps of 8 runs and the rejected steps; model choice, sized to the
-shared host: 4-8 s a run under load; on the quasi-steady model the search from these starts ends within 40-80
-runs)."""
 
 
 def _rows(path: Path) -> dict[float, dict]:
@@ -215,7 +212,7 @@ def main() -> None:
     ap.add_argument("--vertical-speed", type=float, default=0.0, help="V [m/s] (0: level flight)")
     ap.add_argument("--starts", nargs="+", type=_start_name, default=["qs", "balance"],
                     help=f"{', '.join(STARTS)}, or file:PATH (the row at U of another trims file)")
-    ap.add_argument("--max-evals", type=int, default=MAX_EVALS, help="UVLM runs of one start's search")
+    ap.add_argument("--max-evals", type=int, default=REFINE_MAX_EVALS, help="UVLM runs of one start's search")
     ap.add_argument("--polish", type=int, metavar="RUNS", help="instead of searching: balance the unbalanced rows of "
                     "--out (at --speeds) once more from their kinematics, with this many UVLM runs")
     ap.add_argument("--out", type=Path, help="the JSON (resumed: its speeds are skipped; rewritten after each speed)")
